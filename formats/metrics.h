@@ -1,0 +1,23 @@
+// Per-node attributes of thesis §3.3 computed from triangles: bounds, static benefit,
+// area-weighted average normal; and eq. 3.1 cost is nodeCost() in db.h.
+#pragma once
+
+#include "formats/codec.h"
+#include "formats/db.h"
+
+#include <span>
+
+namespace hlod {
+
+struct SurfaceMetrics {
+    Box3f bounds{};
+    double area = 0;           // sum of triangle areas
+    Vec3f avgNormal{};         // sum(normal_t * area_t) / |...| (§3.3); zero when area is 0
+    float staticBenefit = 0;   // sqrt(numTriangles * area) (§3.3)
+    uint64_t triangles = 0;
+};
+
+// Metrics over all triangles of all the meshes (a node's sub-meshes).
+SurfaceMetrics surfaceMetrics(std::span<const MeshData> meshes);
+
+}  // namespace hlod
