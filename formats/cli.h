@@ -3,6 +3,7 @@
 // `status` (0 success, 1 failure such as invalid data, 2 usage/input error).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,5 +28,9 @@ struct ConstantOptions {
 };
 void addConstantOptions(CLI::App& sub, ConstantOptions& options);
 void applyConstantOptions(const ConstantOptions& options, Constants& c);
+
+// Runs a subcommand body: returns its status, or prints ONE line "hlod COMMAND: what()" to
+// stderr and returns 2 when it throws a std::exception.
+int runGuarded(const char* command, const std::function<int()>& body);
 
 }  // namespace hlod::cli

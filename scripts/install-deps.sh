@@ -7,10 +7,12 @@ PACKAGES=(
   build-essential cmake pkg-config ninja-build
   libopenmesh-dev        # OpenMesh: mesh data structure + Decimater (alternate simplifier)
   libopenimageio-dev     # OpenImageIO: image read/write/resize
+  openimageio-tools python3-imath  # their CMake configs reference /usr/bin/iconvert and libPyImath: configure fails without them
   libcgal-dev libeigen3-dev  # CGAL: AABB-tree distance queries for geometric error
   libdraco-dev           # Draco: geometry compression of node blobs
   libtinygltf-dev nlohmann-json3-dev libstb-dev  # glTF input; JSON output
   libmeshoptimizer-dev   # meshoptimizer: fast quadric simplification with border locking
+  libtinyobjloader-dev   # tinyobjloader: OBJ + MTL input (many materials, photogrammetry atlases)
   libtbb-dev             # TBB: parallel blocks in the pipeline
   libcli11-dev           # CLI11: git-style subcommands and --help
   libxxhash-dev          # xxHash: XXH3-64 checksums of skeleton and blobs

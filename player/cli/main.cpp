@@ -1,5 +1,9 @@
 // `hlod`: one command-line tool, subcommands in the manner of git.
 #include "formats/cli.h"
+#include "pipeline/stats/cli_stats.h"
+#include "pipeline/synth/cli_synth.h"
+#include "player/cli.h"
+#include "player/gl/cli.h"
 
 #include <CLI/CLI.hpp>
 
@@ -16,6 +20,12 @@ int main(int argc, char** argv) {
     int status = 0;
     hlod::cli::addInspect(app, status);
     hlod::cli::addValidate(app, status);
+    hlod::cli::addSynth(app, status);
+    hlod::cli::addStats(app, status);
+    hlod::cli::addCalibrate(app, status);
+    hlod::cli::addView(app, status);
+    hlod::cli::addPlay(app, status);
+    hlod::cli::addPath(app, status);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,10 +1,17 @@
 // OpenGL renderer: offscreen through EGL (Mesa surfaceless / any GPU) or in a GLFW window.
+// Also what is built on it: calibration of the cost model (thesis §3.3 eq. 3.1, Table 6.1
+// c_textured; FS93 §4) and 6-DOF navigation for `hlod view` (thesis Ch. 6).
 #pragma once
 
 #include "player/renderer.h"
 
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
+
+struct GLFWwindow;
 
 namespace hlod {
 
@@ -12,9 +19,81 @@ struct GlOptions {
     int width = 1280, height = 720;
     bool window = false;       // true: GLFW window (needs a display); false: EGL offscreen
     bool timerQueries = false; // false: frame time measured around glFinish
+    std::string title = "hlod";
 };
 
 // Throws std::runtime_error with one line when no GL context can be created.
 std::unique_ptr<Renderer> makeGlRenderer(const GlOptions& options);
+
+// The GLFW window of a renderer made with window = true; nullptr for any other renderer.
+GLFWwindow* glfwWindowOf(Renderer& renderer);
+
+// Grey (0..1) that FrameOptions::colorByLevel gives to `level`: hlod0 darkest, each finer
+// level lighter, 8 distinct greys repeating (as the grey-level LOD figures of the thesis/FS93).
+float levelGrey(uint32_t level);
+
+// --- Calibration (`hlod calibrate`) -------------------------------------------------------
+// Frame time is modelled as time = overhead + perTri * N for N triangles of one kind. Eq. 3.1
+// weighs textured triangles by c and untextured by (1 - c), so the weights are in the ratio of
+// the per-triangle times: c / (1 - c) = perTexturedTri / perUntexturedTri, i.e.
+// c_textured = perTexturedTri / (perTexturedTri + perUntexturedTri). Then a node of cost
+// (eq. 3.1) renders in cost * msPerCost with msPerCost = perTexturedTri + perUntexturedTri.
+
+struct CalibrationOptions {
+    std::vector<uint32_t> triangleCounts = {2000, 25000, 50000, 100000, 150000};
+    int warmupFrames = 2;
+    int frames = 7;  // the median of these is kept per batch
+};
+
+struct CalibrationSample {
+    uint32_t triangles = 0;
+    bool textured = false;
+    double ms = 0;   // median frame time
+};
+
+struct LinearFit {
+    double intercept = 0, slope = 0;
+};
+
+struct Calibration {
+    std::string renderer;             // Renderer::name()
+    double fixedOverheadMs = 0;       // empty frame (thesis §4.2 footnote: rendering disabled)
+    LinearFit textured, untextured;   // ms = intercept + slope * triangles
+    double cTextured = 0;             // eq. 3.1 weight
+    double msPerCost = 0;             // ms per unit of eq. 3.1 cost
+    std::vector<CalibrationSample> samples;
+};
+
+// Least squares line through (x, y); throws std::invalid_argument for fewer than two
+// distinct x or mismatched sizes.
+LinearFit fitLine(std::span<const double> x, std::span<const double> y);
+
+// c_textured from the per-triangle times (see above); throws std::invalid_argument unless
+// both are positive.
+double texturedWeight(double perTexturedTriMs, double perUntexturedTriMs);
+
+// A synthetic node: a grid of about `triangles` triangles in the plane z = 0 that covers
+// about 2/3 of a 60° 16:9 view from calibrationCamera(); textured with a 1024² image or flat.
+DecodedNode calibrationBatch(uint32_t id, uint32_t triangles, bool textured);
+Camera calibrationCamera(double aspect);
+
+// Draws the batches on `renderer` (any Renderer) and fits the model. Throws
+// std::runtime_error when the measurements give no usable (positive) per-triangle cost.
+Calibration calibrate(Renderer& renderer, double aspect, const CalibrationOptions& options);
+
+// Writes a constants file readable by loadConstantsFile ("c_textured = ...") with the other
+// figures as "# calibrate.KEY = VALUE" comment lines. Throws std::runtime_error "PATH: problem".
+void writeCalibration(const Calibration& calibration, const std::string& path);
+
+// --- Navigation (`hlod view`) --------------------------------------------------------------
+// One step of free 6-DOF flight in the camera's own frame: no up-vector constraint, any speed,
+// zero input leaves the camera exactly where it is.
+struct NavigationInput {
+    double move[3] = {0, 0, 0};   // right, up, backward (camera axes), each in [-1, 1]
+    double yaw = 0, pitch = 0, roll = 0;  // radians, about camera up, right and view axes
+    double speed = 1;             // metres per second
+    double dt = 0;                // seconds
+};
+void navigate(Camera& camera, const NavigationInput& input);
 
 }  // namespace hlod

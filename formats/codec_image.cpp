@@ -1,0 +1,72 @@
+// Texture blobs: JPEG (default) or PNG, encoded and decoded in memory by OpenImageIO through
+// IOProxy objects (FORMAT.md §Texture blobs). Dimensions are checked before pixels are allocated.
+#include "formats/codec.h"
+#include "formats/layout.h"
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+namespace hlod {
+
+namespace {
+
+const char* memoryName(Codec codec) { return codec == Codec::Png ? "texture.png" : "texture.jpg"; }
+
+}  // namespace
+
+EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality) {
+    if (codec != Codec::Jpeg && codec != Codec::Png) throw std::runtime_error("encodeTexture: not an image codec");
+    bool channelsOk = codec == Codec::Jpeg ? (image.channels == 1 || image.channels == 3)
+                                           : (image.channels >= 1 && image.channels <= 4);
+    if (!channelsOk || image.width == 0 || image.height == 0 || image.width > layout::kMaxTextureSide ||
+        image.height > layout::kMaxTextureSide ||
+        image.pixels.size() != size_t(image.width) * image.height * image.channels)
+        throw std::runtime_error("encodeTexture: bad image dimensions, channels or pixel count");
+
+    EncodedBlob blob;
+    OIIO::Filesystem::IOVecOutput proxy(blob.bytes);
+    auto out = OIIO::ImageOutput::create(memoryName(codec));
+    if (!out) throw std::runtime_error("encodeTexture: " + OIIO::geterror());
+    OIIO::ImageSpec spec(int(image.width), int(image.height), int(image.channels), OIIO::TypeDesc::UINT8);
+    if (codec == Codec::Jpeg) spec.attribute("Compression", "jpeg:" + std::to_string(jpegQuality));
+    bool ok = out->set_ioproxy(&proxy) && out->open(memoryName(codec), spec) &&
+              out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) && out->close();
+    if (!ok) throw std::runtime_error("encodeTexture: " + out->geterror());
+
+    BlobRef& r = blob.info;
+    r.kind = BlobKind::Texture;
+    r.codec = codec;
+    r.width = image.width;
+    r.height = image.height;
+    r.channels = uint8_t(image.channels);
+    return blob;
+}
+
+Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
+    if (codec != Codec::Jpeg && codec != Codec::Png) throw FormatError(name + ": not an image codec");
+    OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
+    auto in = OIIO::ImageInput::create(memoryName(codec), false, nullptr, &proxy);
+    OIIO::ImageSpec spec;
+    if (!in || !in->set_ioproxy(&proxy) || !in->open(memoryName(codec), spec)) {
+        std::string why = in ? in->geterror() : OIIO::geterror();
+        throw FormatError(name + ": bad " + (codec == Codec::Png ? "PNG" : "JPEG") + " texture: " +
+                          why.substr(0, why.find('\n')));
+    }
+    if (spec.width <= 0 || spec.height <= 0 || spec.width > int(layout::kMaxTextureSide) ||
+        spec.height > int(layout::kMaxTextureSide) || spec.nchannels < 1 || spec.nchannels > 4 || spec.depth != 1)
+        throw FormatError(name + ": texture has absurd dimensions " + std::to_string(spec.width) + "x" +
+                          std::to_string(spec.height) + "x" + std::to_string(spec.nchannels));
+    Image image;
+    image.width = uint32_t(spec.width);
+    image.height = uint32_t(spec.height);
+    image.channels = uint32_t(spec.nchannels);
+    image.pixels.resize(size_t(image.width) * image.height * image.channels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, image.pixels.data())) {
+        std::string why = in->geterror();
+        throw FormatError(name + ": bad texture data: " + why.substr(0, why.find('\n')));
+    }
+    in->close();
+    return image;
+}
+
+}  // namespace hlod

@@ -1,0 +1,95 @@
+// The constants of thesis Table 6.1 (and §3.2 build constants): names, parsing from
+// "name=value" and config files, and printing, so every run can be reproduced.
+#include "formats/constants.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+
+namespace hlod {
+
+namespace {
+
+std::string trim(const std::string& s) {
+    auto b = s.find_first_not_of(" \t\r");
+    if (b == std::string::npos) return "";
+    return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+std::string format(double v) {
+    char buf[32];
+    auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trippable form
+    return {buf, r.ptr};
+}
+
+}  // namespace
+
+const std::vector<ConstantInfo>& constantTable() {
+    static const std::vector<ConstantInfo> table = {
+        {"c_desiredTris", &Constants::desiredTris, "desired triangles per HLOD node (§3.2)"},
+        {"c_levelFactor", &Constants::levelFactor, "triangle/texture ratio between levels = children per node (§3.2)"},
+        {"c_textured", &Constants::textured, "weight of textured vs untextured triangles (eq. 3.1)"},
+        {"c_vis", &Constants::vis, "importance of visibility in the priority (§4.2)"},
+        {"c_fore", &Constants::fore, "importance of foreshortening in the priority (§4.2)"},
+        {"c_targetTime", &Constants::targetTimeMs, "target frame time in milliseconds (§4.2)"},
+        {"c_hystSwitch", &Constants::hystSwitch, "hysteresis threshold for switching a node (§4.2)"},
+        {"c_hystLimit", &Constants::hystLimit, "range of the hysteresis counter (§4.2)"},
+        {"c_memory", &Constants::memory, "bytes per unit of cost (§4.3)"},
+    };
+    return table;
+}
+
+void setConstant(Constants& c, const std::string& name, const std::string& value) {
+    for (const ConstantInfo& info : constantTable()) {
+        if (name != info.name) continue;
+        const std::string v = trim(value);
+        double parsed = 0;
+        auto r = std::from_chars(v.data(), v.data() + v.size(), parsed);
+        if (v.empty() || r.ec != std::errc() || r.ptr != v.data() + v.size() || !std::isfinite(parsed))
+            throw std::invalid_argument("constant " + name + ": '" + value + "' is not a finite number");
+        c.*info.field = parsed;
+        return;
+    }
+    std::string known;
+    for (const ConstantInfo& info : constantTable()) known += std::string(known.empty() ? "" : ", ") + info.name;
+    throw std::invalid_argument("unknown constant '" + name + "' (known: " + known + ")");
+}
+
+void setConstantAssignment(Constants& c, const std::string& assignment) {
+    auto eq = assignment.find('=');
+    if (eq == std::string::npos)
+        throw std::invalid_argument("'" + assignment + "' is not of the form name=value");
+    setConstant(c, trim(assignment.substr(0, eq)), assignment.substr(eq + 1));
+}
+
+void loadConstantsFile(Constants& c, const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path + ": cannot read constants file");
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        line = trim(line.substr(0, line.find('#')));
+        if (line.empty()) continue;
+        try {
+            setConstantAssignment(c, line);
+        } catch (const std::invalid_argument& e) {
+            throw std::runtime_error(path + ":" + std::to_string(number) + ": " + e.what());
+        }
+    }
+}
+
+std::vector<std::pair<std::string, std::string>> constantsAsPairs(const Constants& c) {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const ConstantInfo& info : constantTable()) out.emplace_back(info.name, format(c.*info.field));
+    return out;
+}
+
+void printConstants(std::ostream& os, const Constants& c) {
+    os << "constants:";
+    for (const auto& [name, value] : constantsAsPairs(c)) os << ' ' << name << '=' << value;
+    os << '\n';
+}
+
+}  // namespace hlod

@@ -1,0 +1,151 @@
+// Per-level summary, node detail and tree views of a database (`hlod inspect`, `hlod stats`).
+// Node attributes are those of thesis §3.3 plus the FORMAT.md extensions.
+#include "formats/inspect.h"
+
+#include <algorithm>
+
+namespace hlod {
+
+namespace {
+
+nlohmann::json vec(const Vec3f& v) { return {v.x, v.y, v.z}; }
+
+const char* codecName(Codec c) { return c == Codec::Draco ? "draco" : c == Codec::Jpeg ? "jpeg" : c == Codec::Png ? "png" : "?"; }
+
+nlohmann::json treeNode(const Skeleton& s, uint32_t id, uint32_t depth, uint32_t maxDepth) {
+    const Node& n = s.nodes[id];
+    nlohmann::json j = {{"id", id},          {"level", n.level},        {"block", n.block},
+                        {"triangles", n.triangles()}, {"texels", n.texelCount}, {"bytes", n.dataSize},
+                        {"error", n.geometricError}};
+    nlohmann::json kids = nlohmann::json::array();
+    // depth is bounded by the node count, so a corrupt cycle cannot recurse forever.
+    if ((maxDepth == 0 || depth + 1 < maxDepth) && depth < s.nodes.size())
+        for (uint32_t c : s.children(id)) kids.push_back(treeNode(s, c, depth + 1, maxDepth));
+    j["children"] = kids;
+    return j;
+}
+
+}  // namespace
+
+DatabaseSummary summarize(const Database& db) {
+    const Skeleton& s = db.skeleton();
+    DatabaseSummary out;
+    out.path = db.path();
+    out.major = s.major;
+    out.minor = s.minor;
+    out.fileSize = db.fileSize();
+    out.nodes = s.nodes.size();
+    out.blobs = s.blobs.size();
+    out.blocks = s.blockCount;
+    for (const Node& n : s.nodes) {
+        if (n.level >= out.levels.size()) {
+            if (n.level > s.nodes.size()) continue;  // absurd level: reported by validate
+            out.levels.resize(n.level + 1);
+            for (uint32_t l = 0; l <= n.level; ++l) out.levels[l].level = l;
+        }
+        LevelSummary& L = out.levels[n.level];
+        L.minGeometricError = L.nodes ? std::min(L.minGeometricError, n.geometricError) : n.geometricError;
+        L.maxGeometricError = L.nodes ? std::max(L.maxGeometricError, n.geometricError) : n.geometricError;
+        ++L.nodes;
+        L.texturedTriangles += n.texturedTriangles;
+        L.untexturedTriangles += n.untexturedTriangles;
+        L.vertices += n.vertexCount;
+        L.texels += n.texelCount;
+        L.cost += n.cost;
+        L.blobs += n.blobCount;
+        for (uint32_t b = n.firstBlob; b < n.firstBlob + n.blobCount; ++b)
+            (s.blobs[b].kind == BlobKind::Texture ? L.textureBytes : L.geometryBytes) += s.blobs[b].size;
+    }
+    // Longest root-to-leaf path, walking parents (bounded by the node count).
+    for (const Node& n : s.nodes) {
+        if (n.firstChild != kNone) continue;
+        uint32_t d = 1;
+        for (uint32_t p = n.parent; p != kNone && d <= s.nodes.size(); p = s.nodes[p].parent) ++d;
+        out.depth = std::max(out.depth, d);
+    }
+    for (const auto& kv : s.meta) (kv.first.rfind("c_", 0) == 0 ? out.constants : out.provenance).push_back(kv);
+    return out;
+}
+
+nlohmann::json toJson(const DatabaseSummary& s) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const LevelSummary& L : s.levels)
+        levels.push_back({{"level", L.level},
+                          {"nodes", L.nodes},
+                          {"texturedTriangles", L.texturedTriangles},
+                          {"untexturedTriangles", L.untexturedTriangles},
+                          {"vertices", L.vertices},
+                          {"texels", L.texels},
+                          {"geometryBytes", L.geometryBytes},
+                          {"textureBytes", L.textureBytes},
+                          {"blobs", L.blobs},
+                          {"cost", L.cost},
+                          {"geometricError", {L.minGeometricError, L.maxGeometricError}}});
+    nlohmann::json constants = nlohmann::json::object(), provenance = nlohmann::json::object();
+    for (const auto& [k, v] : s.constants) constants[k] = v;
+    for (const auto& [k, v] : s.provenance) provenance[k] = v;
+    return {{"path", s.path},
+            {"version", std::to_string(s.major) + "." + std::to_string(s.minor)},
+            {"fileSize", s.fileSize},
+            {"nodes", s.nodes},
+            {"blobs", s.blobs},
+            {"blocks", s.blocks},
+            {"levels", s.levels.size()},
+            {"depth", s.depth},
+            {"perLevel", levels},
+            {"constants", constants},
+            {"provenance", provenance}};
+}
+
+nlohmann::json nodeJson(const Skeleton& s, uint32_t id) {
+    if (id >= s.nodes.size()) throw std::out_of_range("node " + std::to_string(id) + " does not exist (the database has " +
+                                                      std::to_string(s.nodes.size()) + " nodes)");
+    const Node& n = s.nodes[id];
+    auto link = [](uint32_t v) { return v == kNone ? nlohmann::json(nullptr) : nlohmann::json(v); };
+    nlohmann::json blobs = nlohmann::json::array();
+    for (uint32_t i = n.firstBlob; i < n.firstBlob + n.blobCount; ++i) {
+        const BlobRef& b = s.blobs[i];
+        nlohmann::json j = {{"index", i}, {"kind", b.kind == BlobKind::Texture ? "texture" : "geometry"},
+                            {"codec", codecName(b.codec)}, {"offset", b.offset}, {"size", b.size},
+                            {"checksum", b.checksum}};
+        if (b.kind == BlobKind::Geometry) {
+            j.update({{"triangles", b.triangles}, {"vertices", b.vertices}, {"texture", link(b.texture)},
+                      {"attributes", {{"position", bool(b.attributes & kAttrPosition)},
+                                      {"texcoord", bool(b.attributes & kAttrTexcoord)},
+                                      {"normal", bool(b.attributes & kAttrNormal)},
+                                      {"color", bool(b.attributes & kAttrColor)}}},
+                      {"quantizationBits", {{"position", b.positionBits}, {"texcoord", b.texcoordBits},
+                                            {"normal", b.normalBits}, {"color", b.colorBits}}}});
+        } else {
+            j.update({{"width", b.width}, {"height", b.height}, {"channels", b.channels}});
+        }
+        blobs.push_back(j);
+    }
+    return {{"id", n.id},
+            {"parent", link(n.parent)},
+            {"firstChild", link(n.firstChild)},
+            {"nextSibling", link(n.nextSibling)},
+            {"children", s.children(id)},
+            {"level", n.level},
+            {"block", n.block},
+            {"bounds", {{"min", vec(n.bounds.min)}, {"max", vec(n.bounds.max)}}},
+            {"cost", n.cost},
+            {"staticBenefit", n.staticBenefit},
+            {"avgNormal", vec(n.avgNormal)},
+            {"geometricError", n.geometricError},
+            {"texturedTriangles", n.texturedTriangles},
+            {"untexturedTriangles", n.untexturedTriangles},
+            {"vertexCount", n.vertexCount},
+            {"texelCount", n.texelCount},
+            {"dataOffset", n.dataOffset},
+            {"dataSize", n.dataSize},
+            {"blobs", blobs}};
+}
+
+nlohmann::json treeJson(const Skeleton& s, uint32_t maxDepth) {
+    nlohmann::json roots = nlohmann::json::array();
+    for (uint32_t r : s.roots()) roots.push_back(treeNode(s, r, 0, maxDepth));
+    return roots;
+}
+
+}  // namespace hlod

@@ -1,0 +1,204 @@
+// `hlod validate`: checks every invariant of FORMAT.md §Invariants and reports each violation:
+// one tree per block (thesis §3.3 first-child/next-sibling links), level = parent level + 1,
+// children's bounds inside the parent's, cost = eq. 3.1, counts = the blobs' counts, blobs
+// tiling the data area, geometric error non-increasing, and (unless quick) every blob
+// checksum-correct and decodable with the counts its record claims.
+#include "formats/validate.h"
+
+#include "formats/codec.h"
+#include "formats/layout.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <sstream>
+
+namespace hlod {
+
+namespace {
+
+struct Report {
+    std::vector<Violation>& out;
+    void add(uint32_t node, const std::string& message) {
+        out.push_back({node, (node == kNone ? "" : "node " + std::to_string(node) + ": ") + message});
+    }
+};
+
+bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+double diagonal(const Box3f& b) {
+    double dx = b.max.x - b.min.x, dy = b.max.y - b.min.y, dz = b.max.z - b.min.z;
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+bool inside(const Box3f& c, const Box3f& p, double relTol) {
+    double mag = std::max({std::abs(p.min.x), std::abs(p.min.y), std::abs(p.min.z), std::abs(p.max.x),
+                           std::abs(p.max.y), std::abs(p.max.z)});
+    double tol = relTol * diagonal(p) + 4 * FLT_EPSILON * mag;
+    return c.min.x >= p.min.x - tol && c.min.y >= p.min.y - tol && c.min.z >= p.min.z - tol &&
+           c.max.x <= p.max.x + tol && c.max.y <= p.max.y + tol && c.max.z <= p.max.z + tol;
+}
+
+// Walks the root sibling list and every child list once; checks tree shape and parent links.
+void checkLinks(const Skeleton& s, Report& r) {
+    const auto n = uint32_t(s.nodes.size());
+    std::vector<uint32_t> rootOfBlock(s.blockCount, kNone);
+    std::vector<uint8_t> seen(n, 0);
+    std::vector<uint32_t> stack;
+    std::vector<uint32_t> roots = s.roots();
+    uint32_t steps = 0;
+    for (uint32_t c = roots.empty() ? kNone : roots.front(); c != kNone && steps <= n; c = s.nodes[c].nextSibling, ++steps) {
+        if (s.nodes[c].parent != kNone) r.add(c, "is in the hlod0 sibling list but has a parent");
+        stack.push_back(c);
+    }
+    if (steps > n) r.add(kNone, "the hlod0 sibling list has a cycle");
+    for (uint32_t root : roots) {
+        const Node& nd = s.nodes[root];
+        if (nd.level != 0) r.add(root, "has no parent but level " + std::to_string(nd.level) + " (hlod0 is level 0)");
+        if (rootOfBlock[nd.block] != kNone) r.add(root, "is a second root of block " + std::to_string(nd.block));
+        else rootOfBlock[nd.block] = root;
+    }
+    for (uint32_t b = 0; b < s.blockCount; ++b)
+        if (rootOfBlock[b] == kNone) r.add(kNone, "block " + std::to_string(b) + " has no root node");
+    while (!stack.empty()) {
+        uint32_t id = stack.back();
+        stack.pop_back();
+        if (seen[id]++) {
+            r.add(id, "is reached twice through the child/sibling links (not a tree)");
+            continue;
+        }
+        uint32_t count = 0;
+        for (uint32_t c = s.nodes[id].firstChild; c != kNone && count <= n; c = s.nodes[c].nextSibling, ++count) {
+            const Node& child = s.nodes[c];
+            if (child.parent != id) r.add(c, "is in the child list of node " + std::to_string(id) + " but its parent is " +
+                                                 (child.parent == kNone ? "none" : std::to_string(child.parent)));
+            stack.push_back(c);
+        }
+        if (count > n) r.add(id, "its child list has a cycle");
+    }
+    for (uint32_t i = 0; i < n; ++i)
+        if (!seen[i]) r.add(i, "is not reachable from the hlod0 list through child/sibling links");
+}
+
+void checkNode(const Skeleton& s, const Node& nd, const ValidateOptions& o, double cTextured, Report& r) {
+    const uint32_t id = nd.id;
+    if (!finite(nd.bounds.min) || !finite(nd.bounds.max) || nd.bounds.min.x > nd.bounds.max.x ||
+        nd.bounds.min.y > nd.bounds.max.y || nd.bounds.min.z > nd.bounds.max.z)
+        r.add(id, "bounding box is not finite or has min > max");
+    if (!std::isfinite(nd.staticBenefit) || nd.staticBenefit < 0) r.add(id, "static benefit is not a finite number >= 0");
+    double len = std::sqrt(double(nd.avgNormal.x) * nd.avgNormal.x + double(nd.avgNormal.y) * nd.avgNormal.y +
+                           double(nd.avgNormal.z) * nd.avgNormal.z);
+    if (!finite(nd.avgNormal) || (len != 0 && std::abs(len - 1) > 1e-3)) r.add(id, "average normal is neither unit nor zero");
+    if (!std::isfinite(nd.geometricError) || nd.geometricError < 0) r.add(id, "geometric error is not a finite number >= 0");
+    double expected = nodeCost(nd.texturedTriangles, nd.untexturedTriangles, cTextured);
+    if (!(std::abs(nd.cost - expected) <= 1e-4 * std::max(1.0, expected))) {
+        std::ostringstream m;
+        m << "cost " << nd.cost << " differs from eq. 3.1 (" << expected << " with c_textured=" << cTextured << ")";
+        r.add(id, m.str());
+    }
+    if (nd.parent == kNone) return;
+    const Node& p = s.nodes[nd.parent];
+    if (nd.level != p.level + 1)
+        r.add(id, "level " + std::to_string(nd.level) + " is not parent level " + std::to_string(p.level) + " + 1");
+    if (nd.block != p.block) r.add(id, "block " + std::to_string(nd.block) + " differs from its parent's");
+    if (!inside(nd.bounds, p.bounds, o.boundsTolerance)) r.add(id, "bounding box is not inside its parent's");
+    if (nd.geometricError > p.geometricError)
+        r.add(id, "geometric error " + std::to_string(nd.geometricError) + " exceeds its parent's " +
+                      std::to_string(p.geometricError));
+}
+
+// The node's counts must be the sums over its blobs, its blobs must tile its data range, and
+// a geometry blob may only sample a texture of the same node.
+void checkCounts(const Skeleton& s, const Node& nd, Report& r) {
+    uint64_t textured = 0, untextured = 0, vertices = 0, texels = 0, pos = nd.dataOffset;
+    for (uint32_t i = nd.firstBlob; i < nd.firstBlob + nd.blobCount; ++i) {
+        const BlobRef& b = s.blobs[i];
+        if (b.offset != pos) r.add(nd.id, "blob " + std::to_string(i) + " does not follow the previous blob");
+        pos = b.offset + b.size;
+        if (b.kind == BlobKind::Texture) texels += uint64_t(b.width) * b.height;
+        else (b.texture == kNone ? untextured : textured) += b.triangles;
+        if (b.kind == BlobKind::Geometry) vertices += b.vertices;
+        if (b.texture != kNone && s.blobs[b.texture].node != nd.id)
+            r.add(nd.id, "blob " + std::to_string(i) + " samples a texture of another node");
+    }
+    if (pos != nd.dataOffset + nd.dataSize) r.add(nd.id, "data size does not equal the sum of its blob sizes");
+    if (textured != nd.texturedTriangles || untextured != nd.untexturedTriangles || vertices != nd.vertexCount ||
+        texels != nd.texelCount)
+        r.add(nd.id, "triangle/vertex/texel counts differ from the sums over its blobs");
+}
+
+// Every byte between the header and the skeleton belongs to exactly one blob.
+void checkCoverage(const Database& db, Report& r) {
+    std::vector<uint8_t> head(std::min<uint64_t>(db.fileSize(), layout::kMaxHeaderSize));
+    db.readRange(0, head);
+    layout::HeaderInfo h = layout::parseHeader(head, db.fileSize(), db.path());
+    std::vector<std::pair<uint64_t, uint64_t>> ranges;
+    for (const BlobRef& b : db.skeleton().blobs) ranges.emplace_back(b.offset, b.size);
+    std::sort(ranges.begin(), ranges.end());
+    uint64_t pos = h.headerSize;
+    for (const auto& [offset, size] : ranges) {
+        if (offset != pos)
+            r.add(kNone, (offset > pos ? "bytes " + std::to_string(pos) + ".." + std::to_string(offset) +
+                                             " belong to no blob"
+                                       : "blobs overlap at byte " + std::to_string(offset)));
+        pos = std::max(pos, offset + size);
+    }
+    if (pos != h.skeletonOffset) r.add(kNone, "the blobs do not end where the skeleton starts");
+}
+
+void checkBlobData(const Database& db, uint32_t i, Report& r) {
+    const BlobRef& b = db.skeleton().blobs[i];
+    const std::string name = "blob " + std::to_string(i);
+    try {
+        std::vector<uint8_t> bytes = db.readBlob(i);
+        if (b.kind == BlobKind::Geometry) {
+            MeshData m = decodeGeometry(bytes, name);
+            if (m.triangleCount() != b.triangles || m.vertexCount() != b.vertices)
+                r.add(b.node, name + " decodes to " + std::to_string(m.triangleCount()) + " triangles and " +
+                                  std::to_string(m.vertexCount()) + " vertices, its record claims " +
+                                  std::to_string(b.triangles) + " and " + std::to_string(b.vertices));
+            if (b.texture != kNone && m.texcoords.empty()) r.add(b.node, name + " is textured but has no texture coordinates");
+        } else {
+            Image img = decodeTexture(bytes, b.codec, name);
+            if (img.width != b.width || img.height != b.height || img.channels != b.channels)
+                r.add(b.node, name + " decodes to " + std::to_string(img.width) + "x" + std::to_string(img.height) + "x" +
+                                  std::to_string(img.channels) + ", its record claims " + std::to_string(b.width) +
+                                  "x" + std::to_string(b.height) + "x" + std::to_string(b.channels));
+        }
+    } catch (const FormatError& e) {
+        std::string what = e.what();
+        const std::string prefix = db.path() + ": ";
+        r.add(b.node, what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+    }
+}
+
+}  // namespace
+
+std::vector<Violation> validate(const Database& db, const ValidateOptions& o) {
+    std::vector<Violation> out;
+    Report r{out};
+    const Skeleton& s = db.skeleton();
+    double cTextured = o.cTextured;
+    if (cTextured < 0) {
+        const std::string* meta = s.findMeta("c_textured");
+        cTextured = 0.127;
+        if (meta) {
+            try {
+                cTextured = std::stod(*meta);
+            } catch (const std::exception&) {
+                r.add(kNone, "metadata c_textured='" + *meta + "' is not a number");
+            }
+        }
+    }
+    checkLinks(s, r);
+    for (const Node& nd : s.nodes) {
+        checkNode(s, nd, o, cTextured, r);
+        checkCounts(s, nd, r);
+    }
+    checkCoverage(db, r);
+    if (!o.quick)
+        for (uint32_t i = 0; i < s.blobs.size(); ++i) checkBlobData(db, i, r);
+    return out;
+}
+
+}  // namespace hlod

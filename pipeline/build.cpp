@@ -1,0 +1,193 @@
+// The whole build (issue 3): find the blocks (a folder: one block per mesh file, by name; one
+// mesh: read, split on a grid into per-block temporary files), build the selected blocks in
+// parallel (TBB, at most as many at once as --memory-limit allows), each into its own record
+// file, then merge the records into the database in block order. The result does not depend on
+// -j, and building subsets of blocks as shards and merging them gives the same bytes.
+#include "pipeline/pipeline.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+
+#ifndef HLOD_VERSION
+#define HLOD_VERSION "0.0.0"
+#endif
+
+namespace hlod {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr uint64_t kBytesPerBlockTriangle = 400;  // working set of buildBlock per input triangle
+
+struct BlockSource {
+    std::string file;      // mesh file of a folder input, or the temporary piece file
+    bool isPiece = false;  // true: a loadPiece file with `materials` below
+    uint64_t triangles = 0;
+};
+
+struct Inputs {
+    std::vector<BlockSource> blocks;
+    std::vector<Material> materials;  // of a single-mesh input
+};
+
+bool isMeshFile(const fs::path& p) {
+    std::string ext = p.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb";
+}
+
+// A temporary folder removed with everything in it when the build ends, however it ends.
+struct TempDir {
+    std::string path;
+    explicit TempDir(const std::string& parent) {
+        std::string pattern = (fs::path(parent) / "hlod-build-XXXXXX").string();
+        if (!mkdtemp(pattern.data())) throw std::runtime_error(parent + ": cannot create a temporary folder");
+        path = pattern;
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+    }
+};
+
+uint64_t blockTarget(const BuildOptions& o) {
+    return o.blockTriangles ? o.blockTriangles : std::max<uint64_t>(o.memoryLimit / (4 * kBytesPerBlockTriangle), 16384);
+}
+
+Inputs findBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
+    Inputs in;
+    if (fs::is_directory(input)) {
+        std::vector<fs::path> files;
+        for (const auto& entry : fs::directory_iterator(input))
+            if (entry.is_regular_file() && isMeshFile(entry.path())) files.push_back(entry.path());
+        std::sort(files.begin(), files.end());
+        if (files.empty()) throw InputError(input + ": folder has no .ply, .obj, .gltf or .glb files");
+        for (const auto& f : files) in.blocks.push_back({f.string(), false, 0});
+        return in;
+    }
+    progress.beginStage("read", 0);
+    SourceMesh source = readMesh(input);
+    progress.advance(source.piece.mesh.triangleCount());
+    progress.endStage();
+    for (const std::string& w : source.stats.warnings) progress.message("warning: " + w);
+    if (source.stats.degenerateDropped)
+        progress.message(input + ": dropped " + std::to_string(source.stats.degenerateDropped) + " degenerate triangles");
+    progress.beginStage("split", source.piece.mesh.triangleCount());
+    const GridSpec grid = chooseGrid(pieceBounds(source.piece.mesh), source.piece.mesh.triangleCount(), blockTarget(options),
+                                     options.blockSize);
+    std::vector<Piece> cells = splitByGrid(source.piece, grid);
+    source.piece = {};
+    for (size_t c = 0; c < cells.size(); ++c) {
+        if (cells[c].mesh.triangleCount() == 0) continue;
+        const std::string file = (fs::path(tempDir) / ("cell_" + std::to_string(c) + ".piece")).string();
+        appendPiece(file, cells[c]);
+        in.blocks.push_back({file, true, cells[c].mesh.triangleCount()});
+        progress.advance(cells[c].mesh.triangleCount());
+        cells[c] = {};
+    }
+    progress.endStage();
+    in.materials = std::move(source.materials);
+    return in;
+}
+
+void buildOne(const BlockSource& source, const std::vector<Material>& materials, uint32_t index, const std::string& dir,
+              const BuildOptions& options, Progress& progress, BlockStats& stats) {
+    SourceMesh mesh;
+    if (source.isPiece) {
+        mesh.piece = loadPiece(source.file);
+        mesh.materials = materials;
+    } else {
+        mesh = readMesh(source.file);
+    }
+    BlockRecordWriter records(blockRecordPath(dir, index));
+    stats = buildBlock(mesh.piece, mesh.materials, index, options, &progress,
+                       [&](NodeRecord&& r) { records.add(r); });
+    records.finish();
+    stats.degenerateDropped = mesh.stats.degenerateDropped;
+    stats.warnings = mesh.stats.warnings;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {
+    const char* simplifier = o.simplifier == Simplifier::Meshopt ? "meshopt" : "openmesh";
+    std::vector<std::pair<std::string, std::string>> meta = {{"tool", std::string("hlod ") + HLOD_VERSION}, {"input", input}};
+    std::string command = "hlod build " + input + " --simplifier " + simplifier;
+    command += o.blockSize > 0 ? " --block-size " + std::to_string(o.blockSize)
+                               : " --block-triangles " + std::to_string(blockTarget(o));
+    command += " --draco-position-bits " + std::to_string(o.draco.positionBits) + " --draco-texcoord-bits " +
+               std::to_string(o.draco.texcoordBits) + " --draco-level " + std::to_string(o.draco.compressionLevel) +
+               " --jpeg-quality " + std::to_string(o.jpegQuality);
+    for (const auto& [name, value] : constantsAsPairs(o.constants)) command += " --set " + name + "=" + value;
+    meta.emplace_back("command", command);
+    for (const auto& pair : constantsAsPairs(o.constants)) meta.push_back(pair);
+    meta.emplace_back("simplifier", simplifier);
+    meta.emplace_back("blocks.triangles", o.blockSize > 0 ? "" : std::to_string(blockTarget(o)));
+    meta.emplace_back("blocks.size", o.blockSize > 0 ? std::to_string(o.blockSize) : "");
+    meta.emplace_back("draco.positionBits", std::to_string(o.draco.positionBits));
+    meta.emplace_back("draco.texcoordBits", std::to_string(o.draco.texcoordBits));
+    meta.emplace_back("draco.colorBits", std::to_string(o.draco.colorBits));
+    meta.emplace_back("draco.compressionLevel", std::to_string(o.draco.compressionLevel));
+    meta.emplace_back("jpeg.quality", std::to_string(o.jpegQuality));
+    return meta;
+}
+
+BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
+    const BuildOptions& options = request.options;
+    if (options.constants.levelFactor < 2 || options.constants.desiredTris < 1)
+        throw std::invalid_argument("c_levelFactor must be >= 2 and c_desiredTris >= 1");
+    const fs::path outputParent = fs::absolute(request.output).parent_path();
+    TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
+    const Inputs inputs = findBlocks(request.input, options, temp.path, progress);
+    const uint32_t blockCount = static_cast<uint32_t>(inputs.blocks.size());
+    const uint32_t first = std::min(request.firstBlock, blockCount), last = std::min(request.lastBlock, blockCount);
+    if (first >= last) throw std::invalid_argument("no blocks selected (input has " + std::to_string(blockCount) + ")");
+
+    std::string recordDir = (fs::path(temp.path) / "records").string();
+    if (request.shard) recordDir = request.output;
+    fs::create_directories(recordDir);
+
+    uint64_t largest = 1;
+    for (const BlockSource& b : inputs.blocks) largest = std::max(largest, b.triangles);
+    const int cores = options.jobs > 0 ? options.jobs : tbb::info::default_concurrency();
+    const int byMemory = static_cast<int>(std::max<uint64_t>(1, options.memoryLimit / (largest * kBytesPerBlockTriangle)));
+    std::vector<BlockStats> stats(blockCount);
+    progress.beginStage("build", 0);
+    tbb::task_arena arena(std::max(1, std::min(cores, byMemory)));
+    arena.execute([&] {
+        tbb::parallel_for(first, last, [&](uint32_t b) {
+            buildOne(inputs.blocks[b], inputs.materials, b, recordDir, options, progress, stats[b]);
+        });
+    });
+    progress.endStage();
+
+    BuildSummary summary;
+    summary.blockCount = blockCount;
+    for (uint32_t b = first; b < last; ++b) {
+        for (const std::string& w : stats[b].warnings) progress.message("warning: " + w);
+        if (stats[b].degenerateDropped)
+            progress.message(inputs.blocks[b].file + ": dropped " + std::to_string(stats[b].degenerateDropped) +
+                             " degenerate triangles");
+        summary.inputTriangles += stats[b].inputTriangles;
+        if (summary.nodesPerLevel.size() < stats[b].nodesPerLevel.size()) summary.nodesPerLevel.resize(stats[b].nodesPerLevel.size());
+        for (size_t l = 0; l < stats[b].nodesPerLevel.size(); ++l) summary.nodesPerLevel[l] += stats[b].nodesPerLevel[l];
+    }
+    ShardInfo shard{blockCount, {}, buildMeta(request.input, options)};
+    for (uint32_t b = first; b < last; ++b) shard.blocks.push_back(b);
+    writeShardInfo(recordDir, shard);
+    if (!request.shard) {
+        progress.beginStage("write", blockCount, "blocks");
+        mergeShards({recordDir}, request.output, options.constants.textured);
+        progress.advance(blockCount);
+        progress.endStage();
+    }
+    return summary;
+}
+
+}  // namespace hlod

@@ -1,0 +1,78 @@
+// The HLOD recursion of thesis §3.2 for one block, breadth-first:
+//   simplification_hlod0 = numTriangles_b / c_desiredTris,
+//   simplification_hlod(i+1) = simplification_hlod(i) / c_levelFactor,
+// each node simplifying the piece's ORIGINAL triangles by its factor (leaves, factor <= 1, keep
+// them), then dividing the piece into c_levelFactor children by c_levelFactor - 1 plane cuts
+// (cut.cpp). Textures are cropped and downsampled by the same factor (texture.cpp); the
+// geometric error is measured against the original piece (error.cpp).
+#include "pipeline/pipeline.h"
+
+#include <deque>
+#include <map>
+
+namespace hlod {
+namespace {
+
+struct Pending {
+    Piece piece;
+    double factor;
+    uint32_t level;
+    uint32_t parentLocal;
+};
+
+// Source textures of one block, loaded on first use.
+class TextureCache {
+public:
+    explicit TextureCache(const std::vector<Material>& materials) : materials_(materials) {}
+
+    const Image* get(uint32_t material) {
+        if (material >= materials_.size()) return nullptr;
+        if (materials_[material].image) return materials_[material].image.get();
+        if (materials_[material].texturePath.empty()) return nullptr;
+        auto it = images_.find(material);
+        if (it == images_.end()) it = images_.emplace(material, loadTexture(materials_[material].texturePath)).first;
+        return &it->second;
+    }
+
+private:
+    const std::vector<Material>& materials_;
+    std::map<uint32_t, Image> images_;
+};
+
+}  // namespace
+
+BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
+                      const BuildOptions& options, Progress* progress, const std::function<void(NodeRecord&&)>& emit) {
+    const Constants& c = options.constants;
+    const uint32_t levelFactor = static_cast<uint32_t>(c.levelFactor);
+    BlockStats stats;
+    stats.inputTriangles = block.mesh.triangleCount();
+    TextureCache textures(materials);
+    std::deque<Pending> queue;
+    queue.push_back({block, static_cast<double>(block.mesh.triangleCount()) / c.desiredTris, 0, kNone});  // §3.2 hlod0
+    uint32_t nextLocal = 0;
+    while (!queue.empty()) {
+        Pending p = std::move(queue.front());
+        queue.pop_front();
+        const std::vector<SubMesh> original = splitByMaterial(p.piece);
+        std::vector<SubMesh> parts = original;
+        if (p.factor > 1)
+            for (SubMesh& part : parts) part.mesh = simplifyMesh(part.mesh, p.factor, options.simplifier);
+        const double error = p.factor > 1 ? surfaceDistance(parts, original) : 0.0;
+        std::vector<Image> images(parts.size());
+        for (size_t i = 0; i < parts.size(); ++i)
+            if (const Image* source = textures.get(parts[i].material))
+                images[i] = cropTexture(*source, parts[i].mesh, std::max(p.factor, 1.0));
+        emit(packNode(parts, images, p.parentLocal, p.level, blockIndex, error, options));
+        if (stats.nodesPerLevel.size() <= p.level) stats.nodesPerLevel.resize(p.level + 1);
+        ++stats.nodesPerLevel[p.level];
+        if (progress) progress->advance(p.piece.mesh.triangleCount());
+        const uint32_t self = nextLocal++;
+        if (p.factor <= 1) continue;
+        for (Piece& child : dividePiece(p.piece, levelFactor))  // §3.2: simplification_hlod(i+1)
+            queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});
+    }
+    return stats;
+}
+
+}  // namespace hlod

@@ -1,0 +1,154 @@
+// `hlod build INPUT -o DB` and `hlod merge SHARD... -o DB`: the pipeline's subcommands. Prints
+// the constants first, progress while it runs, a final summary (nodes per level, time per stage,
+// bytes per input triangle) and writes the run's figures to DB.build.json (the database itself
+// holds nothing that varies run to run).
+#include "pipeline/cli.h"
+
+#include "formats/cli.h"
+#include "pipeline/pipeline.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+namespace hlod::cli {
+namespace {
+
+struct BuildArgs {
+    BuildRequest request;
+    ConstantOptions constants;
+    std::string simplifier = "meshopt";
+    std::string blocks;  // "A:B" shard selection
+};
+
+double cpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
+}
+
+void parseBlockRange(const std::string& text, BuildRequest& r) {
+    const size_t colon = text.find(':');
+    try {
+        if (colon == std::string::npos) throw std::invalid_argument(text);
+        r.firstBlock = static_cast<uint32_t>(std::stoul(text.substr(0, colon)));
+        r.lastBlock = static_cast<uint32_t>(std::stoul(text.substr(colon + 1)));
+    } catch (const std::exception&) {
+        throw std::invalid_argument("--blocks '" + text + "': expected FIRST:LAST (block indices, LAST excluded)");
+    }
+}
+
+void writeSidecar(const std::string& db, const std::vector<StageFigures>& stages, const BuildSummary& summary, double wall,
+                  double cpu) {
+    nlohmann::json j;
+    j["stages"] = nlohmann::json::array();
+    for (const StageFigures& s : stages) j["stages"].push_back({{"name", s.name}, {"seconds", s.seconds}, {"items", s.items}});
+    j["peak_rss_bytes"] = peakRss();
+    j["input_triangles"] = summary.inputTriangles;
+    j["wall_seconds"] = wall;
+    j["cpu_seconds"] = cpu;
+    j["output_bytes"] = std::filesystem::file_size(db);
+    j["nodes_per_level"] = summary.nodesPerLevel;
+    std::ofstream(db + ".build.json") << j.dump(2) << "\n";
+}
+
+void printSummary(const std::string& db, const BuildSummary& s, double wall, double cpu) {
+    std::cout << "nodes per level:";
+    uint64_t nodes = 0;
+    for (size_t l = 0; l < s.nodesPerLevel.size(); ++l) std::cout << " hlod" << l << "=" << s.nodesPerLevel[l], nodes += s.nodesPerLevel[l];
+    const uint64_t bytes = std::filesystem::file_size(db);
+    std::cout << " (" << nodes << " nodes, " << s.blockCount << " blocks)\n"
+              << "summary: " << s.inputTriangles << " input triangles, " << bytes << " bytes ("
+              << (s.inputTriangles ? double(bytes) / s.inputTriangles : 0) << " B/input triangle), wall " << wall << " s, cpu "
+              << cpu << " s (" << (cpu > 0 ? s.inputTriangles / cpu / 1000 : 0) << " k input tri/CPU-s), peak RSS "
+              << formatBytes(peakRss()) << "\n";
+}
+
+int runBuildCommand(BuildArgs& a) {
+    const auto start = std::chrono::steady_clock::now();
+    BuildOptions& o = a.request.options;
+    applyConstantOptions(a.constants, o.constants);
+    o.simplifier = a.simplifier == "openmesh" ? Simplifier::OpenMesh : Simplifier::Meshopt;
+    if (!a.blocks.empty()) parseBlockRange(a.blocks, a.request);
+    printConstants(std::cout, o.constants);
+    std::cout << std::flush;
+    BuildSummary summary;
+    std::vector<StageFigures> stages;
+    {
+        Progress progress(std::cout, isatty(STDOUT_FILENO) != 0);
+        summary = runBuild(a.request, progress);
+        stages = progress.stages();
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (a.request.shard) {
+        std::cout << "shard " << a.request.output << ": blocks " << a.request.firstBlock << ".."
+                  << std::min(a.request.lastBlock, summary.blockCount) << " of " << summary.blockCount << "\n";
+        return 0;
+    }
+    printSummary(a.request.output, summary, wall, cpuSeconds());
+    writeSidecar(a.request.output, stages, summary, wall, cpuSeconds());
+    return 0;
+}
+
+int guarded(const char* command, const std::function<int()>& body) {
+    try {
+        return body();
+    } catch (const InputError& e) {
+        std::cerr << "hlod " << command << ": " << e.what() << '\n';
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "hlod " << command << ": " << e.what() << '\n';
+        return 1;
+    }
+}
+
+}  // namespace
+
+void addBuild(CLI::App& app, int& status) {
+    auto a = std::make_shared<BuildArgs>();
+    BuildOptions& o = a->request.options;
+    CLI::App* sub = app.add_subcommand("build", "build an HLOD database from a mesh (PLY, OBJ, glTF) or a folder of block meshes");
+    sub->add_option("INPUT", a->request.input, "mesh file, or folder of meshes (one block per file, ordered by name)")->required();
+    sub->add_option("-o,--output", a->request.output, "database to write (a shard folder with --shard)")->required();
+    sub->add_option("-j,--jobs", o.jobs, "blocks built in parallel (default: all cores)");
+    sub->add_option("--simplifier", a->simplifier, "meshopt (fast, default) or openmesh (Decimater, ModQuadric)")
+        ->check(CLI::IsMember({"meshopt", "openmesh"}));
+    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default: memory limit / 1600 B)");
+    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)");
+    sub->add_option("--memory-limit", o.memoryLimit, "working-set bound, e.g. 512M, 2G (default 1G)")
+        ->transform(CLI::AsSizeValue(false));
+    sub->add_option("--draco-position-bits", o.draco.positionBits, "Draco position quantization bits")->check(CLI::Range(8, 30));
+    sub->add_option("--draco-texcoord-bits", o.draco.texcoordBits, "Draco texture coordinate quantization bits")->check(CLI::Range(6, 30));
+    sub->add_option("--draco-level", o.draco.compressionLevel, "Draco compression level 0..10")->check(CLI::Range(0, 10));
+    sub->add_option("--jpeg-quality", o.jpegQuality, "JPEG quality of node textures")->check(CLI::Range(1, 100));
+    sub->add_option("--blocks", a->blocks, "build only blocks FIRST:LAST (LAST excluded), for sharding");
+    sub->add_flag("--shard", a->request.shard, "write a shard folder (merge shards with `hlod merge`)");
+    sub->add_option("--temp-dir", o.tempDir, "folder for temporary files (default: next to the output)");
+    addConstantOptions(*sub, a->constants);
+    sub->callback([a, &status] { status = guarded("build", [&] { return runBuildCommand(*a); }); });
+
+    auto shards = std::make_shared<std::vector<std::string>>();
+    auto output = std::make_shared<std::string>();
+    CLI::App* merge = app.add_subcommand("merge", "merge shard folders written by `hlod build --shard` into one database");
+    merge->add_option("SHARDS", *shards, "shard folders")->required();
+    merge->add_option("-o,--output", *output, "database to write")->required();
+    merge->callback([shards, output, &status] {
+        status = guarded("merge", [&] {
+            const ShardInfo info = readShardInfo(shards->front());
+            Constants c;
+            for (const auto& [key, value] : info.meta)
+                if (key == "c_textured") setConstant(c, key, value);
+            mergeShards(*shards, *output, c.textured);
+            std::cout << *output << ": merged " << shards->size() << " shard(s), " << info.blockCount << " blocks\n";
+            return 0;
+        });
+    });
+}
+
+}  // namespace hlod::cli

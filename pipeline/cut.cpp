@@ -1,0 +1,155 @@
+// Plane cut of thesis §3.2 / Fig. 3.2: triangles crossing a cutting plane are split into three,
+// with two new vertices where the plane meets the crossing edges; every attribute is linearly
+// interpolated, so area and UVs are kept exactly. A new vertex is made once per cut edge and
+// shared by both neighbours, so pieces stay welded and both sides of the cut get identical
+// border vertices (no cracks). Hand-written: CGAL's PMP::split drops UVs (see dependencies.md).
+//
+// dividePiece places its c_levelFactor - 1 planes at triangle-count quantiles of the centroids
+// along the longest axis (equal triangle counts, not equal lengths): children then carry about
+// 1/c_levelFactor of the parent's triangles each, which is what the factor recursion of §3.2
+// assumes, and uneven scan density cannot produce empty or overfull pieces.
+#include "pipeline/pipeline.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace hlod {
+namespace {
+
+// Source vertices followed by the vertices created on cut edges.
+struct Extended {
+    const MeshData& source;
+    MeshData added;
+    std::unordered_map<uint64_t, uint32_t> byEdge;
+};
+
+uint32_t edgeVertex(Extended& ex, uint32_t a, uint32_t b, const std::vector<float>& d, int axis, float position) {
+    if (a > b) std::swap(a, b);
+    const uint64_t key = (static_cast<uint64_t>(a) << 32) | b;
+    if (auto it = ex.byEdge.find(key); it != ex.byEdge.end()) return it->second;
+    const float t = d[a] / (d[a] - d[b]);
+    const MeshData& s = ex.source;
+    auto lerp = [&](const std::vector<float>& v, std::vector<float>& out, int n) {
+        for (int i = 0; i < n; ++i) out.push_back(v[n * a + i] + t * (v[n * b + i] - v[n * a + i]));
+    };
+    lerp(s.positions, ex.added.positions, 3);
+    ex.added.positions[ex.added.positions.size() - 3 + axis] = position;
+    if (!s.texcoords.empty()) lerp(s.texcoords, ex.added.texcoords, 2);
+    if (!s.normals.empty()) lerp(s.normals, ex.added.normals, 3);
+    for (size_t i = 0; i < 4 && !s.colors.empty(); ++i)
+        ex.added.colors.push_back(static_cast<uint8_t>(s.colors[4 * a + i] + t * (s.colors[4 * b + i] - s.colors[4 * a + i]) + 0.5f));
+    const uint32_t id = static_cast<uint32_t>(s.vertexCount() + ex.added.vertexCount() - 1);
+    ex.byEdge.emplace(key, id);
+    return id;
+}
+
+// Collects triangles of one side (indices into Extended) and compacts them into a Piece.
+struct SideBuilder {
+    std::vector<uint32_t> indices, materials;
+
+    Piece finish(const Extended& ex) const {
+        Piece out;
+        std::vector<uint32_t> remap(ex.source.vertexCount() + ex.added.vertexCount(), kNone);
+        auto copy = [](const std::vector<float>& v, std::vector<float>& o, size_t i, int n) {
+            o.insert(o.end(), v.begin() + n * i, v.begin() + n * (i + 1));
+        };
+        for (uint32_t i : indices) {
+            if (remap[i] == kNone) {
+                remap[i] = static_cast<uint32_t>(out.mesh.vertexCount());
+                const bool src = i < ex.source.vertexCount();
+                const MeshData& m = src ? ex.source : ex.added;
+                const size_t j = src ? i : i - ex.source.vertexCount();
+                copy(m.positions, out.mesh.positions, j, 3);
+                if (!m.texcoords.empty()) copy(m.texcoords, out.mesh.texcoords, j, 2);
+                if (!m.normals.empty()) copy(m.normals, out.mesh.normals, j, 3);
+                if (!m.colors.empty()) out.mesh.colors.insert(out.mesh.colors.end(), m.colors.begin() + 4 * j, m.colors.begin() + 4 * j + 4);
+            }
+            out.mesh.indices.push_back(remap[i]);
+        }
+        out.materials = materials;
+        return out;
+    }
+
+    void addPolygon(const uint32_t* poly, size_t n, uint32_t material) {
+        for (size_t k = 2; k < n; ++k) {
+            indices.insert(indices.end(), {poly[0], poly[k - 1], poly[k]});
+            materials.push_back(material);
+        }
+    }
+};
+
+// Sutherland-Hodgman clip of one triangle to the side sign * d >= 0.
+size_t clipTriangle(Extended& ex, const uint32_t* tri, const std::vector<float>& d, float sign, int axis,
+                    float position, uint32_t* poly) {
+    size_t n = 0;
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t i = tri[k], j = tri[(k + 1) % 3];
+        const float di = sign * d[i], dj = sign * d[j];
+        if (di >= 0) poly[n++] = i;
+        if ((di > 0 && dj < 0) || (di < 0 && dj > 0)) poly[n++] = edgeVertex(ex, i, j, d, axis, position);
+    }
+    return n;
+}
+
+}  // namespace
+
+Box3f pieceBounds(const MeshData& mesh) {
+    Box3f b{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};
+    for (size_t i = 0; i < mesh.vertexCount(); ++i) {
+        const float* p = &mesh.positions[3 * i];
+        b.min = {std::min(b.min.x, p[0]), std::min(b.min.y, p[1]), std::min(b.min.z, p[2])};
+        b.max = {std::max(b.max.x, p[0]), std::max(b.max.y, p[1]), std::max(b.max.z, p[2])};
+    }
+    return b;
+}
+
+CutResult cutPiece(const Piece& piece, int axis, float position) {
+    const MeshData& m = piece.mesh;
+    std::vector<float> d(m.vertexCount());
+    for (size_t i = 0; i < d.size(); ++i) d[i] = m.positions[3 * i + axis] - position;
+    Extended ex{m, {}, {}};
+    SideBuilder below, above;
+    uint32_t poly[4];
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        const uint32_t* tri = &m.indices[3 * t];
+        const float d0 = d[tri[0]], d1 = d[tri[1]], d2 = d[tri[2]];
+        if (d0 <= 0 && d1 <= 0 && d2 <= 0) {
+            below.addPolygon(tri, 3, piece.materials[t]);
+        } else if (d0 >= 0 && d1 >= 0 && d2 >= 0) {
+            above.addPolygon(tri, 3, piece.materials[t]);
+        } else {
+            below.addPolygon(poly, clipTriangle(ex, tri, d, -1, axis, position, poly), piece.materials[t]);
+            above.addPolygon(poly, clipTriangle(ex, tri, d, 1, axis, position, poly), piece.materials[t]);
+        }
+    }
+    return {below.finish(ex), above.finish(ex)};
+}
+
+std::vector<Piece> dividePiece(const Piece& piece, uint32_t count) {
+    const Box3f b = pieceBounds(piece.mesh);
+    const float extent[3] = {b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z};
+    const int axis = static_cast<int>(std::max_element(extent, extent + 3) - extent);
+    const MeshData& m = piece.mesh;
+    std::vector<float> centroids(m.triangleCount());
+    for (size_t t = 0; t < centroids.size(); ++t)
+        centroids[t] = (m.positions[3 * m.indices[3 * t] + axis] + m.positions[3 * m.indices[3 * t + 1] + axis] +
+                        m.positions[3 * m.indices[3 * t + 2] + axis]) / 3.0f;
+    std::vector<float> planes;
+    for (uint32_t k = 1; k < count && !centroids.empty(); ++k) {
+        auto nth = centroids.begin() + static_cast<ptrdiff_t>(centroids.size() * k / count);
+        std::nth_element(centroids.begin(), nth, centroids.end());
+        planes.push_back(*nth);
+    }
+    std::sort(planes.begin(), planes.end());
+    std::vector<Piece> pieces;
+    Piece rest = piece;
+    for (float plane : planes) {
+        CutResult cut = cutPiece(rest, axis, plane);
+        if (cut.below.mesh.triangleCount() > 0) pieces.push_back(std::move(cut.below));
+        rest = std::move(cut.above);
+    }
+    if (rest.mesh.triangleCount() > 0) pieces.push_back(std::move(rest));
+    return pieces;
+}
+
+}  // namespace hlod

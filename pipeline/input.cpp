@@ -1,0 +1,96 @@
+// Input checks shared by every reader (issue 3 "Bad input"): non-finite attributes and
+// out-of-range indices are errors, degenerate triangles are dropped and counted, texture paths
+// may not leave the input's folder, missing textures are warnings. readMesh picks the reader.
+#include "pipeline/pipeline.h"
+
+#include <cmath>
+#include <filesystem>
+
+namespace hlod {
+namespace {
+
+namespace fs = std::filesystem;
+
+void checkFinite(const std::vector<float>& values, size_t perVertex, const char* what, const std::string& name) {
+    for (size_t i = 0; i < values.size(); ++i)
+        if (!std::isfinite(values[i]))
+            throw InputError(name + ": vertex " + std::to_string(i / perVertex) + " has a NaN/Inf " + what);
+}
+
+template <class T>
+void dropIfShort(std::vector<T>& values, size_t perVertex, size_t vertices) {
+    if (values.size() != perVertex * vertices) values.clear();
+}
+
+bool degenerate(const MeshData& m, uint32_t a, uint32_t b, uint32_t c) {
+    if (a == b || b == c || a == c) return true;
+    const float* p = m.positions.data();
+    const double u[3] = {p[3 * b] - p[3 * a], p[3 * b + 1] - p[3 * a + 1], p[3 * b + 2] - p[3 * a + 2]};
+    const double v[3] = {p[3 * c] - p[3 * a], p[3 * c + 1] - p[3 * a + 1], p[3 * c + 2] - p[3 * a + 2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return n[0] == 0 && n[1] == 0 && n[2] == 0;
+}
+
+}  // namespace
+
+std::string resolveTexturePath(const std::string& meshPath, const std::string& texture) {
+    const fs::path folder = fs::weakly_canonical(fs::absolute(fs::path(meshPath)).parent_path());
+    const fs::path resolved = fs::weakly_canonical(folder / fs::path(texture));
+    const auto [f, r] = std::mismatch(folder.begin(), folder.end(), resolved.begin(), resolved.end());
+    if (f != folder.end())
+        throw InputError(meshPath + ": texture '" + texture + "' points outside the input's folder (refused)");
+    return resolved.string();
+}
+
+void sanitize(SourceMesh& source, const std::string& name) {
+    MeshData& m = source.piece.mesh;
+    const size_t vertices = m.vertexCount();
+    if (m.positions.size() % 3 != 0) throw InputError(name + ": corrupt mesh (incomplete vertex)");
+    dropIfShort(m.texcoords, 2, vertices);
+    dropIfShort(m.normals, 3, vertices);
+    dropIfShort(m.colors, 4, vertices);
+    checkFinite(m.positions, 3, "coordinate", name);
+    checkFinite(m.texcoords, 2, "texture coordinate", name);
+    checkFinite(m.normals, 3, "normal", name);
+    size_t kept = 0;
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        const uint32_t a = m.indices[3 * t], b = m.indices[3 * t + 1], c = m.indices[3 * t + 2];
+        for (uint32_t i : {a, b, c})
+            if (i >= vertices)
+                throw InputError(name + ": triangle " + std::to_string(t) + " uses vertex " + std::to_string(i) +
+                                 " but there are only " + std::to_string(vertices));
+        if (source.piece.materials[t] >= source.materials.size())
+            throw InputError(name + ": triangle " + std::to_string(t) + " has an unknown material");
+        if (degenerate(m, a, b, c)) {
+            ++source.stats.degenerateDropped;
+            continue;
+        }
+        m.indices[3 * kept] = a, m.indices[3 * kept + 1] = b, m.indices[3 * kept + 2] = c;
+        source.piece.materials[kept++] = source.piece.materials[t];
+    }
+    m.indices.resize(3 * kept);
+    source.piece.materials.resize(kept);
+    if (kept == 0) throw InputError(name + ": empty mesh (no valid triangles)");
+    for (Material& material : source.materials) {
+        if (material.texturePath.empty() && !material.image) continue;
+        if (m.texcoords.empty() || (!material.image && !fs::is_regular_file(material.texturePath))) {
+            source.stats.warnings.push_back(name + ": " +
+                                            (m.texcoords.empty() ? "no texture coordinates for '" : "missing texture '") +
+                                            material.texturePath + "', material '" + material.name + "' is untextured");
+            material.texturePath.clear();
+            material.image.reset();
+        }
+    }
+}
+
+SourceMesh readMesh(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!fs::exists(path)) throw InputError(path + ": no such file");
+    if (ext == ".ply") return readPly(path);
+    if (ext == ".obj") return readObj(path);
+    if (ext == ".gltf" || ext == ".glb") return readGltf(path);
+    throw InputError(path + ": unsupported format '" + ext + "' (expected .ply, .obj, .gltf or .glb)");
+}
+
+}  // namespace hlod

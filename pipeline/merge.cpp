@@ -1,0 +1,176 @@
+// Block record files, shards and the final merge. Blocks finish in any order on any number of
+// threads or machines; each writes its encoded nodes to its own record file, and the merge
+// writes the database in one fixed order: every hlod0 in block order (thesis Fig. 3.1: the
+// hlod0 nodes are siblings), then each block's remaining nodes breadth-first. A one-machine
+// build is a single shard merged, so shard + merge gives the same bytes as one build.
+#include "pipeline/pipeline.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace hlod {
+namespace {
+
+constexpr uint32_t kRecordTag = 0x45444F4E;  // "NODE"
+constexpr uint32_t kEndTag = 0x20444E45;     // "END "
+
+template <class T>
+void write(std::FILE* f, const T& value, const std::string& file) {
+    if (std::fwrite(&value, sizeof value, 1, f) != 1) throw std::runtime_error(file + ": write failed (" + std::strerror(errno) + ")");
+}
+
+template <class T>
+T read(std::FILE* f, const std::string& file) {
+    T value{};
+    if (std::fread(&value, sizeof value, 1, f) != 1) throw std::runtime_error(file + ": truncated block record file");
+    return value;
+}
+
+}  // namespace
+
+struct BlockRecordWriter::Impl {
+    std::string file;
+    std::FILE* f = nullptr;
+    uint64_t count = 0;
+};
+
+BlockRecordWriter::BlockRecordWriter(const std::string& file) : impl_(new Impl{file, std::fopen(file.c_str(), "wb"), 0}) {
+    if (!impl_->f) {
+        const std::string problem = std::strerror(errno);
+        delete impl_;
+        throw std::runtime_error(file + ": cannot write (" + problem + ")");
+    }
+}
+
+BlockRecordWriter::~BlockRecordWriter() {
+    if (impl_->f) std::fclose(impl_->f);
+    delete impl_;
+}
+
+void BlockRecordWriter::add(const NodeRecord& record) {
+    std::FILE* f = impl_->f;
+    const std::string& file = impl_->file;
+    const NodeInput& n = record.node;
+    write(f, kRecordTag, file), write(f, record.parentLocal, file), write(f, n.level, file), write(f, n.block, file);
+    write(f, n.bounds, file), write(f, n.cost, file), write(f, n.staticBenefit, file), write(f, n.avgNormal, file);
+    write(f, n.geometricError, file), write(f, static_cast<uint32_t>(n.blobs.size()), file);
+    for (const EncodedBlob& blob : n.blobs) {
+        write(f, blob.info, file), write(f, blob.textureSlot, file), write(f, static_cast<uint64_t>(blob.bytes.size()), file);
+        if (!blob.bytes.empty() && std::fwrite(blob.bytes.data(), 1, blob.bytes.size(), f) != blob.bytes.size())
+            throw std::runtime_error(file + ": write failed (" + std::strerror(errno) + ")");
+    }
+    ++impl_->count;
+}
+
+void BlockRecordWriter::finish() {
+    write(impl_->f, kEndTag, impl_->file), write(impl_->f, impl_->count, impl_->file);
+    const bool ok = std::fclose(impl_->f) == 0;
+    impl_->f = nullptr;
+    if (!ok) throw std::runtime_error(impl_->file + ": write failed");
+}
+
+std::vector<NodeRecord> readBlockRecords(const std::string& file, size_t maxRecords) {
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> holder(std::fopen(file.c_str(), "rb"), &std::fclose);
+    std::FILE* f = holder.get();
+    if (!f) throw std::runtime_error(file + ": cannot read block record file (" + std::strerror(errno) + ")");
+    std::vector<NodeRecord> records;
+    while (records.size() < maxRecords) {
+        const uint32_t tag = read<uint32_t>(f, file);
+        if (tag == kEndTag) {
+            if (read<uint64_t>(f, file) != records.size()) throw std::runtime_error(file + ": corrupt block record file (count)");
+            break;
+        }
+        if (tag != kRecordTag) throw std::runtime_error(file + ": corrupt block record file");
+        NodeRecord r;
+        NodeInput& n = r.node;
+        r.parentLocal = read<uint32_t>(f, file), n.level = read<uint32_t>(f, file), n.block = read<uint32_t>(f, file);
+        n.bounds = read<Box3f>(f, file), n.cost = read<float>(f, file), n.staticBenefit = read<float>(f, file);
+        n.avgNormal = read<Vec3f>(f, file), n.geometricError = read<float>(f, file);
+        n.blobs.resize(read<uint32_t>(f, file));
+        for (EncodedBlob& blob : n.blobs) {
+            blob.info = read<BlobRef>(f, file), blob.textureSlot = read<uint32_t>(f, file);
+            blob.bytes.resize(read<uint64_t>(f, file));
+            if (!blob.bytes.empty() && std::fread(blob.bytes.data(), 1, blob.bytes.size(), f) != blob.bytes.size())
+                throw std::runtime_error(file + ": truncated block record file");
+        }
+        records.push_back(std::move(r));
+    }
+    return records;
+}
+
+std::string blockRecordPath(const std::string& dir, uint32_t block) {
+    char name[32];
+    std::snprintf(name, sizeof name, "block_%06u.nodes", block);
+    return (std::filesystem::path(dir) / name).string();
+}
+
+void writeShardInfo(const std::string& dir, const ShardInfo& info) {
+    nlohmann::json j;
+    j["format"] = "hlod-shard-1";
+    j["blockCount"] = info.blockCount;
+    j["blocks"] = info.blocks;
+    j["meta"] = info.meta;
+    std::ofstream out(std::filesystem::path(dir) / "shard.json");
+    out << j.dump(1) << "\n";
+    if (!out) throw std::runtime_error(dir + "/shard.json: write failed");
+}
+
+ShardInfo readShardInfo(const std::string& dir) {
+    const std::string file = (std::filesystem::path(dir) / "shard.json").string();
+    std::ifstream in(file);
+    if (!in) throw std::runtime_error(file + ": cannot read (not a shard folder?)");
+    try {
+        const nlohmann::json j = nlohmann::json::parse(in);
+        if (j.at("format") != "hlod-shard-1") throw std::runtime_error("unknown format");
+        ShardInfo info;
+        info.blockCount = j.at("blockCount").get<uint32_t>();
+        info.blocks = j.at("blocks").get<std::vector<uint32_t>>();
+        info.meta = j.at("meta").get<std::vector<std::pair<std::string, std::string>>>();
+        return info;
+    } catch (const std::exception& e) {
+        throw std::runtime_error(file + ": corrupt shard description (" + e.what() + ")");
+    }
+}
+
+void mergeShards(const std::vector<std::string>& shardDirs, const std::string& output, double cTextured) {
+    if (shardDirs.empty()) throw std::runtime_error("merge: no shards given");
+    const ShardInfo first = readShardInfo(shardDirs[0]);
+    std::vector<std::string> owner(first.blockCount);
+    for (const std::string& dir : shardDirs) {
+        const ShardInfo info = readShardInfo(dir);
+        if (info.meta != first.meta || info.blockCount != first.blockCount)
+            throw std::runtime_error(dir + ": shard built from a different input or options than " + shardDirs[0]);
+        for (uint32_t b : info.blocks) {
+            if (b >= owner.size()) throw std::runtime_error(dir + ": block " + std::to_string(b) + " out of range");
+            if (!owner[b].empty()) throw std::runtime_error(dir + ": block " + std::to_string(b) + " also in " + owner[b]);
+            owner[b] = dir;
+        }
+    }
+    for (uint32_t b = 0; b < owner.size(); ++b)
+        if (owner[b].empty()) throw std::runtime_error("merge: block " + std::to_string(b) + " is in none of the shards");
+    Writer writer(output, cTextured);
+    std::vector<uint32_t> roots(owner.size());
+    for (uint32_t b = 0; b < owner.size(); ++b) {
+        auto records = readBlockRecords(blockRecordPath(owner[b], b), 1);
+        if (records.empty()) throw std::runtime_error(blockRecordPath(owner[b], b) + ": block has no nodes");
+        roots[b] = writer.addNode(std::move(records[0].node));
+    }
+    for (uint32_t b = 0; b < owner.size(); ++b) {
+        auto records = readBlockRecords(blockRecordPath(owner[b], b), SIZE_MAX);
+        std::vector<uint32_t> ids(records.size(), kNone);
+        ids[0] = roots[b];
+        for (size_t i = 1; i < records.size(); ++i) {
+            if (records[i].parentLocal >= i) throw std::runtime_error(blockRecordPath(owner[b], b) + ": corrupt parent link");
+            records[i].node.parent = ids[records[i].parentLocal];
+            ids[i] = writer.addNode(std::move(records[i].node));
+        }
+    }
+    for (const auto& [key, value] : first.meta) writer.setMeta(key, value);
+    writer.finish();
+}
+
+}  // namespace hlod

@@ -1,0 +1,223 @@
+// `hlod build`: raw scan -> HLOD database (thesis §3.2 HLOD generation, §3.3 node attributes).
+// Plain structs and one free function per stage, one stage per .cpp:
+//   read_ply / read_obj / read_gltf  -> SourceMesh            (sanitize.cpp checks every input)
+//   split_blocks                     -> per-block temporary files (grid over the horizontal axes)
+//   build_tree (§3.2 recursion)      -> cut.cpp (Fig. 3.2), simplify.cpp, texture.cpp, error.cpp
+//   pack                             -> Draco/JPEG blobs in a per-block record file
+//   merge                            -> the database, block records written in block order
+#pragma once
+
+#include "formats/codec.h"
+#include "formats/constants.h"
+#include "formats/db.h"
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace hlod {
+
+// A bad input file. what() is one line: "FILE: problem".
+struct InputError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct Material {
+    std::string name;
+    std::string texturePath;             // texture file, empty = none
+    std::shared_ptr<const Image> image;  // an embedded texture (glTF), used instead of a file
+};
+
+// Triangles with welded vertices and one material index per triangle. Texture coordinates use
+// the glTF convention (v = 0 is the first image row); readers of OBJ/PLY flip v.
+struct Piece {
+    MeshData mesh;
+    std::vector<uint32_t> materials;  // per triangle, index into the block's material list
+};
+
+struct ReadStats {
+    uint64_t degenerateDropped = 0;  // triangles with repeated vertices or zero area
+    std::vector<std::string> warnings;
+};
+
+struct SourceMesh {
+    Piece piece;
+    std::vector<Material> materials;
+    ReadStats stats;
+};
+
+// Readers. Throw InputError("FILE: problem") on a missing, truncated or corrupt file.
+// Texture paths outside the folder of `path` are refused (InputError); missing textures give a
+// warning and untextured triangles.
+SourceMesh readPly(const std::string& path);
+SourceMesh readObj(const std::string& path);
+SourceMesh readGltf(const std::string& path);
+SourceMesh readMesh(const std::string& path);  // by extension
+
+// input.cpp: rejects NaN/Inf attributes, out-of-range indices and empty meshes (InputError
+// naming `name`), drops degenerate triangles (counted in stats), turns missing textures into
+// warnings (untextured).
+void sanitize(SourceMesh& source, const std::string& name);
+// Resolves `texture` relative to the folder of `meshPath`; throws InputError when it leaves it.
+std::string resolveTexturePath(const std::string& meshPath, const std::string& texture);
+
+// cut.cpp (Fig. 3.2): splits by the plane x[axis] = position. Triangles crossing it become three
+// with two new vertices on the plane, attributes interpolated linearly. `below` gets x <= p.
+struct CutResult {
+    Piece below, above;
+};
+CutResult cutPiece(const Piece& piece, int axis, float position);
+// §3.2 division into `count` pieces by count-1 planes perpendicular to the longest bounding-box
+// dimension, placed at triangle-count quantiles (equal triangle counts, see cut.cpp).
+std::vector<Piece> dividePiece(const Piece& piece, uint32_t count);
+Box3f pieceBounds(const MeshData& mesh);
+
+// split_blocks.cpp: a grid over the two longest (horizontal) axes of the input bounds.
+struct GridSpec {
+    int axisU = 0, axisV = 1;
+    uint32_t cellsU = 1, cellsV = 1;
+    float minU = 0, minV = 0, sizeU = 1, sizeV = 1;  // cell size
+};
+GridSpec chooseGrid(const Box3f& bounds, uint64_t triangles, uint64_t targetTrianglesPerBlock,
+                    double blockSize);
+// Cuts `piece` along the grid lines; returns one piece per cell (row-major in V then U).
+std::vector<Piece> splitByGrid(const Piece& piece, const GridSpec& grid);
+
+// Temporary per-block storage: a Piece appended to / read from a binary file.
+void appendPiece(const std::string& file, const Piece& piece);
+Piece loadPiece(const std::string& file);
+
+// simplify.cpp. Simplifies each material's triangles to about triangleCount / factor with
+// quadric error metrics, keeping every open border (piece cuts, material seams) locked.
+enum class Simplifier { Meshopt, OpenMesh };
+struct SubMesh {
+    uint32_t material = 0;
+    MeshData mesh;
+};
+std::vector<SubMesh> splitByMaterial(const Piece& piece);
+MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier);
+
+// error.cpp: largest distance from points sampled on `simplified` (vertices, edge midpoints,
+// centroids) to the surface of `original` (CGAL AABB tree). 0 when either is empty.
+double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original);
+
+// texture.cpp: the source texels a sub-mesh uses (bounding rectangle of its UVs plus one texel),
+// downsampled by sqrt(factor) per side (box filter); rewrites the UVs into the crop, exactly.
+Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError
+Image cropTexture(const Image& source, MeshData& mesh, double factor);
+
+struct BuildOptions {
+    Constants constants;
+    Simplifier simplifier = Simplifier::Meshopt;
+    DracoOptions draco;
+    int jpegQuality = 85;
+    uint64_t blockTriangles = 0;   // target triangles per block of a single-mesh input; 0 = auto
+    double blockSize = 0;          // block side in input units; overrides blockTriangles when > 0
+    uint64_t memoryLimit = 1ull << 30;
+    int jobs = 0;                  // 0 = all cores
+    std::string tempDir;           // empty = next to the output
+};
+
+// progress.cpp: per-stage figures and, on a terminal, a live line (stage, percent, items/s,
+// ETA, current and peak RSS); otherwise one summary line per stage. Thread-safe.
+struct StageFigures {
+    std::string name;
+    double seconds = 0;
+    uint64_t items = 0;
+};
+class Progress {
+public:
+    Progress(std::ostream& out, bool live);
+    ~Progress();
+    void beginStage(const std::string& name, uint64_t totalItems, const std::string& unit = "tri");
+    void advance(uint64_t items);
+    void endStage();
+    void message(const std::string& line);  // a warning or note, on its own line
+    std::vector<StageFigures> stages() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+uint64_t currentRss();  // bytes
+uint64_t peakRss();     // bytes
+std::string formatBytes(uint64_t bytes);
+
+// One node of a block, encoded and ready for the writer. parentLocal indexes the block's
+// node list (kNone for the block's hlod0).
+struct NodeRecord {
+    uint32_t parentLocal = kNone;
+    NodeInput node;
+};
+
+struct BlockStats {
+    uint64_t inputTriangles = 0;
+    uint64_t degenerateDropped = 0;
+    std::vector<uint64_t> nodesPerLevel;
+    std::vector<std::string> warnings;
+};
+
+// build_tree.cpp: the §3.2 recursion over one block; nodes breadth-first, hlod0 first.
+// `emit` receives each node as soon as it is packed (bounded memory).
+BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
+                      const BuildOptions& options, Progress* progress,
+                      const std::function<void(NodeRecord&&)>& emit);
+
+// pack.cpp: encodes a node's sub-meshes (Draco) and textures (JPEG) and fills §3.3 attributes.
+NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures,
+                    uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
+                    const BuildOptions& options);
+
+// merge.cpp: block record files and shards.
+class BlockRecordWriter {
+public:
+    explicit BlockRecordWriter(const std::string& file);  // throws std::runtime_error
+    ~BlockRecordWriter();
+    void add(const NodeRecord& record);
+    void finish();  // writes the node count; a record file without it is refused by merge
+
+private:
+    struct Impl;
+    Impl* impl_;
+};
+std::vector<NodeRecord> readBlockRecords(const std::string& file, size_t maxRecords);
+
+// A shard: a folder with shard.json (block count, metadata) and block_NNNNNN.nodes files.
+struct ShardInfo {
+    uint32_t blockCount = 0;         // blocks of the whole input
+    std::vector<uint32_t> blocks;    // blocks this shard holds
+    std::vector<std::pair<std::string, std::string>> meta;
+};
+void writeShardInfo(const std::string& dir, const ShardInfo& info);
+ShardInfo readShardInfo(const std::string& dir);
+std::string blockRecordPath(const std::string& dir, uint32_t block);
+// Writes the database from shard folders: all hlod0 nodes in block order, then each block's
+// remaining nodes in record order. Throws std::runtime_error on missing/duplicate blocks or
+// shards built with different inputs/options.
+void mergeShards(const std::vector<std::string>& shardDirs, const std::string& output, double cTextured);
+
+// build.cpp: the whole build. `blocks` selects a subset [first, last) for sharding; output is a
+// database, or a shard folder when `shardOut` is set.
+struct BuildRequest {
+    std::string input;          // a mesh file, or a folder of meshes (one block each, by name)
+    std::string output;         // database path (or shard folder when shard is true)
+    bool shard = false;
+    uint32_t firstBlock = 0, lastBlock = UINT32_MAX;
+    BuildOptions options;
+};
+struct BuildSummary {
+    uint32_t blockCount = 0;
+    uint64_t inputTriangles = 0;
+    std::vector<uint64_t> nodesPerLevel;
+};
+BuildSummary runBuild(const BuildRequest& request, Progress& progress);
+
+// Deterministic build metadata (no timestamps, paths of temporaries or -j).
+std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input,
+                                                           const BuildOptions& options);
+
+}  // namespace hlod

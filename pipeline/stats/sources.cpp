@@ -1,0 +1,95 @@
+// Side inputs of `hlod stats`: the pipeline's "<DB>.build.json" (time per stage, peak memory) and
+// the synthetic city's city.json, found through the database's "input" metadata. The thesis's
+// figures (§1.1, §3.2) are put beside ours only when that manifest says the input is the city at
+// scale 1: the rule rests on what the generator recorded, not on guessing from counts.
+#include "pipeline/stats/stats.h"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace hlod::stats {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json readJson(const fs::path& path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path.string() + ": cannot read");
+    try {
+        return nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception&) {
+        throw std::runtime_error(path.string() + ": not valid JSON");
+    }
+}
+
+template <class T>
+T field(const nlohmann::json& j, const char* key, const fs::path& path) {
+    if (!j.contains(key)) throw std::runtime_error(path.string() + ": missing \"" + key + "\"");
+    try {
+        return j.at(key).get<T>();
+    } catch (const nlohmann::json::exception&) {
+        throw std::runtime_error(path.string() + ": \"" + key + "\" has the wrong type");
+    }
+}
+
+std::optional<CityManifest> readManifest(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return std::nullopt;
+    nlohmann::json j = readJson(path);
+    if (!j.is_object() || j.value("generator", "") != "hlod synth city") return std::nullopt;
+    CityManifest m;
+    m.path = path.string();
+    m.scale = field<double>(j, "scale", path);
+    m.seed = field<uint64_t>(j, "seed", path);
+    m.blocks = field<uint64_t>(j, "block_count", path);
+    m.triangles = field<uint64_t>(j, "triangles", path);
+    m.texels = field<uint64_t>(j, "texels", path);
+    return m;
+}
+
+}  // namespace
+
+std::optional<BuildReport> readBuildReport(const std::string& path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) return std::nullopt;
+    nlohmann::json j = readJson(path);
+    if (!j.is_object()) throw std::runtime_error(path + ": not a build report (expected a JSON object)");
+    BuildReport r;
+    r.path = path;
+    auto stages = field<nlohmann::json>(j, "stages", path);
+    if (!stages.is_array()) throw std::runtime_error(path + ": \"stages\" is not an array");
+    for (const auto& s : stages) {
+        if (!s.is_object()) throw std::runtime_error(path + ": a stage is not an object");
+        r.stages.push_back({field<std::string>(s, "name", path), field<double>(s, "seconds", path),
+                            field<uint64_t>(s, "items", path)});
+    }
+    r.peakRssBytes = field<uint64_t>(j, "peak_rss_bytes", path);
+    r.inputTriangles = field<uint64_t>(j, "input_triangles", path);
+    r.outputBytes = field<uint64_t>(j, "output_bytes", path);
+    r.wallSeconds = field<double>(j, "wall_seconds", path);
+    r.cpuSeconds = field<double>(j, "cpu_seconds", path);
+    return r;
+}
+
+std::optional<CityManifest> findCityManifest(const std::string& dbPath, const Skeleton& skeleton) {
+    const std::string* input = skeleton.findMeta("input");
+    if (!input || input->empty()) return std::nullopt;
+    fs::path in(*input);
+    std::vector<fs::path> bases = {in};
+    if (in.is_relative()) bases.push_back(fs::path(dbPath).parent_path() / in);
+    for (const fs::path& base : bases) {
+        for (const fs::path& candidate : {base, base / "city.json", base.parent_path() / "city.json"}) {
+            if (candidate.filename() != "city.json") continue;
+            if (auto m = readManifest(candidate)) return m;
+        }
+    }
+    return std::nullopt;
+}
+
+bool isThesisScale(const std::optional<CityManifest>& manifest) {
+    return manifest && manifest->scale == 1.0;
+}
+
+}  // namespace hlod::stats

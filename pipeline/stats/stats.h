@@ -1,0 +1,82 @@
+// `hlod stats DB`: the preprocessing statistics of thesis §3.2 and §6 (blocks = hlod0 nodes,
+// total nodes, maximum depth, per-level nodes / triangles / texels / bytes, the always-resident
+// hlod0 set, mean triangles per node against c_desiredTris), the build's time per stage from the
+// "<DB>.build.json" sidecar, and - when the input is the thesis-scale synthetic city - the
+// thesis's own figures beside ours (114 hlod0 nodes, 2,296 nodes, depth 5, 8.95 M triangles,
+// 937 M texels). Per-level figures come from formats/inspect.h (the same numbers as inspect).
+#pragma once
+
+#include "formats/inspect.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hlod::stats {
+
+// Thesis §1.1 and §3.2 figures of the Berkeley model.
+struct ThesisFigures {
+    uint64_t hlod0Nodes = 114;
+    uint64_t nodes = 2296;
+    uint32_t depth = 5;
+    uint64_t triangles = 8'950'000;
+    uint64_t texels = 937'000'000;
+    uint64_t uncompressedTextureMiB = 2680;
+};
+
+struct BuildStage {
+    std::string name;
+    double seconds = 0;
+    uint64_t items = 0;
+};
+
+// The pipeline's "<DB>.build.json" sidecar.
+struct BuildReport {
+    std::string path;
+    std::vector<BuildStage> stages;
+    uint64_t peakRssBytes = 0, inputTriangles = 0, outputBytes = 0;
+    double wallSeconds = 0, cpuSeconds = 0;
+};
+
+// Reads the sidecar; std::nullopt when there is none. Throws std::runtime_error "PATH: problem"
+// when it exists but is not a valid report.
+std::optional<BuildReport> readBuildReport(const std::string& path);
+
+// The synthetic city manifest (city.json of `hlod synth city`) an input path points at.
+struct CityManifest {
+    std::string path;
+    double scale = 0;
+    uint64_t seed = 0, blocks = 0, triangles = 0, texels = 0;
+};
+
+// Looks for city.json at the database's "input" (the file itself, inside it, or beside it),
+// relative to the working directory and to the database's directory.
+std::optional<CityManifest> findCityManifest(const std::string& dbPath, const Skeleton& skeleton);
+
+// Thesis figures are shown when the input is the synthetic city at scale 1 (its manifest says
+// so), or when forced.
+bool isThesisScale(const std::optional<CityManifest>& manifest);
+
+struct Stats {
+    DatabaseSummary summary;
+    uint64_t leafNodes = 0, leafTriangles = 0, leafTexels = 0;  // finest detail = the input
+    uint64_t totalTriangles = 0;                                // over all nodes
+    double desiredTris = 0;                                     // c_desiredTris of the build
+    std::optional<BuildReport> build;
+    std::optional<CityManifest> city;
+    bool thesis = false;
+};
+
+Stats computeStats(const Database& db, bool forceThesis);
+
+// Triangles of the input: the build sidecar's count, else the leaves'.
+uint64_t inputTriangles(const Stats& s);
+
+nlohmann::json toJson(const Stats& s);
+void printStats(std::ostream& os, const Stats& s);
+
+}  // namespace hlod::stats

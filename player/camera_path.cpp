@@ -1,0 +1,138 @@
+// Camera path text format (player/CAMERA_PATH.md): parsing with one-line errors, writing,
+// and sampling (linear position and field of view, slerp orientation).
+#include "player/camera_path.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace hlod {
+namespace {
+
+constexpr const char* kMagic = "hlod-camera-path";
+
+[[noreturn]] void fail(const std::string& name, size_t line, const std::string& what) {
+    throw std::runtime_error(name + ":" + std::to_string(line) + ": " + what);
+}
+
+std::vector<std::string> fields(const std::string& line) {
+    std::istringstream in(line);
+    std::vector<std::string> out;
+    for (std::string f; in >> f;) out.push_back(f);
+    return out;
+}
+
+double number(const std::string& text, const std::string& name, size_t line, const char* field) {
+    double v = 0;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v))
+        fail(name, line, std::string("bad ") + field + " '" + text + "' (expected a finite number)");
+    return v;
+}
+
+CameraKey parseKey(const std::vector<std::string>& f, const std::string& name, size_t line) {
+    if (f.size() != 9)
+        fail(name, line, "expected 9 fields (time px py pz qx qy qz qw vfov), found " + std::to_string(f.size()));
+    static const char* names[9] = {"time", "px", "py", "pz", "qx", "qy", "qz", "qw", "vfov"};
+    double v[9];
+    for (int i = 0; i < 9; ++i) v[i] = number(f[i], name, line, names[i]);
+    CameraKey k;
+    k.time = v[0];
+    std::copy(v + 1, v + 4, k.position);
+    double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+    if (std::abs(norm - 1) > 0.01) fail(name, line, "orientation quaternion is not unit length (|q| = " + f[4] + "...)");
+    for (int i = 0; i < 4; ++i) k.orientation[i] = v[4 + i] / norm;
+    k.vfovDegrees = v[8];
+    if (!(k.vfovDegrees > 0 && k.vfovDegrees < 180)) fail(name, line, "vertical field of view must be in (0, 180) degrees");
+    return k;
+}
+
+}  // namespace
+
+CameraPath parseCameraPath(std::istream& in, const std::string& name) {
+    CameraPath path;
+    bool header = false;
+    size_t lineNo = 0;
+    for (std::string line; std::getline(in, line);) {
+        ++lineNo;
+        if (auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+        auto f = fields(line);
+        if (f.empty()) continue;
+        if (!header) {
+            if (f.size() != 2 || f[0] != kMagic) fail(name, lineNo, "not a camera path (expected 'hlod-camera-path 1')");
+            if (f[1] != "1") fail(name, lineNo, "unsupported camera path version " + f[1]);
+            header = true;
+            continue;
+        }
+        CameraKey k = parseKey(f, name, lineNo);
+        if (!path.keys.empty() && !(k.time > path.keys.back().time)) fail(name, lineNo, "times must increase strictly");
+        path.keys.push_back(k);
+    }
+    if (in.bad()) throw std::runtime_error(name + ": read error");
+    if (!header) throw std::runtime_error(name + ": empty file (expected 'hlod-camera-path 1')");
+    if (path.keys.empty()) throw std::runtime_error(name + ": camera path has no keys");
+    return path;
+}
+
+CameraPath readCameraPath(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path + ": cannot open camera path");
+    return parseCameraPath(in, path);
+}
+
+void writeCameraPath(std::ostream& out, const CameraPath& path) {
+    out << kMagic << " 1\n# time_s px py pz qx qy qz qw vfov_deg\n";
+    char buf[512];
+    for (const CameraKey& k : path.keys) {
+        std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f %.9f %.9f %.9f %.9f %.4f\n", k.time, k.position[0],
+                      k.position[1], k.position[2], k.orientation[0], k.orientation[1], k.orientation[2],
+                      k.orientation[3], k.vfovDegrees);
+        out << buf;
+    }
+}
+
+void writeCameraPathFile(const std::string& path, const CameraPath& cameraPath) {
+    std::string tmp = path + ".tmp-" + std::to_string(getpid());
+    {
+        std::ofstream out(tmp);
+        if (!out) throw std::runtime_error(path + ": cannot write camera path");
+        writeCameraPath(out, cameraPath);
+        out.flush();
+        if (!out) {
+            std::filesystem::remove(tmp);
+            throw std::runtime_error(path + ": write failed");
+        }
+    }
+    std::filesystem::rename(tmp, path);
+}
+
+Camera sampleCameraPath(const CameraPath& path, double time, double aspect) {
+    Camera cam;
+    cam.aspect = aspect;
+    if (path.keys.empty()) return cam;
+    auto after = std::upper_bound(path.keys.begin(), path.keys.end(), time,
+                                  [](double t, const CameraKey& k) { return t < k.time; });
+    const CameraKey& a = after == path.keys.begin() ? *after : *(after - 1);
+    const CameraKey& b = after == path.keys.end() ? a : *after;
+    double u = b.time > a.time ? std::clamp((time - a.time) / (b.time - a.time), 0.0, 1.0) : 0.0;
+    for (int i = 0; i < 3; ++i) cam.position[i] = a.position[i] + u * (b.position[i] - a.position[i]);
+    Eigen::Quaterniond qa(a.orientation[3], a.orientation[0], a.orientation[1], a.orientation[2]);
+    Eigen::Quaterniond qb(b.orientation[3], b.orientation[0], b.orientation[1], b.orientation[2]);
+    Eigen::Quaterniond q = qa.slerp(u, qb).normalized();
+    cam.orientation[0] = q.x();
+    cam.orientation[1] = q.y();
+    cam.orientation[2] = q.z();
+    cam.orientation[3] = q.w();
+    cam.vfovDegrees = a.vfovDegrees + u * (b.vfovDegrees - a.vfovDegrees);
+    return cam;
+}
+
+}  // namespace hlod

@@ -1,0 +1,55 @@
+// Camera paths: the text format of player/CAMERA_PATH.md (time, position, orientation
+// quaternion, vertical field of view), sampling between keys, and the generated paths of
+// `hlod path` (walk, drive, fly, erratic - Funkhouser's viewpoint C) from a database's bounds.
+#pragma once
+
+#include "formats/db.h"
+#include "player/renderer.h"
+
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace hlod {
+
+struct CameraKey {
+    double time = 0;                          // seconds, strictly increasing
+    double position[3] = {0, 0, 0};
+    double orientation[4] = {0, 0, 0, 1};     // unit quaternion x y z w; looks down -Z, up +Y
+    double vfovDegrees = 60;
+};
+
+struct CameraPath {
+    std::vector<CameraKey> keys;
+    double duration() const { return keys.empty() ? 0 : keys.back().time; }
+};
+
+// Throws std::runtime_error "NAME:LINE: problem" (bad header, field count, number, time order,
+// quaternion, field of view) or "NAME: ..." for an unreadable or empty file.
+CameraPath parseCameraPath(std::istream& in, const std::string& name);
+CameraPath readCameraPath(const std::string& path);
+void writeCameraPath(std::ostream& out, const CameraPath& path);
+void writeCameraPathFile(const std::string& path, const CameraPath& cameraPath);  // atomic (tmp + rename)
+
+// Position and field of view interpolated linearly, orientation by slerp; clamped at the ends.
+Camera sampleCameraPath(const CameraPath& path, double time, double aspect = 16.0 / 9.0);
+
+enum class PathKind { Walk, Drive, Fly, Erratic };
+PathKind parsePathKind(const std::string& text);  // throws std::invalid_argument
+
+struct PathOptions {
+    PathKind kind = PathKind::Walk;
+    double duration = 0;       // seconds; 0: one lap of the route
+    double speed = 0;          // m/s; 0: 1.5 walk, 15 drive, fly: a lap in 60 s, erratic 1.5
+    double eyeHeight = 1.7;    // above the ground estimate (walk, drive, erratic)
+    double keyInterval = 0.5;  // seconds between keys
+    uint32_t seed = 1;         // erratic turns and teleports
+    int upAxis = 2;            // 2: Z up (default), 1: Y up
+};
+
+// The bounds of all hlod0 nodes.
+Box3f modelBounds(const Skeleton& skeleton);
+CameraPath generatePath(const Skeleton& skeleton, const PathOptions& options);
+
+}  // namespace hlod

@@ -1,0 +1,61 @@
+// `hlod path DB --kind walk|drive|fly|erratic -o FILE`: camera paths of thesis Chapter 6 (walk,
+// 10x faster drive, fly-over) and Funkhouser's erratic viewpoint path, in the format of
+// player/CAMERA_PATH.md.
+#include "player/cli.h"
+
+#include "formats/cli.h"
+#include "formats/db.h"
+#include "player/camera_path.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <memory>
+
+namespace hlod::cli {
+namespace {
+
+struct PathArgs {
+    std::string db, output, kind = "walk", up = "z";
+    PathOptions options;
+};
+
+int runPath(PathArgs& a) {
+    a.options.kind = parsePathKind(a.kind);
+    if (a.up != "y" && a.up != "z") throw std::invalid_argument("--up must be y or z");
+    a.options.upAxis = a.up == "y" ? 1 : 2;
+    Database db = Database::open(a.db);
+    CameraPath path = generatePath(db.skeleton(), a.options);
+    writeCameraPathFile(a.output, path);
+    std::cout << a.output << ": " << a.kind << " path, " << path.keys.size() << " keys, " << path.duration() << " s\n";
+    return 0;
+}
+
+}  // namespace
+
+void addPath(CLI::App& app, int& status) {
+    auto a = std::make_shared<PathArgs>();
+    CLI::App* sub = app.add_subcommand("path", "generate a camera path (walk, drive, fly, erratic) from a database's bounds");
+    sub->add_option("DB", a->db, "database file (.hlod)")->required();
+    sub->add_option("-o,--output", a->output, "camera path file to write")->required();
+    sub->add_option("--kind", a->kind, "walk (1.5 m/s), drive (15 m/s), fly (whole model in view), erratic")
+        ->check(CLI::IsMember({"walk", "drive", "fly", "erratic"}));
+    sub->add_option("--duration", a->options.duration, "seconds (default: one lap; fly 60 s)");
+    sub->add_option("--speed", a->options.speed, "metres per second (default by kind)");
+    sub->add_option("--eye-height", a->options.eyeHeight, "metres above the estimated ground");
+    sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys");
+    sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports");
+    sub->add_option("--up", a->up, "up axis of the model: z (default) or y");
+    sub->callback([a, &status] {
+        status = runGuarded("path", [&] {
+            try {
+                return runPath(*a);
+            } catch (const FormatError& e) {  // invalid data: status 1
+                std::cerr << "hlod path: " << e.what() << '\n';
+                return 1;
+            }
+        });
+    });
+}
+
+}  // namespace hlod::cli

@@ -1,0 +1,177 @@
+// `hlod play DB --path FILE`: replays a camera path against a database with the engine of
+// thesis Chapter 4 (selection §4.2, loading thread §4.3), in simulated time, and writes the
+// per-frame statistics of Chapter 6 (player/STATS.md) plus a summary (text and --json).
+#include "player/cli.h"
+
+#include "formats/cli.h"
+#include "formats/constants.h"
+#include "formats/db.h"
+#include "player/cost_model_renderer.h"
+#include "player/gl/gl_renderer.h"
+#include "player/replay.h"
+#include "player/stats.h"
+
+#include <CLI/CLI.hpp>
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include <unistd.h>
+
+namespace hlod::cli {
+namespace {
+
+struct PlayArgs {
+    std::string db, path, renderer = "model", stats, json, framesDir;
+    uint64_t maxFrames = 0, warmup = 100;
+    uint32_t every = 1;
+    bool syncLoader = false;
+    int width = 1280, height = 720;
+    PlayerOptions player;
+    CostModel model;
+    ConstantOptions constants;
+};
+
+void writePng(const std::string& file, const Image& image) {
+    auto out = OIIO::ImageOutput::create(file);
+    OIIO::ImageSpec spec(int(image.width), int(image.height), int(image.channels), OIIO::TypeDesc::UINT8);
+    if (!out || !out->open(file, spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) || !out->close())
+        throw std::runtime_error(file + ": cannot write PNG frame");
+}
+
+// The CSV goes to FILE.tmp-PID and is renamed when the run completes (no half-written output).
+class StatsFile {
+public:
+    explicit StatsFile(const std::string& path) : path_(path), tmp_(path + ".tmp-" + std::to_string(getpid())) {
+        if (!path.empty()) {
+            out_.open(tmp_);
+            if (!out_) throw std::runtime_error(path + ": cannot write statistics");
+        }
+    }
+    ~StatsFile() {
+        if (out_.is_open()) {
+            out_.close();
+            std::filesystem::remove(tmp_);
+        }
+    }
+    std::ostream* stream() { return out_.is_open() ? &out_ : nullptr; }
+    void commit() {
+        if (!out_.is_open()) return;
+        out_.close();
+        if (!out_) throw std::runtime_error(path_ + ": write failed");
+        std::filesystem::rename(tmp_, path_);
+    }
+
+private:
+    std::string path_, tmp_;
+    std::ofstream out_;
+};
+
+std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
+    if (a.renderer == "gl") return makeGlRenderer(GlOptions{a.width, a.height, false, false});
+    return std::make_unique<CostModelRenderer>(a.model);
+}
+
+int runPlay(PlayArgs& a) {
+    Constants c;
+    applyConstantOptions(a.constants, c);
+    if (!a.framesDir.empty() && a.renderer != "gl") throw std::invalid_argument("--frames-dir needs --renderer gl");
+    if (a.every == 0) throw std::invalid_argument("--every must be at least 1");
+    CameraPath path = readCameraPath(a.path);
+    Database db = Database::open(a.db);
+    std::unique_ptr<Renderer> renderer = makeRenderer(a);
+    a.player.threadedLoader = !a.syncLoader;
+    Player player(db, c, *renderer, a.player);
+    if (!a.framesDir.empty()) std::filesystem::create_directories(a.framesDir);
+
+    printConstants(std::cout, c);
+    std::vector<std::pair<std::string, std::string>> info = {
+        {"database", a.db},
+        {"path", a.path},
+        {"renderer", renderer->name()},
+        {"memory_budget_bytes", std::to_string(a.player.memoryBudget)},
+        {"loader", a.syncLoader ? "synchronous" : "thread"},
+        {"require_loaded_children", a.player.requireLoadedChildren ? "yes" : "no"},
+        {"overhead_ms", std::to_string(player.overheadMs())},
+        {"initial_v_time", std::to_string(player.vTime())},
+        {"time", "simulated (camera sampled at the sum of measured frame times)"}};
+    for (const auto& [k, v] : info) std::cout << k << ": " << v << '\n';
+    StatsFile csv(a.stats);
+    if (std::ostream* os = csv.stream()) writeStatsPreamble(*os, c, info, player.levelCount());
+
+    ReplayOptions ro;
+    ro.maxFrames = a.maxFrames;
+    ro.aspect = double(a.width) / a.height;
+    auto frames = replayPath(player, path, ro, [&](const FrameStats& s) {
+        if (std::ostream* os = csv.stream()) writeStatsRow(*os, s, player.levelCount());
+        if (!a.framesDir.empty() && s.frame % a.every == 0) {
+            char name[64];
+            std::snprintf(name, sizeof name, "/frame_%06llu.png", (unsigned long long)s.frame);
+            writePng(a.framesDir + name, renderer->readPixels());
+        }
+    });
+    csv.commit();
+    StatsSummary summary = summarize(frames, a.warmup);
+    printSummary(std::cout, summary);
+    if (!a.json.empty()) {
+        std::string text = summaryJson(summary, c) + "\n";
+        if (a.json == "-") {
+            std::cout << text;
+        } else {
+            std::ofstream out(a.json);
+            if (!(out << text)) throw std::runtime_error(a.json + ": cannot write summary");
+        }
+    }
+    return 0;
+}
+
+}  // namespace
+
+void addPlay(CLI::App& app, int& status) {
+    auto a = std::make_shared<PlayArgs>();
+    CLI::App* sub = app.add_subcommand("play", "replay a camera path through the HLOD engine (thesis Chapter 4)");
+    sub->add_option("DB", a->db, "database file (.hlod)")->required();
+    sub->add_option("--path", a->path, "camera path file (player/CAMERA_PATH.md; see `hlod path`)")->required();
+    sub->add_option("--renderer", a->renderer, "model (cost model, draws nothing; default) or gl (OpenGL, EGL offscreen)")
+        ->check(CLI::IsMember({"model", "gl"}));
+    sub->add_option("--stats", a->stats, "per-frame CSV to write (player/STATS.md)");
+    sub->add_option("--json", a->json, "write the summary as JSON to FILE ('-': stdout)");
+    sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none); lowest-priority nodes are evicted");
+    sub->add_flag("--require-loaded-children", a->player.requireLoadedChildren,
+                  "switch to children only when all of them are loaded (thesis §5.2)");
+    sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path)");
+    sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions");
+    sub->add_flag("--sync-loader", a->syncLoader, "step the loader in the render thread (exactly repeatable runs)");
+    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame");
+    sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most");
+    sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)");
+    sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured with drawing off)");
+    sub->add_option("--frames-dir", a->framesDir, "write PNG frames here (needs --renderer gl)");
+    sub->add_option("--every", a->every, "with --frames-dir: every Nth frame");
+    sub->add_flag("--color-by-level", a->player.frameOptions.colorByLevel, "shade nodes by level");
+    sub->add_option("--width", a->width, "frame width (gl)");
+    sub->add_option("--height", a->height, "frame height (gl)");
+    sub->add_option("--model-overhead-ms", a->model.overheadMs, "cost model: fixed ms per frame");
+    sub->add_option("--model-ms-per-tri", a->model.msPerTexturedTriangle, "cost model: ms per textured triangle");
+    sub->add_option("--model-ms-per-flat-tri", a->model.msPerUntexturedTriangle, "cost model: ms per untextured triangle");
+    sub->add_option("--model-noise", a->model.noise, "cost model: relative sd of per-frame noise");
+    sub->add_option("--model-node-error", a->model.nodeError, "cost model: per-node cost error in [-e, e]");
+    sub->add_option("--seed", a->model.seed, "cost model: noise and error seed");
+    addConstantOptions(*sub, a->constants);
+    sub->callback([a, &status] {
+        status = runGuarded("play", [&] {
+            try {
+                return runPlay(*a);
+            } catch (const FormatError& e) {  // invalid data: status 1
+                std::cerr << "hlod play: " << e.what() << '\n';
+                return 1;
+            }
+        });
+    });
+}
+
+}  // namespace hlod::cli

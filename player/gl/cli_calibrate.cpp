@@ -1,0 +1,70 @@
+// `hlod calibrate`: measures on this machine what thesis Table 6.1 says c_textured is set from
+// ("measured render time", §3.3) plus the per-triangle cost and fixed overhead the feedback
+// loop of §4.2 starts from, and writes them as a constants file that `play --config` loads.
+#include "player/gl/cli.h"
+#include "player/gl/gl_renderer.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+
+namespace hlod::cli {
+namespace {
+
+struct CalibrateArgs {
+    std::string output = "calibration.conf";
+    GlOptions gl;
+    CalibrationOptions calibration;
+};
+
+void printCalibration(std::ostream& os, const Calibration& c) {
+    os << "renderer: " << c.renderer << "\n" << std::setprecision(4);
+    for (const CalibrationSample& s : c.samples)
+        os << "  " << std::setw(10) << (s.textured ? "textured" : "untextured") << std::setw(9) << s.triangles
+           << " triangles " << std::setw(9) << s.ms << " ms\n";
+    os << "fixed overhead (empty frame): " << c.fixedOverheadMs << " ms\n"
+       << "textured:   " << c.textured.intercept << " ms + " << c.textured.slope * 1e6 << " ns/triangle\n"
+       << "untextured: " << c.untextured.intercept << " ms + " << c.untextured.slope * 1e6 << " ns/triangle\n"
+       << "c_textured = " << c.cTextured << "  (ms per unit of eq. 3.1 cost: " << c.msPerCost << ")\n";
+}
+
+int runCalibrate(const CalibrateArgs& args) {
+    try {
+        if (!std::ofstream(args.output + ".tmp")) throw std::runtime_error(args.output + ": cannot be written");
+        std::remove((args.output + ".tmp").c_str());
+        std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
+        const double aspect = static_cast<double>(args.gl.width) / args.gl.height;
+        const Calibration calibration = calibrate(*renderer, aspect, args.calibration);
+        printCalibration(std::cout, calibration);
+        writeCalibration(calibration, args.output);
+        std::cout << "wrote " << args.output << "\n";
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "hlod calibrate: " << e.what() << "\n";
+        return 1;
+    }
+}
+
+}  // namespace
+
+void addCalibrate(CLI::App& app, int& status) {
+    auto args = std::make_shared<CalibrateArgs>();
+    CLI::App* sub = app.add_subcommand("calibrate", "Measure textured/untextured triangle costs and the fixed overhead "
+                                                    "with OpenGL; write c_textured to a constants file");
+    sub->add_option("-o,--output", args->output, "constants file to write")->capture_default_str();
+    sub->add_option("--width", args->gl.width, "frame width")->capture_default_str()->check(CLI::Range(1, 16384));
+    sub->add_option("--height", args->gl.height, "frame height")->capture_default_str()->check(CLI::Range(1, 16384));
+    sub->add_flag("--timer-queries", args->gl.timerQueries, "time frames with GL_TIME_ELAPSED instead of glFinish");
+    sub->add_option("--frames", args->calibration.frames, "frames per batch (median kept)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1000));
+    sub->add_option("--triangles", args->calibration.triangleCounts, "triangle counts of the batches")
+        ->check(CLI::Range(1u, 20000000u))
+        ->expected(2, 64);
+    sub->callback([args, &status] { status = runCalibrate(*args); });
+}
+
+}  // namespace hlod::cli

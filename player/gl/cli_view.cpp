@@ -1,0 +1,193 @@
+// `hlod view DB`: the interactive walk-through of thesis Ch. 6 — a GLFW window, free 6-DOF
+// navigation at any speed (standing still allowed), the Player of Ch. 4 choosing the nodes
+// every frame, and optional recording of the flight to a camera path file
+// (player/CAMERA_PATH.md) that `hlod play --path` replays.
+#include "formats/cli.h"
+#include "formats/constants.h"
+#include "player/camera_path.h"
+#include "player/gl/cli.h"
+#include "player/gl/gl_renderer.h"
+#include "player/player.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+namespace hlod::cli {
+namespace {
+
+struct ViewArgs {
+    std::string database;
+    std::string record;
+    GlOptions gl{1280, 720, true, false, "hlod view"};
+    ConstantOptions constants;
+    uint64_t memoryBudget = 0;
+    bool colorByLevel = false;
+    double speed = 0;        // m/s; 0: a twentieth of the model's diagonal per second
+    std::string up = "z";
+};
+
+// Mouse and scroll state kept between frames (GLFW delivers scroll through a callback).
+struct InputState {
+    double lastX = 0, lastY = 0;
+    bool dragging = false;
+    double speed = 1;
+    double scroll = 0;
+};
+
+constexpr double kTurnRate = 1.0;        // radians per second for arrow keys / Q,E
+constexpr double kMouseRadians = 0.004;  // per pixel dragged
+
+double axis(GLFWwindow* w, int positive, int negative) {
+    return (glfwGetKey(w, positive) == GLFW_PRESS ? 1.0 : 0.0) - (glfwGetKey(w, negative) == GLFW_PRESS ? 1.0 : 0.0);
+}
+
+// WASD move, R/F (or Space/C) rise/sink, Q/E roll, arrows or left-drag to look,
+// scroll or +/- to change speed; nothing pressed: the camera stands still.
+NavigationInput readInput(GLFWwindow* w, InputState& s, double dt) {
+    s.speed *= std::pow(1.25, s.scroll);
+    s.scroll = 0;
+    if (glfwGetKey(w, GLFW_KEY_EQUAL) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_KP_ADD) == GLFW_PRESS) s.speed *= std::pow(2.0, dt);
+    if (glfwGetKey(w, GLFW_KEY_MINUS) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_KP_SUBTRACT) == GLFW_PRESS) s.speed /= std::pow(2.0, dt);
+    NavigationInput in;
+    in.dt = dt;
+    in.speed = s.speed;
+    in.move[0] = axis(w, GLFW_KEY_D, GLFW_KEY_A);
+    in.move[1] = std::clamp(axis(w, GLFW_KEY_R, GLFW_KEY_F) + axis(w, GLFW_KEY_SPACE, GLFW_KEY_C), -1.0, 1.0);
+    in.move[2] = axis(w, GLFW_KEY_S, GLFW_KEY_W);
+    in.yaw = axis(w, GLFW_KEY_LEFT, GLFW_KEY_RIGHT) * kTurnRate * dt;
+    in.pitch = axis(w, GLFW_KEY_UP, GLFW_KEY_DOWN) * kTurnRate * dt;
+    in.roll = axis(w, GLFW_KEY_Q, GLFW_KEY_E) * kTurnRate * dt;
+    double x = 0, y = 0;
+    glfwGetCursorPos(w, &x, &y);
+    const bool pressed = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    if (pressed && s.dragging) {
+        in.yaw -= (x - s.lastX) * kMouseRadians;
+        in.pitch -= (y - s.lastY) * kMouseRadians;
+    }
+    s.dragging = pressed;
+    s.lastX = x;
+    s.lastY = y;
+    return in;
+}
+
+// Outside the model's bounds on the side of -forward, above it, looking at its centre.
+Camera startCamera(const Box3f& b, int upAxis, double aspect) {
+    const double center[3] = {(b.min.x + b.max.x) / 2.0, (b.min.y + b.max.y) / 2.0, (b.min.z + b.max.z) / 2.0};
+    const double size[3] = {double{b.max.x} - b.min.x, double{b.max.y} - b.min.y, double{b.max.z} - b.min.z};
+    const double diagonal = std::sqrt(size[0] * size[0] + size[1] * size[1] + size[2] * size[2]);
+    Camera camera;
+    camera.aspect = aspect;
+    camera.farPlane = std::max(10.0, 4 * diagonal);
+    camera.nearPlane = std::max(0.05, camera.farPlane * 1e-5);
+    for (int i = 0; i < 3; ++i) camera.position[i] = center[i];
+    if (upAxis == 2) {  // Z up: look along +Y, camera +Y is world +Z (rotation of 90° about X)
+        camera.orientation[0] = std::sqrt(0.5);
+        camera.orientation[3] = std::sqrt(0.5);
+        camera.position[1] -= 0.6 * diagonal;
+        camera.position[2] += 0.3 * diagonal;
+    } else {            // Y up: the default orientation looks along -Z
+        camera.position[2] += 0.6 * diagonal;
+        camera.position[1] += 0.3 * diagonal;
+    }
+    NavigationInput tilt;
+    tilt.pitch = -0.45;  // look down at the centre
+    navigate(camera, tilt);
+    return camera;
+}
+
+double diagonalOf(const Box3f& b) {
+    const double dx = double{b.max.x} - b.min.x, dy = double{b.max.y} - b.min.y, dz = double{b.max.z} - b.min.z;
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+void appendKey(CameraPath& path, const Camera& camera, double time) {
+    if (!path.keys.empty() && time <= path.keys.back().time) return;
+    CameraKey key;
+    key.time = time;
+    std::copy_n(camera.position, 3, key.position);
+    std::copy_n(camera.orientation, 4, key.orientation);
+    key.vfovDegrees = camera.vfovDegrees;
+    path.keys.push_back(key);
+}
+
+void showStatus(GLFWwindow* w, const FrameStats& s, double speed) {
+    std::ostringstream title;
+    title.precision(3);
+    title << "hlod view  " << s.actualMs << " ms (target " << s.targetMs << ")  nodes " << s.residentNodes
+          << "  resident " << s.residentBytes / (1 << 20) << " MiB  speed " << speed << " m/s";
+    glfwSetWindowTitle(w, title.str().c_str());
+}
+
+int runView(const ViewArgs& args) {
+    try {
+        Constants constants;
+        applyConstantOptions(args.constants, constants);
+        const Database db = Database::open(args.database);
+        std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
+        GLFWwindow* window = glfwWindowOf(*renderer);
+        PlayerOptions options;
+        options.memoryBudget = args.memoryBudget;
+        options.frameOptions.colorByLevel = args.colorByLevel;
+        Player player(db, constants, *renderer, options);
+        const Box3f bounds = modelBounds(db.skeleton());
+        Camera camera = startCamera(bounds, args.up == "y" ? 1 : 2, static_cast<double>(args.gl.width) / args.gl.height);
+        InputState input;
+        input.speed = args.speed > 0 ? args.speed : std::max(0.1, diagonalOf(bounds) / 20);
+        glfwSetWindowUserPointer(window, &input);
+        glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
+            static_cast<InputState*>(glfwGetWindowUserPointer(w))->scroll += dy;
+        });
+        CameraPath recorded;
+        const double start = glfwGetTime();
+        double last = start, lastTitle = start;
+        while (!glfwWindowShouldClose(window) && glfwGetKey(window, GLFW_KEY_ESCAPE) != GLFW_PRESS) {
+            glfwPollEvents();
+            const double now = glfwGetTime();
+            navigate(camera, readInput(window, input, now - last));
+            last = now;
+            const FrameStats stats = player.frame(camera, now - start);
+            if (!args.record.empty()) appendKey(recorded, camera, now - start);
+            if (now - lastTitle > 0.5) {
+                showStatus(window, stats, input.speed);
+                lastTitle = now;
+            }
+        }
+        if (!args.record.empty()) {
+            if (recorded.keys.size() < 2) throw std::runtime_error(args.record + ": fewer than two frames to record");
+            writeCameraPathFile(args.record, recorded);
+            std::cout << "recorded " << recorded.keys.size() << " keys, " << recorded.duration() << " s to " << args.record << "\n";
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "hlod view: " << e.what() << "\n";
+        return 1;
+    }
+}
+
+}  // namespace
+
+void addView(CLI::App& app, int& status) {
+    auto args = std::make_shared<ViewArgs>();
+    CLI::App* sub = app.add_subcommand(
+        "view", "Fly through a database in a window (WASD move, R/F rise/sink, Q/E roll, arrows or left-drag look, "
+                "scroll or +/- speed, Esc quit)");
+    sub->add_option("database", args->database, "HLOD database")->required();
+    sub->add_option("--record", args->record, "write the flight to this camera path file on exit");
+    sub->add_option("--width", args->gl.width, "window width")->capture_default_str()->check(CLI::Range(1, 16384));
+    sub->add_option("--height", args->gl.height, "window height")->capture_default_str()->check(CLI::Range(1, 16384));
+    sub->add_option("--memory", args->memoryBudget, "memory budget in bytes (thesis §4.3); 0 = none")->capture_default_str();
+    sub->add_flag("--color-by-level", args->colorByLevel, "shade nodes by level (grey levels)");
+    sub->add_option("--speed", args->speed, "initial speed in m/s (default: model diagonal / 20)")->check(CLI::NonNegativeNumber);
+    sub->add_option("--up", args->up, "up axis of the model")->check(CLI::IsMember({"y", "z"}))->capture_default_str();
+    addConstantOptions(*sub, args->constants);
+    sub->callback([args, &status] { status = runView(*args); });
+}
+
+}  // namespace hlod::cli

@@ -1,0 +1,38 @@
+// Where the loading thread gets a node's bytes and how it decodes them: a Database (Draco and
+// JPEG/PNG blobs, thesis §3.3 / §4.3) or an in-memory skeleton with synthesized meshes (tests,
+// benchmarks of the engine without a file).
+#pragma once
+
+#include "formats/db.h"
+#include "player/renderer.h"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+namespace hlod {
+
+class NodeSource {
+public:
+    virtual ~NodeSource() = default;
+    virtual const Skeleton& skeleton() const = 0;
+    virtual std::string name() const = 0;
+    // Size of the node's stored data; chunks are read at offsets relative to its start.
+    virtual uint64_t nodeSize(uint32_t id) const = 0;
+    virtual void readChunk(uint32_t id, uint64_t offset, std::span<uint8_t> out) const = 0;
+    // Verifies and decodes the node's whole data; throws FormatError naming the file.
+    virtual DecodedNode decode(uint32_t id, std::span<const uint8_t> data) const = 0;
+    // DecodedNode::bytes() the node will have once decoded (memory reservation, §4.3).
+    virtual uint64_t expectedBytes(uint32_t id) const = 0;
+};
+
+// Reads through `db` (which must outlive the source): one positioned read per chunk, blob
+// checksums verified (XXH3-64), geometry decoded with Draco and textures with OpenImageIO.
+std::shared_ptr<const NodeSource> databaseSource(const Database& db);
+
+// Node n decodes to one mesh of n.texturedTriangles triangles with a 1x1 texture and one of
+// n.untexturedTriangles triangles; its stored size is `bytesPerTriangle` per triangle.
+std::shared_ptr<const NodeSource> memorySource(Skeleton skeleton, uint32_t bytesPerTriangle = 16);
+
+}  // namespace hlod

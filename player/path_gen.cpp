@@ -1,0 +1,148 @@
+// Generated camera paths for `hlod path` (thesis Chapter 6 test conditions): a walk-through
+// at eye height (~1.5 m/s, §6.2/§6.5), a drive-through ten times faster (§6.5), a fly-over
+// with the whole model in view (§6.2), and an erratic walk with sudden 180-degree turns and
+// teleports (Funkhouser & Sequin's viewpoint path C). Routes are ellipses inset in the bounds.
+#include "player/camera_path.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace hlod {
+namespace {
+
+using Eigen::Vector3d;
+
+double axis(const Vec3f& v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
+
+struct Frame {
+    int up, a, b;  // up axis and the two horizontal axes
+};
+
+Frame frameFor(int upAxis) { return upAxis == 1 ? Frame{1, 2, 0} : Frame{2, 0, 1}; }
+
+// Orientation looking along `forward` with `up` as close to vertical as possible (camera looks
+// down -Z with +Y up).
+void lookAlong(const Vector3d& forward, const Vector3d& up, double q[4]) {
+    Vector3d f = forward.normalized();
+    Vector3d right = f.cross(up).normalized();
+    Vector3d trueUp = right.cross(f);
+    Eigen::Matrix3d r;
+    r.col(0) = right;
+    r.col(1) = trueUp;
+    r.col(2) = -f;
+    Eigen::Quaterniond qq(r);
+    qq.normalize();
+    q[0] = qq.x();
+    q[1] = qq.y();
+    q[2] = qq.z();
+    q[3] = qq.w();
+}
+
+// Ground under a horizontal point: the lowest box floor among the finest nodes above it.
+double groundAt(const Skeleton& s, const Frame& f, double x, double y, double fallback) {
+    uint32_t deepest = 0;
+    for (const Node& n : s.nodes) deepest = std::max(deepest, n.level);
+    double ground = INFINITY;
+    for (const Node& n : s.nodes)
+        if (n.level == deepest && x >= axis(n.bounds.min, f.a) && x <= axis(n.bounds.max, f.a) &&
+            y >= axis(n.bounds.min, f.b) && y <= axis(n.bounds.max, f.b))
+            ground = std::min(ground, axis(n.bounds.min, f.up));
+    return std::isfinite(ground) ? ground : fallback;
+}
+
+struct Route {
+    Vector3d center, ea, eb, up;  // ellipse: center + cos t * ea + sin t * eb
+    Vector3d at(double t) const { return center + std::cos(t) * ea + std::sin(t) * eb; }
+    Vector3d tangent(double t) const { return -std::sin(t) * ea + std::cos(t) * eb; }
+    double perimeter() const {  // Ramanujan
+        double a = ea.norm(), b = eb.norm();
+        return M_PI * (3 * (a + b) - std::sqrt((3 * a + b) * (a + 3 * b)));
+    }
+};
+
+Vector3d unit(int i) { return Vector3d::Unit(i); }
+
+CameraKey key(double time, const Vector3d& p, const Vector3d& forward, const Vector3d& up) {
+    CameraKey k;
+    k.time = time;
+    for (int i = 0; i < 3; ++i) k.position[i] = p[i];
+    lookAlong(forward, up, k.orientation);
+    return k;
+}
+
+}  // namespace
+
+PathKind parsePathKind(const std::string& text) {
+    if (text == "walk") return PathKind::Walk;
+    if (text == "drive") return PathKind::Drive;
+    if (text == "fly") return PathKind::Fly;
+    if (text == "erratic") return PathKind::Erratic;
+    throw std::invalid_argument("unknown path kind '" + text + "' (walk, drive, fly or erratic)");
+}
+
+Box3f modelBounds(const Skeleton& skeleton) {
+    Box3f b{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+    for (const Node& n : skeleton.nodes) {
+        if (n.parent != kNone) continue;
+        b.min = {std::min(b.min.x, n.bounds.min.x), std::min(b.min.y, n.bounds.min.y), std::min(b.min.z, n.bounds.min.z)};
+        b.max = {std::max(b.max.x, n.bounds.max.x), std::max(b.max.y, n.bounds.max.y), std::max(b.max.z, n.bounds.max.z)};
+    }
+    return b;
+}
+
+CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
+    if (skeleton.nodes.empty()) throw std::invalid_argument("the database has no nodes");
+    if (o.upAxis != 1 && o.upAxis != 2) throw std::invalid_argument("up axis must be y or z");
+    if (!(o.keyInterval > 0) || o.duration < 0 || o.speed < 0) throw std::invalid_argument("durations and speeds must be positive");
+    Frame f = frameFor(o.upAxis);
+    Box3f b = modelBounds(skeleton);
+    Vector3d lo(b.min.x, b.min.y, b.min.z), hi(b.max.x, b.max.y, b.max.z);
+    Vector3d center = 0.5 * (lo + hi), up = unit(f.up);
+    double extentA = hi[f.a] - lo[f.a], extentB = hi[f.b] - lo[f.b];
+    Route route{center, unit(f.a) * 0.35 * std::max(extentA, 1.0), unit(f.b) * 0.35 * std::max(extentB, 1.0), up};
+    CameraPath path;
+
+    if (o.kind == PathKind::Fly) {
+        double radius = 0.5 * (hi - lo).norm();
+        double distance = radius / std::sin(30.0 * M_PI / 180.0);  // whole sphere within a 60-degree view
+        double duration = o.duration > 0 ? o.duration : 60;
+        for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
+            double angle = 2 * M_PI * t / duration * (o.speed > 0 ? o.speed * duration / (2 * M_PI * distance) : 1);
+            Vector3d horizontal = std::cos(angle) * unit(f.a) + std::sin(angle) * unit(f.b);
+            Vector3d p = center + distance * (std::cos(M_PI / 4) * horizontal + std::sin(M_PI / 4) * up);
+            path.keys.push_back(key(t, p, center - p, up));
+        }
+        return path;
+    }
+
+    double speed = o.speed > 0 ? o.speed : (o.kind == PathKind::Drive ? 15.0 : 1.5);
+    double duration = o.duration > 0 ? o.duration : route.perimeter() / speed;
+    std::mt19937 rng(o.seed);
+    std::uniform_real_distribution<double> gap(2.0, 5.0), angle(0, 2 * M_PI), coin(0, 1);
+    double theta = 0, direction = 1, nextEvent = gap(rng);
+    auto place = [&](double t, double th, double dir) {
+        Vector3d p = route.at(th);
+        p[f.up] = groundAt(skeleton, f, p[f.a], p[f.b], lo[f.up]) + o.eyeHeight;
+        path.keys.push_back(key(t, p, dir * route.tangent(th), up));
+    };
+    for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
+        place(t, theta, direction);
+        if (o.kind == PathKind::Erratic && t + o.keyInterval > nextEvent) {
+            if (coin(rng) < 0.5)
+                direction = -direction;  // sudden 180-degree turn
+            else
+                theta = angle(rng);      // teleport
+            place(t + 1e-3, theta, direction);
+            nextEvent += gap(rng);
+        }
+        double step = speed * o.keyInterval / std::max(route.tangent(theta).norm(), 1e-9);
+        theta += direction * step;
+    }
+    return path;
+}
+
+}  // namespace hlod

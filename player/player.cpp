@@ -1,0 +1,243 @@
+// The rendering engine of thesis Chapter 4 (Fig. 4.1): initialisation (skeleton, then every
+// hlod0 node), and per frame: upload of decoded nodes (bounded), selection (§4.2), priority
+// updates and eviction for the loading thread (§4.3), draw, and the two feedback loops of
+// §4.2: v_time (estimated vs measured frame time) and the hlod0 share.
+#include "player/player.h"
+
+#include "player/loader.h"
+#include "player/node_source.h"
+#include "player/selection.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace hlod {
+namespace {
+
+double median3(double a, double b, double c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
+
+// A camera above the hlod0 bounds looking down -Z, the whole model in view (start-up timing).
+Camera overviewCamera(const Skeleton& s, const std::vector<uint32_t>& roots) {
+    Box3f b = s.nodes[roots.front()].bounds;
+    for (uint32_t r : roots) {
+        const Box3f& n = s.nodes[r].bounds;
+        b.min = {std::min(b.min.x, n.min.x), std::min(b.min.y, n.min.y), std::min(b.min.z, n.min.z)};
+        b.max = {std::max(b.max.x, n.max.x), std::max(b.max.y, n.max.y), std::max(b.max.z, n.max.z)};
+    }
+    double radius = 0.5 * std::hypot(b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z);
+    Camera cam;
+    cam.position[0] = 0.5 * (b.min.x + b.max.x);
+    cam.position[1] = 0.5 * (b.min.y + b.max.y);
+    cam.position[2] = b.max.z + radius / std::tan(cam.vfovDegrees * M_PI / 360.0);
+    cam.farPlane = 4 * radius + cam.position[2] - b.min.z;
+    return cam;
+}
+
+}  // namespace
+
+struct Player::Impl {
+    std::shared_ptr<const NodeSource> source;
+    const Skeleton& skeleton;
+    Constants c;
+    Renderer& renderer;
+    PlayerOptions options;
+    Loader loader;
+    SelectionState selection;
+    std::vector<uint8_t> resident;
+    std::vector<uint64_t> visitedStamp;  // frame number + 1 of the last visit
+    std::vector<uint32_t> lastVisited;
+    std::vector<DrawItem> front;
+    uint32_t levels = 1;
+    double overhead = 0, vTime0 = 0, vTime = 0, share = 0;
+    double residentCost = 0;  // sum of cost over resident nodes (§4.3 memory estimate)
+    uint32_t residentNodes = 0;
+    uint64_t frameIndex = 0;
+    bool havePrevious = false;
+    double previousPosition[3] = {0, 0, 0}, previousTime = 0, velocity[3] = {0, 0, 0};
+
+    Impl(std::shared_ptr<const NodeSource> src, const Constants& constants, Renderer& r, const PlayerOptions& o)
+        : source(std::move(src)),
+          skeleton(source->skeleton()),
+          c(constants),
+          renderer(r),
+          options(o),
+          loader(source, LoaderOptions{o.memoryBudget, o.chunkBytes, 64, 8}),
+          selection(skeleton),
+          resident(skeleton.nodes.size(), 0),
+          visitedStamp(skeleton.nodes.size(), 0) {
+        for (const Node& n : skeleton.nodes) levels = std::max(levels, n.level + 1);
+        for (uint32_t root : selection.roots) {
+            renderer.upload(loader.loadPinned(root));
+            markResident(root, true);
+        }
+        calibrate();
+        if (options.threadedLoader) loader.start();
+    }
+
+    void markResident(uint32_t id, bool on) {
+        resident[id] = on;
+        residentCost += (on ? 1 : -1) * double(skeleton.nodes[id].cost);
+        residentNodes += on ? 1 : -1;
+    }
+
+    // Fixed overhead "measured by disabling actual rendering" (§4.2 footnote 3), and the first
+    // v_time from a frame of all hlod0 nodes; either may be given instead.
+    void calibrate() {
+        Camera cam = selection.roots.empty() ? Camera{} : overviewCamera(skeleton, selection.roots);
+        FrameOptions fo = options.frameOptions;
+        overhead = options.overheadMs;
+        if (overhead < 0) {
+            double t[3];
+            for (double& x : t) x = renderer.drawFrame(cam, {}, fo);
+            overhead = median3(t[0], t[1], t[2]);
+        }
+        vTime0 = options.initialVTime;
+        if (vTime0 <= 0) {
+            std::vector<DrawItem> all;
+            double cost = 0;
+            for (uint32_t r : selection.roots) {
+                all.push_back({r, 0});
+                cost += skeleton.nodes[r].cost;
+            }
+            double t[3];
+            for (double& x : t) x = renderer.drawFrame(cam, all, fo);
+            vTime0 = cost > 0 ? std::max(median3(t[0], t[1], t[2]) - overhead, 0.0) / cost : 0;
+            vTime0 = std::max(vTime0, 1e-9);
+        }
+        vTime = vTime0;
+        share = std::max(c.targetTimeMs - overhead, 0.1 * c.targetTimeMs);
+    }
+
+    void updateVelocity(const Camera& camera, double t) {
+        if (havePrevious && t > previousTime) {
+            double v[3], speed = 0;
+            for (int i = 0; i < 3; ++i) {
+                v[i] = (camera.position[i] - previousPosition[i]) / (t - previousTime);
+                speed += v[i] * v[i];
+            }
+            // Teleports are not motion: speeds above 100 m/s are clamped.
+            double scale = std::sqrt(speed) > 100 ? 100 / std::sqrt(speed) : 1;
+            for (int i = 0; i < 3; ++i) velocity[i] = 0.5 * velocity[i] + 0.5 * v[i] * scale;
+        }
+        havePrevious = true;
+        previousTime = t;
+        std::copy(camera.position, camera.position + 3, previousPosition);
+    }
+
+    uint32_t uploadReady() {
+        uint32_t loads = 0;
+        for (DecodedNode& node : loader.takeReady(options.maxUploadsPerFrame, options.maxUploadBytesPerFrame)) {
+            uint32_t id = node.id;
+            renderer.upload(std::move(node));
+            markResident(id, true);
+            ++loads;
+        }
+        return loads;
+    }
+
+    uint32_t updateLoader(const Selection& sel) {
+        uint64_t stamp = frameIndex + 1;
+        std::vector<PriorityUpdate> updates;
+        updates.reserve(sel.visited.size());
+        for (uint32_t id : sel.visited) {
+            visitedStamp[id] = stamp;
+            if (skeleton.nodes[id].level > 0) updates.push_back({id, selection.nodes[id].priority});
+        }
+        std::vector<uint32_t> forget;
+        for (uint32_t id : lastVisited)
+            if (visitedStamp[id] != stamp && skeleton.nodes[id].level > 0) forget.push_back(id);
+        auto pinned = [&](uint32_t id) {
+            return skeleton.nodes[id].level == 0 || selection.role(id) == DrawState::Drawn;
+        };
+        std::vector<uint32_t> evicted = loader.updateAndEvict(updates, forget, pinned);
+        for (uint32_t id : evicted) {
+            renderer.evict(id);
+            markResident(id, false);
+        }
+        lastVisited = sel.visited;
+        return uint32_t(evicted.size());
+    }
+
+    // Second feedback loop (§4.2): more time for the hlod0 nodes when loaded nodes were refused
+    // while the frame came in well under target; less when frames run well over. The share is
+    // kept within [0.1, 4] x c_targetTime.
+    void adjustShare(double actualMs, uint32_t refused) {
+        double target = c.targetTimeMs;
+        if (refused > 0 && actualMs < target * (1 - options.shareBand)) share *= 1 + options.shareStep;
+        if (actualMs > target * (1 + options.shareBand)) share *= 1 - options.shareStep;
+        share = std::clamp(share, 0.1 * target, 20 * target);
+    }
+
+    FrameStats frame(const Camera& camera, double timeSeconds) {
+        FrameStats s;
+        s.frame = frameIndex;
+        s.timeSeconds = timeSeconds;
+        s.targetMs = c.targetTimeMs;
+        s.hlod0ShareMs = share;
+        if (!options.threadedLoader) loader.step(options.syncLoadsPerFrame);
+        if (std::string e = loader.error(); !e.empty()) throw FormatError(e);
+        s.loads = uploadReady();
+
+        updateVelocity(camera, timeSeconds);
+        View view = makeView(camera, velocity, options.lookaheadSeconds);
+        Evaluate evaluate = [&](uint32_t id) {
+            const Node& n = skeleton.nodes[id];
+            double fv = frustumVis(view, n.bounds);
+            return NodeEval{nodePriority(n, view, c, fv), fv};
+        };
+        auto t0 = std::chrono::steady_clock::now();
+        Selection sel = selectFront(skeleton, selectionParams(c, share, vTime, options.requireLoadedChildren), evaluate,
+                                    selection, resident);
+        s.selectionMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        s.evictions = updateLoader(sel);
+
+        s.actualMs = renderer.drawFrame(camera, sel.drawn, options.frameOptions);
+        s.estimateNoFeedbackMs = overhead + vTime0 * sel.drawnCost;
+        s.estimateMs = overhead + vTime * sel.drawnCost;
+        if (sel.drawnCost > 0) {  // first feedback loop (§4.2): v_time towards the measured rate
+            double measured = std::max(s.actualMs - overhead, 0.0) / sel.drawnCost;
+            vTime = std::max(vTime + options.vTimeGain * (measured - vTime), 1e-9);
+        }
+        adjustShare(s.actualMs, sel.refused);
+
+        s.vTime = vTime;
+        s.nodesPerLevel.assign(levels, 0);
+        s.trianglesPerLevel.assign(levels, 0);
+        for (const DrawItem& d : sel.drawn) {
+            ++s.nodesPerLevel[d.level];
+            s.trianglesPerLevel[d.level] += skeleton.nodes[d.node].triangles();
+        }
+        s.upToggles = sel.upToggles;
+        s.downToggles = sel.downToggles;
+        s.misses = sel.misses;
+        s.refused = sel.refused;
+        s.residentNodes = residentNodes;
+        s.residentBytes = loader.counters().residentBytes;
+        s.memoryEstimateBytes = c.memory * residentCost;
+        s.stallMs = loader.takeLongestWaitMs();
+        front = std::move(sel.drawn);
+        ++frameIndex;
+        return s;
+    }
+};
+
+Player::Player(const Database& db, const Constants& constants, Renderer& renderer, const PlayerOptions& options)
+    : Player(databaseSource(db), constants, renderer, options) {}
+
+Player::Player(std::shared_ptr<const NodeSource> source, const Constants& constants, Renderer& renderer,
+               const PlayerOptions& options)
+    : impl_(std::make_unique<Impl>(std::move(source), constants, renderer, options)) {}
+
+Player::~Player() = default;
+
+FrameStats Player::frame(const Camera& camera, double timeSeconds) { return impl_->frame(camera, timeSeconds); }
+const Skeleton& Player::skeleton() const { return impl_->skeleton; }
+std::span<const DrawItem> Player::front() const { return impl_->front; }
+uint32_t Player::levelCount() const { return impl_->levels; }
+double Player::vTime() const { return impl_->vTime; }
+double Player::overheadMs() const { return impl_->overhead; }
+double Player::hlod0ShareMs() const { return impl_->share; }
+bool Player::resident(uint32_t node) const { return impl_->resident[node]; }
+
+}  // namespace hlod

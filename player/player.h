@@ -1,0 +1,91 @@
+// The rendering engine of thesis Chapter 4: a Player owns the per-node selection state
+// (§4.2), the loading thread and its priority queue (§4.3) and drives a Renderer one frame
+// at a time. `hlod play` replays a camera path through it; `hlod view` calls frame() from
+// its window loop.
+#pragma once
+
+#include "formats/constants.h"
+#include "formats/db.h"
+#include "player/renderer.h"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace hlod {
+
+class NodeSource;
+
+struct PlayerOptions {
+    uint64_t memoryBudget = 0;          // --memory BYTES (§4.3 maxMemory); 0 = no limit
+    bool requireLoadedChildren = false; // §5.2 option: switch to children only when all are loaded
+    bool threadedLoader = true;         // false: the loader is stepped synchronously in frame()
+    uint32_t syncLoadsPerFrame = 4;     // synchronous mode: nodes loaded at the start of each frame
+    uint32_t maxUploadsPerFrame = 16;   // GPU uploads per frame are bounded by count ...
+    uint64_t maxUploadBytesPerFrame = 32ull << 20;  // ... and by bytes (at least one per frame)
+    uint64_t chunkBytes = 64ull << 10;  // incremental load unit; preemption is checked between chunks
+    double lookaheadSeconds = 0.5;      // distance is also measured from position + velocity * this
+    double vTimeGain = 0.2;             // first feedback loop: v_time moves this fraction per frame
+    double shareBand = 0.1;             // second loop: "well under/over" = outside target * (1 -+ band)
+    double shareStep = 0.05;            // second loop: multiplicative step of the hlod0 share per frame
+    double initialVTime = 0;            // ms per unit of cost; 0: measured at start (all hlod0 drawn)
+    double overheadMs = -1;             // fixed overhead; < 0: measured at start with drawing off
+    FrameOptions frameOptions;          // passed to Renderer::drawFrame
+};
+
+// Everything logged for one frame (columns of the CSV, player/STATS.md).
+struct FrameStats {
+    uint64_t frame = 0;
+    double timeSeconds = 0;          // simulated time the camera was sampled at
+    double targetMs = 0;             // c_targetTime
+    double estimateNoFeedbackMs = 0; // overhead + initial v_time * sum(cost drawn) (Fig. 6.4a)
+    double estimateMs = 0;           // overhead + v_time * sum(cost drawn) (Fig. 6.4b)
+    double actualMs = 0;             // Renderer::drawFrame
+    double vTime = 0;                // v_time after this frame's update, ms per unit cost
+    double hlod0ShareMs = 0;         // shareTime of the hlod0 nodes used this frame
+    std::vector<uint32_t> nodesPerLevel;
+    std::vector<uint64_t> trianglesPerLevel;
+    uint32_t upToggles = 0;          // §6.5: a node drawn last frame whose children are drawn now
+    uint32_t downToggles = 0;        // §6.5: siblings drawn last frame replaced by their parent
+    uint32_t residentNodes = 0;      // uploaded to the renderer
+    uint64_t residentBytes = 0;      // real bytes: uploaded + decoded waiting + being loaded
+    double memoryEstimateBytes = 0;  // §4.3: c_memory * sum(cost) of resident nodes
+    uint32_t loads = 0;              // nodes uploaded this frame
+    uint32_t evictions = 0;          // nodes evicted this frame
+    uint32_t misses = 0;             // visible nodes wanted (cumHyst >= 0) but not loaded
+    uint32_t refused = 0;            // sibling sets, all loaded, refused because cumHyst < 0
+    double stallMs = 0;              // longest render-thread wait on the loader's lock
+    double selectionMs = 0;          // CPU time of the traversal (§5.2 running time)
+};
+
+class Player {
+public:
+    // Loads the skeleton's hlod0 nodes (decode + upload) before returning, measures the
+    // fixed overhead and v_time unless given, then starts the loading thread.
+    // Throws FormatError when an hlod0 node cannot be read or decoded.
+    Player(const Database& db, const Constants& constants, Renderer& renderer, const PlayerOptions& options);
+    Player(std::shared_ptr<const NodeSource> source, const Constants& constants, Renderer& renderer,
+           const PlayerOptions& options);
+    ~Player();
+    Player(const Player&) = delete;
+    Player& operator=(const Player&) = delete;
+
+    // One frame: uploads (bounded), selection, eviction, draw, feedback loops, loader priorities.
+    // Throws FormatError if the loading thread met a corrupt node.
+    FrameStats frame(const Camera& camera, double timeSeconds);
+
+    const Skeleton& skeleton() const;
+    std::span<const DrawItem> front() const;  // the nodes drawn by the last frame
+    uint32_t levelCount() const;
+    double vTime() const;
+    double overheadMs() const;
+    double hlod0ShareMs() const;
+    bool resident(uint32_t node) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hlod

@@ -1,0 +1,24 @@
+// Replaying a camera path through a Player in simulated time: frame i's camera is sampled at
+// the sum of the previous frames' measured times, so a slow frame moves the camera further,
+// as in a real walk (player/CAMERA_PATH.md).
+#pragma once
+
+#include "player/camera_path.h"
+#include "player/player.h"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace hlod {
+
+struct ReplayOptions {
+    uint64_t maxFrames = 0;       // 0: until the path ends
+    double aspect = 16.0 / 9.0;
+    double minFrameMs = 0.1;      // simulated time advances at least this much per frame
+};
+
+std::vector<FrameStats> replayPath(Player& player, const CameraPath& path, const ReplayOptions& options,
+                                   const std::function<void(const FrameStats&)>& onFrame = {});
+
+}  // namespace hlod

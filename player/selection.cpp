@@ -1,0 +1,180 @@
+// Node hierarchy traversal of thesis §4.2: breadth-first and top-down; time slicing by eq. 4.1
+// (timeSlice_n = shareTime_n * priority_n / sum of the visible siblings' priorities); the
+// hysteresis counter and the cumulative hysteresis rule (cumHyst < 0 draws the parent,
+// otherwise all the siblings are visited); a visible sibling that is not loaded forces the
+// parent; §5.2 option: switch to children only when all of them are loaded. Toggles are
+// counted by the rule of §6.5.
+#include "player/selection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+namespace hlod {
+
+SelectionState::SelectionState(const Skeleton& skeleton) : nodes(skeleton.nodes.size()) {
+    for (const Node& n : skeleton.nodes)
+        if (n.parent == kNone) roots.push_back(n.id);
+}
+
+DrawState SelectionState::role(uint32_t node) const {
+    const NodeState& s = nodes[node];
+    return frame > 0 && s.roleFrame == frame - 1 ? s.role : DrawState::None;
+}
+
+SelectionParams selectionParams(const Constants& c, double hlod0Share, double vTime, bool requireLoadedChildren) {
+    SelectionParams p;
+    p.hlod0Share = hlod0Share;
+    p.vTime = vTime;
+    p.hystSwitch = c.hystSwitch;
+    p.hystLimit = c.hystLimit;
+    p.initialHyst = -c.hystLimit;
+    p.requireLoadedChildren = requireLoadedChildren;
+    return p;
+}
+
+long cumulativeHysteresis(std::span<const double> hysts, double hystSwitch) {
+    long sum = 0;
+    for (double h : hysts) sum += long(std::trunc(h / hystSwitch));
+    return sum;
+}
+
+double updateHysteresis(double hyst, double timeSlice, double timeNeeded, double hystLimit) {
+    return std::clamp(hyst + (timeSlice - timeNeeded) / timeNeeded, -hystLimit, hystLimit);
+}
+
+namespace {
+
+struct Traversal {
+    const Skeleton& skeleton;
+    const SelectionParams& params;
+    const Evaluate& evaluate;
+    SelectionState& state;
+    std::span<const uint8_t> resident;
+    Selection out;
+    std::deque<uint32_t> pending;  // visible nodes whose children are to be considered (FIFO)
+    std::vector<uint32_t> siblings;
+    std::vector<double> hysts;
+
+    double timeNeeded(uint32_t id) const {  // timeNeeded_n = v_time * cost_n
+        return params.vTime * std::max(double(skeleton.nodes[id].cost), 1.0);
+    }
+
+    void setRole(uint32_t id, DrawState role) {
+        NodeState& s = state.nodes[id];
+        DrawState previous = state.role(id);
+        if (previous == DrawState::Drawn && role == DrawState::Refined) ++out.upToggles;
+        if (previous == DrawState::Refined && role == DrawState::Drawn) ++out.downToggles;
+        s.role = role;
+        s.roleFrame = state.frame;
+    }
+
+    void draw(uint32_t id) {
+        setRole(id, DrawState::Drawn);
+        out.drawn.push_back({id, skeleton.nodes[id].level});
+        out.drawnCost += skeleton.nodes[id].cost;
+    }
+
+    // Computes priorities of a sibling set; returns the visible ones in `siblings`.
+    double evaluateSiblings(uint32_t first) {
+        siblings.clear();
+        double sum = 0;
+        for (uint32_t id = first; id != kNone; id = skeleton.nodes[id].nextSibling) {
+            if (skeleton.nodes[id].parent != skeleton.nodes[first].parent) break;  // hlod0 chain guard
+            NodeEval e = evaluate(id);
+            NodeState& s = state.nodes[id];
+            s.priority = e.priority;
+            s.frustumVis = e.frustumVis;
+            out.visited.push_back(id);
+            if (e.frustumVis >= 1) {
+                siblings.push_back(id);
+                sum += e.priority;
+            }
+        }
+        return sum;
+    }
+
+    // eq. 4.1 and the hysteresis update for the visible siblings sharing `shareTime`.
+    void sliceTime(double shareTime, double prioritySum) {
+        for (uint32_t id : siblings) {
+            NodeState& s = state.nodes[id];
+            s.timeSlice = prioritySum > 0 ? shareTime * s.priority / prioritySum : shareTime / siblings.size();
+            if (!s.evaluated) {
+                s.hyst = params.initialHyst;
+                s.evaluated = true;
+            }
+            s.hyst = updateHysteresis(s.hyst, s.timeSlice, timeNeeded(id), params.hystLimit);
+        }
+    }
+
+    // `parent` is visible and drawable: draw it, or descend into all its visible children.
+    void consider(uint32_t parent) {
+        uint32_t first = skeleton.nodes[parent].firstChild;
+        if (first == kNone) return draw(parent);
+        double sum = evaluateSiblings(first);
+        if (siblings.empty()) return draw(parent);  // visible box, no visible child: draw it
+        sliceTime(state.nodes[parent].timeSlice, sum);
+        hysts.clear();
+        uint32_t unloaded = 0;
+        for (uint32_t id : siblings) {
+            hysts.push_back(state.nodes[id].hyst);
+            unloaded += !resident[id];
+        }
+        if (params.requireLoadedChildren)
+            for (uint32_t id = first; id != kNone; id = skeleton.nodes[id].nextSibling)
+                unloaded += !resident[id] && state.nodes[id].frustumVis < 1;
+        if (cumulativeHysteresis(hysts, params.hystSwitch) < 0) {
+            out.refused += unloaded == 0;
+            return draw(parent);
+        }
+        if (unloaded > 0) {
+            out.misses += unloaded;
+            return draw(parent);
+        }
+        setRole(parent, DrawState::Refined);
+        pending.insert(pending.end(), siblings.begin(), siblings.end());
+    }
+
+    void run() {
+        const auto& roots = state.roots;
+        if (!roots.empty()) {
+            double sum = evaluateRoots();
+            sliceTime(params.hlod0Share, sum);  // shareTime = the hlod0 share at the roots
+            pending.assign(siblings.begin(), siblings.end());
+        }
+        while (!pending.empty()) {
+            uint32_t id = pending.front();
+            pending.pop_front();
+            consider(id);
+        }
+    }
+
+    double evaluateRoots() {
+        siblings.clear();
+        double sum = 0;
+        for (uint32_t id : state.roots) {
+            NodeEval e = evaluate(id);
+            NodeState& s = state.nodes[id];
+            s.priority = e.priority;
+            s.frustumVis = e.frustumVis;
+            out.visited.push_back(id);
+            if (e.frustumVis >= 1) {
+                siblings.push_back(id);
+                sum += e.priority;
+            }
+        }
+        return sum;
+    }
+};
+
+}  // namespace
+
+Selection selectFront(const Skeleton& skeleton, const SelectionParams& params, const Evaluate& evaluate,
+                      SelectionState& state, std::span<const uint8_t> resident) {
+    Traversal t{skeleton, params, evaluate, state, resident, {}, {}, {}, {}};
+    t.run();
+    ++state.frame;
+    return std::move(t.out);
+}
+
+}  // namespace hlod

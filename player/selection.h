@@ -1,0 +1,94 @@
+// Node selection of the rendering thread (thesis §4.2, §5.2): priority heuristics, time
+// slicing (eq. 4.1), hysteresis and the cumulative hysteresis rule. Plain data and free
+// functions; no threads, no I/O, deterministic.
+#pragma once
+
+#include "formats/constants.h"
+#include "formats/db.h"
+#include "player/renderer.h"
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+namespace hlod {
+
+// What the camera means to the priority of a node (§4.2 "Priority Heuristics").
+struct View {
+    double eye[3] = {0, 0, 0};
+    double ahead[3] = {0, 0, 0};     // eye + velocity * lookahead: the velocity adjustment
+    double forward[3] = {0, 0, -1};  // unit viewing direction
+    double planes[6][4] = {};        // frustum planes, inward normals: n.p + d >= 0 inside
+    double falloff = 0.5;            // frustumVis reaches 0 this far outside (radians, ~angle)
+};
+
+View makeView(const Camera& camera, const double velocity[3], double lookaheadSeconds);
+
+// 1 when the box meets the frustum; else falls linearly to 0 with the angle by which the box
+// lies outside (its distance behind the worst plane over its distance to the eye).
+double frustumVis(const View& view, const Box3f& box);
+
+// priority_n = staticBenefit_n * vis_n * foreshorten_n / (cost_n * distance_n^2)   (§4.2)
+double nodePriority(const Node& node, const View& view, const Constants& c, double frustumVisibility);
+
+// What the traversal needs to know of a node this frame.
+struct NodeEval {
+    double priority = 0;
+    double frustumVis = 0;  // > 0 ... 1; the node is visible (drawable) only when == 1
+};
+using Evaluate = std::function<NodeEval(uint32_t node)>;
+
+enum class DrawState : uint8_t { None, Drawn, Refined };
+
+// Per-node state kept across frames by the render thread.
+struct NodeState {
+    double hyst = 0;         // hysteresis_n (§4.2), in [-c_hystLimit, c_hystLimit]
+    double priority = 0;     // last computed priority
+    double frustumVis = 0;   // last computed frustumVis
+    double timeSlice = 0;    // eq. 4.1, last frame it was evaluated
+    bool evaluated = false;  // hyst has been initialised
+    DrawState role = DrawState::None;  // role in frame `roleFrame`
+    uint64_t roleFrame = 0;
+};
+
+struct SelectionState {
+    std::vector<NodeState> nodes;  // one per skeleton node
+    std::vector<uint32_t> roots;   // hlod0 nodes, in id order
+    uint64_t frame = 0;            // frames selected so far (roles of frame - 1 are "previous")
+    explicit SelectionState(const Skeleton& skeleton);
+    DrawState role(uint32_t node) const;  // role in the last selected frame
+};
+
+struct SelectionParams {
+    double hlod0Share = 30;      // shareTime of the hlod0 nodes, ms (second feedback loop)
+    double vTime = 0.001;        // ms per unit of cost (first feedback loop)
+    double hystSwitch = 1500;    // c_hystSwitch
+    double hystLimit = 4510;     // c_hystLimit
+    double initialHyst = -4510;  // counter of a node evaluated for the first time
+    bool requireLoadedChildren = false;
+};
+
+SelectionParams selectionParams(const Constants& c, double hlod0Share, double vTime, bool requireLoadedChildren);
+
+struct Selection {
+    std::vector<DrawItem> drawn;     // the front, in traversal (breadth-first) order
+    std::vector<uint32_t> visited;   // every node whose priority was computed this frame
+    double drawnCost = 0;            // sum of cost_n over drawn nodes
+    uint32_t upToggles = 0, downToggles = 0;  // §6.5 counting rule
+    uint32_t misses = 0;             // visible children wanted but not loaded
+    uint32_t refused = 0;            // all-loaded sibling sets refused because cumHyst < 0
+};
+
+// One breadth-first, top-down traversal (§4.2). `state` is updated (hysteresis, roles);
+// `resident` (one byte per node) tells which nodes may be drawn.
+Selection selectFront(const Skeleton& skeleton, const SelectionParams& params, const Evaluate& evaluate,
+                      SelectionState& state, std::span<const uint8_t> resident);
+
+// cumHyst = sum over siblings of trunc(hyst_i / c_hystSwitch)   (§4.2)
+long cumulativeHysteresis(std::span<const double> hysts, double hystSwitch);
+
+// hysteresis += (timeSlice - timeNeeded) / timeNeeded, clamped to +-c_hystLimit   (§4.2)
+double updateHysteresis(double hyst, double timeSlice, double timeNeeded, double hystLimit);
+
+}  // namespace hlod

@@ -1,0 +1,142 @@
+// Per-frame CSV (columns in player/stats.h, documented in player/STATS.md) and the summary:
+// mean, sd, p99 of the frame time and of its error to target (§6.4), of the estimate errors
+// with and without feedback (§6.3), toggles per frame (§6.5), peak memory (§6.1).
+#include "player/stats.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+
+namespace hlod {
+
+std::vector<std::string> statsHeader(uint32_t levels) {
+    std::vector<std::string> h(std::begin(kStatsColumns), std::end(kStatsColumns));
+    for (uint32_t l = 0; l < levels; ++l) h.push_back("nodes_l" + std::to_string(l));
+    for (uint32_t l = 0; l < levels; ++l) h.push_back("tris_l" + std::to_string(l));
+    return h;
+}
+
+void writeStatsPreamble(std::ostream& os, const Constants& c,
+                        std::span<const std::pair<std::string, std::string>> extra, uint32_t levels) {
+    os << "# ";
+    printConstants(os, c);
+    for (const auto& [k, v] : extra) os << "# " << k << ": " << v << "\n";
+    auto header = statsHeader(levels);
+    for (size_t i = 0; i < header.size(); ++i) os << (i ? "," : "") << header[i];
+    os << "\n";
+}
+
+void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels) {
+    char buf[512];
+    uint32_t nodes = 0;
+    uint64_t tris = 0;
+    for (uint32_t n : s.nodesPerLevel) nodes += n;
+    for (uint64_t t : s.trianglesPerLevel) tris += t;
+    std::snprintf(buf, sizeof buf, "%llu,%.6f,%.3f,%.4f,%.4f,%.4f,%.6g,%.4f,%u,%llu,%u,%u,%u,%llu,%.0f,%u,%u,%u,%u,%.4f,%.4f",
+                  (unsigned long long)s.frame, s.timeSeconds, s.targetMs, s.estimateNoFeedbackMs, s.estimateMs,
+                  s.actualMs, s.vTime, s.hlod0ShareMs, nodes, (unsigned long long)tris, s.upToggles, s.downToggles,
+                  s.residentNodes, (unsigned long long)s.residentBytes, s.memoryEstimateBytes, s.loads, s.evictions,
+                  s.misses, s.refused, s.stallMs, s.selectionMs);
+    os << buf;
+    for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.nodesPerLevel.size() ? s.nodesPerLevel[l] : 0);
+    for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.trianglesPerLevel.size() ? s.trianglesPerLevel[l] : 0);
+    os << '\n';
+}
+
+namespace {
+
+Distribution distribution(std::vector<double> v) {
+    Distribution d;
+    if (v.empty()) return d;
+    double sum = 0;
+    for (double x : v) sum += x;
+    d.mean = sum / v.size();
+    double sq = 0;
+    for (double x : v) sq += (x - d.mean) * (x - d.mean);
+    d.sd = v.size() > 1 ? std::sqrt(sq / (v.size() - 1)) : 0;
+    std::sort(v.begin(), v.end());
+    d.p99 = v[std::min(v.size() - 1, size_t(std::ceil(0.99 * v.size())) - 1)];  // nearest rank
+    d.max = v.back();
+    return d;
+}
+
+nlohmann::json toJson(const Distribution& d) { return {{"mean", d.mean}, {"sd", d.sd}, {"p99", d.p99}, {"max", d.max}}; }
+
+}  // namespace
+
+StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames) {
+    StatsSummary s;
+    s.frames = frames.size();
+    s.warmupFrames = std::min<uint64_t>(warmupFrames, frames.size());
+    std::vector<double> ms, err, est, estNoFb;
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const FrameStats& f = frames[i];
+        s.peakResidentBytes = std::max(s.peakResidentBytes, f.residentBytes);
+        s.peakMemoryEstimateBytes = std::max(s.peakMemoryEstimateBytes, f.memoryEstimateBytes);
+        s.loads += f.loads;
+        s.evictions += f.evictions;
+        s.misses += f.misses;
+        s.longestStallMs = std::max(s.longestStallMs, f.stallMs);
+        if (i < s.warmupFrames) continue;
+        s.upToggles += f.upToggles;
+        s.downToggles += f.downToggles;
+        ms.push_back(f.actualMs);
+        err.push_back(f.actualMs - f.targetMs);
+        if (f.actualMs > 0) {
+            est.push_back(100 * (f.estimateMs - f.actualMs) / f.actualMs);
+            estNoFb.push_back(100 * (f.estimateNoFeedbackMs - f.actualMs) / f.actualMs);
+        }
+    }
+    s.frameMs = distribution(ms);
+    s.errorMs = distribution(err);
+    s.estimateErrorPct = distribution(est);
+    s.estimateNoFbErrorPct = distribution(estNoFb);
+    size_t counted = frames.size() - s.warmupFrames;
+    s.togglesPerFrame = counted ? double(s.upToggles + s.downToggles) / counted : 0;
+    return s;
+}
+
+void printSummary(std::ostream& os, const StatsSummary& s) {
+    char buf[1024];
+    std::snprintf(buf, sizeof buf,
+                  "frames %llu (first %llu excluded as warm-up)\n"
+                  "frame time ms: mean %.3f sd %.3f p99 %.3f max %.3f\n"
+                  "error to target ms: mean %.3f sd %.3f p99 %.3f\n"
+                  "estimate error %%: with feedback mean %.2f sd %.2f; without mean %.2f sd %.2f\n"
+                  "toggles per frame %.4f (up %llu, down %llu)\n"
+                  "peak resident bytes %llu, peak c_memory estimate %.0f\n"
+                  "loads %llu, evictions %llu, misses %llu, longest render-thread stall %.3f ms\n",
+                  (unsigned long long)s.frames, (unsigned long long)s.warmupFrames, s.frameMs.mean, s.frameMs.sd,
+                  s.frameMs.p99, s.frameMs.max, s.errorMs.mean, s.errorMs.sd, s.errorMs.p99, s.estimateErrorPct.mean,
+                  s.estimateErrorPct.sd, s.estimateNoFbErrorPct.mean, s.estimateNoFbErrorPct.sd, s.togglesPerFrame,
+                  (unsigned long long)s.upToggles, (unsigned long long)s.downToggles,
+                  (unsigned long long)s.peakResidentBytes, s.peakMemoryEstimateBytes, (unsigned long long)s.loads,
+                  (unsigned long long)s.evictions, (unsigned long long)s.misses, s.longestStallMs);
+    os << buf;
+}
+
+std::string summaryJson(const StatsSummary& s, const Constants& c) {
+    nlohmann::json constants = nlohmann::json::object();
+    for (const auto& [k, v] : constantsAsPairs(c)) constants[k] = v;
+    nlohmann::json j = {{"frames", s.frames},
+                        {"warmup_frames", s.warmupFrames},
+                        {"frame_ms", toJson(s.frameMs)},
+                        {"error_ms", toJson(s.errorMs)},
+                        {"estimate_error_pct", toJson(s.estimateErrorPct)},
+                        {"estimate_nofb_error_pct", toJson(s.estimateNoFbErrorPct)},
+                        {"toggles_per_frame", s.togglesPerFrame},
+                        {"up_toggles", s.upToggles},
+                        {"down_toggles", s.downToggles},
+                        {"peak_resident_bytes", s.peakResidentBytes},
+                        {"peak_memory_estimate_bytes", s.peakMemoryEstimateBytes},
+                        {"loads", s.loads},
+                        {"evictions", s.evictions},
+                        {"misses", s.misses},
+                        {"longest_stall_ms", s.longestStallMs},
+                        {"constants", constants}};
+    return j.dump(2);
+}
+
+}  // namespace hlod

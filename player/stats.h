@@ -1,0 +1,54 @@
+// Per-frame statistics (thesis Chapter 6: every figure 6.1-6.6 is redrawn from these columns)
+// and the end-of-run summary. The column names are defined here, in one place, and documented
+// in player/STATS.md; scripts/plot* read them by name.
+#pragma once
+
+#include "formats/constants.h"
+#include "player/player.h"
+
+#include <iosfwd>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hlod {
+
+// The fixed columns, in order. Per-level columns follow: nodes_l0..nodes_l{L-1}, then
+// tris_l0..tris_l{L-1}, where L is the database's level count.
+inline constexpr const char* kStatsColumns[] = {
+    "frame", "time_s", "target_ms", "est_nofb_ms", "est_ms", "actual_ms", "v_time", "hlod0_share_ms",
+    "nodes_drawn", "tris_drawn", "up_toggles", "down_toggles", "resident_nodes", "resident_bytes",
+    "memory_estimate_bytes", "loads", "evictions", "misses", "refused", "stall_ms", "selection_ms"};
+
+std::vector<std::string> statsHeader(uint32_t levels);
+
+// Writes "# constants: ..." and "# key: value" comment lines, then the header line.
+void writeStatsPreamble(std::ostream& os, const Constants& c,
+                        std::span<const std::pair<std::string, std::string>> extra, uint32_t levels);
+void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels);
+
+struct Distribution {
+    double mean = 0, sd = 0, p99 = 0, max = 0;
+};
+
+struct StatsSummary {
+    uint64_t frames = 0;
+    uint64_t warmupFrames = 0;          // frames excluded from the distributions below
+    Distribution frameMs;               // actual_ms
+    Distribution errorMs;               // actual_ms - target_ms
+    Distribution estimateErrorPct;      // 100 * (est_ms - actual_ms) / actual_ms (Fig. 6.4b)
+    Distribution estimateNoFbErrorPct;  // same without feedback (Fig. 6.4a)
+    double togglesPerFrame = 0;         // (up + down) / frames (§6.5)
+    uint64_t upToggles = 0, downToggles = 0;
+    uint64_t peakResidentBytes = 0;
+    double peakMemoryEstimateBytes = 0;
+    uint64_t loads = 0, evictions = 0, misses = 0;
+    double longestStallMs = 0;
+};
+
+// Summary over frames[warmup, end).
+StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames);
+void printSummary(std::ostream& os, const StatsSummary& s);
+std::string summaryJson(const StatsSummary& s, const Constants& c);
+
+}  // namespace hlod

@@ -1,0 +1,13 @@
+# Thesis Fig. 6.2 (§6.2, detail management): (a) nodes drawn per HLOD level, (b) each level's
+# percentage of the nodes drawn, per frame (run 1).
+set multiplot layout 2,1 title "Figure 6.2: nodes drawn per level (run 1)"
+set xlabel "frame"
+set ylabel "nodes drawn"
+set yrange [0:*]
+set title "(a)"
+plot for [l=0:levels1-1] run1 using "frame":(column(sprintf("nodes_l%d", l))) with lines lw 2 title sprintf("hlod_%d", l)
+set ylabel "% of nodes drawn"
+set yrange [0:100]
+set title "(b)"
+plot for [l=0:levels1-1] run1 using "frame":(column(sprintf("pnodes_l%d", l))) with lines lw 2 title sprintf("hlod_%d", l)
+unset multiplot

@@ -1,0 +1,177 @@
+// `hlod stats` (pipeline/stats): figures computed independently from the skeleton, agreement
+// with `hlod inspect --json`, the build sidecar (present, absent, corrupt), the rule for showing
+// the thesis's figures (synthetic city manifest at scale 1), and bad input on the command line.
+#include "pipeline/stats/stats.h"
+
+#include "formats/synthetic.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using namespace hlod;
+
+namespace {
+
+struct Fixture {
+    fs::path dir, db;
+    explicit Fixture(const std::string& name) {
+        dir = fs::temp_directory_path() / ("hlod_test_stats_" + name + "_" + std::to_string(::getpid()));
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        db = dir / "tiny.hlod";
+        SyntheticOptions o;  // 2 x 2 blocks, 3 levels, factor 4
+        writeSyntheticDatabase(db.string(), o);
+    }
+    ~Fixture() { fs::remove_all(dir); }
+};
+
+struct Run {
+    int status;
+    std::string out, err;
+};
+
+Run run(const std::string& args, const fs::path& errFile) {
+    std::string cmd = std::string(HLOD_BINARY) + " " + args + " 2>" + errFile.string();
+    FILE* p = popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    int status = pclose(p);
+    std::ifstream e(errFile);
+    std::stringstream err;
+    err << e.rdbuf();
+    return {WEXITSTATUS(status), out, err.str()};
+}
+
+void writeSidecar(const fs::path& db, const std::string& text) { std::ofstream(db.string() + ".build.json") << text; }
+
+}  // namespace
+
+TEST(Stats, FiguresMatchAnIndependentCountOfTheSkeleton) {
+    Fixture f("count");
+    Database db = Database::open(f.db.string());
+    stats::Stats s = stats::computeStats(db, false);
+    const Skeleton& sk = db.skeleton();
+    std::vector<uint64_t> nodes(3), tris(3), texels(3);
+    uint64_t leaves = 0, total = 0;
+    for (const Node& n : sk.nodes) {
+        ASSERT_LT(n.level, 3u);
+        ++nodes[n.level];
+        tris[n.level] += n.triangles();
+        texels[n.level] += n.texelCount;
+        total += n.triangles();
+        leaves += n.firstChild == kNone;
+    }
+    EXPECT_EQ(s.summary.levels.at(0).nodes, 4u);  // blocks = hlod0 nodes
+    EXPECT_EQ(s.summary.nodes, 4u * (1 + 4 + 16));
+    EXPECT_EQ(s.summary.depth, 3u);
+    ASSERT_EQ(s.summary.levels.size(), 3u);
+    for (uint32_t L = 0; L < 3; ++L) {
+        EXPECT_EQ(s.summary.levels[L].nodes, nodes[L]);
+        EXPECT_EQ(s.summary.levels[L].texturedTriangles + s.summary.levels[L].untexturedTriangles, tris[L]);
+        EXPECT_EQ(s.summary.levels[L].texels, texels[L]);
+    }
+    EXPECT_EQ(s.leafNodes, leaves);
+    EXPECT_EQ(s.leafNodes, 64u);
+    EXPECT_EQ(s.totalTriangles, total);
+    EXPECT_EQ(stats::inputTriangles(s), tris[2]);  // no sidecar: the leaves
+    EXPECT_DOUBLE_EQ(s.desiredTris, 900);
+    EXPECT_FALSE(s.build.has_value());
+    EXPECT_FALSE(s.thesis);
+    EXPECT_TRUE(stats::computeStats(db, true).thesis);
+}
+
+TEST(Stats, AgreesWithInspect) {
+    Fixture f("inspect");
+    Run st = run("stats --json " + f.db.string(), f.dir / "err1");
+    Run in = run("inspect --json " + f.db.string(), f.dir / "err2");
+    ASSERT_EQ(st.status, 0) << st.err;
+    ASSERT_EQ(in.status, 0) << in.err;
+    auto a = nlohmann::json::parse(st.out), b = nlohmann::json::parse(in.out);
+    EXPECT_EQ(a["nodes"], b["nodes"]);
+    EXPECT_EQ(a["blocks"], b["blocks"]);
+    EXPECT_EQ(a["max_depth"], b["depth"]);
+    ASSERT_EQ(a["levels"].size(), b["perLevel"].size());
+    for (size_t L = 0; L < a["levels"].size(); ++L) {
+        const auto &x = a["levels"][L], &y = b["perLevel"][L];
+        EXPECT_EQ(x["nodes"], y["nodes"]);
+        EXPECT_EQ(x["triangles"].get<uint64_t>(),
+                  y["texturedTriangles"].get<uint64_t>() + y["untexturedTriangles"].get<uint64_t>());
+        EXPECT_EQ(x["texels"], y["texels"]);
+        EXPECT_EQ(x["geometry_bytes"], y["geometryBytes"]);
+        EXPECT_EQ(x["texture_bytes"], y["textureBytes"]);
+    }
+    EXPECT_EQ(a["hlod0_nodes"], b["perLevel"][0]["nodes"]);
+}
+
+TEST(Stats, ReadsTheBuildSidecar) {
+    Fixture f("sidecar");
+    writeSidecar(f.db, R"({"stages":[{"name":"read","seconds":1.5,"items":7},{"name":"simplify","seconds":2,"items":84}],
+        "peak_rss_bytes":1048576,"input_triangles":12345,"wall_seconds":4,"cpu_seconds":6,"output_bytes":99})");
+    stats::Stats s = stats::computeStats(Database::open(f.db.string()), false);
+    ASSERT_TRUE(s.build.has_value());
+    ASSERT_EQ(s.build->stages.size(), 2u);
+    EXPECT_EQ(s.build->stages[1].name, "simplify");
+    EXPECT_EQ(s.build->stages[1].items, 84u);
+    EXPECT_DOUBLE_EQ(s.build->stages[0].seconds, 1.5);
+    EXPECT_EQ(stats::inputTriangles(s), 12345u);
+    std::ostringstream text;
+    stats::printStats(text, s);
+    EXPECT_NE(text.str().find("simplify"), std::string::npos);
+    EXPECT_EQ(text.str().find("thesis vs ours"), std::string::npos);
+}
+
+TEST(Stats, CorruptSidecarIsOneLineNamingIt) {
+    Fixture f("corrupt");
+    for (const char* bad : {"{\"stages\": [", "[1,2]", R"({"stages":[]})", R"({"stages":[{"name":3}]})"}) {
+        writeSidecar(f.db, bad);
+        Run r = run("stats " + f.db.string(), f.dir / "err");
+        EXPECT_EQ(r.status, 1) << bad;
+        EXPECT_NE(r.err.find(f.db.string() + ".build.json"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+}
+
+TEST(Stats, MissingOrTruncatedDatabaseFailsCleanly) {
+    Fixture f("bad");
+    Run missing = run("stats " + (f.dir / "nope.hlod").string(), f.dir / "err");
+    EXPECT_NE(missing.status, 0);
+    EXPECT_NE(missing.err.find("nope.hlod"), std::string::npos) << missing.err;
+    EXPECT_EQ(std::count(missing.err.begin(), missing.err.end(), '\n'), 1) << missing.err;
+    fs::resize_file(f.db, fs::file_size(f.db) / 2);
+    Run truncated = run("stats " + f.db.string(), f.dir / "err");
+    EXPECT_NE(truncated.status, 0);
+    EXPECT_NE(truncated.err.find("tiny.hlod"), std::string::npos) << truncated.err;
+    EXPECT_TRUE(truncated.out.empty());
+}
+
+TEST(Stats, ThesisFiguresOnlyForTheScaleOneCity) {
+    fs::path dir = fs::temp_directory_path() / ("hlod_test_stats_city_" + std::to_string(::getpid()));
+    fs::create_directories(dir / "city");
+    auto manifest = [&](double scale) {
+        std::ofstream(dir / "city" / "city.json")
+            << nlohmann::json{{"generator", "hlod synth city"}, {"scale", scale}, {"seed", 1}, {"block_count", 114},
+                              {"triangles", 8950000}, {"texels", 937000000}}.dump();
+    };
+    Skeleton sk;
+    sk.meta = {{"input", "city"}};  // relative to the database's directory
+    std::string db = (dir / "city.hlod").string();
+    manifest(1.0);
+    auto m = stats::findCityManifest(db, sk);
+    ASSERT_TRUE(m.has_value());
+    EXPECT_EQ(m->blocks, 114u);
+    EXPECT_TRUE(stats::isThesisScale(m));
+    manifest(0.01);
+    EXPECT_FALSE(stats::isThesisScale(stats::findCityManifest(db, sk)));
+    sk.meta = {{"input", (dir / "city" / "block_000.obj").string()}};  // a file of the city: beside it
+    EXPECT_TRUE(stats::findCityManifest(db, sk).has_value());
+    sk.meta = {{"input", "elsewhere"}};
+    EXPECT_FALSE(stats::findCityManifest(db, sk).has_value());
+    fs::remove_all(dir);
+}

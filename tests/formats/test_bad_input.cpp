@@ -1,0 +1,155 @@
+// Bad input (FORMAT.md §Errors): missing file, directory, empty file, not a database,
+// truncation at many points, and a sweep flipping every byte of a small database in turn:
+// each gives one clear line naming the file, never a crash; every flip is reported by open
+// or by a full validate.
+#include "helpers.h"
+
+#include "formats/synthetic.h"
+#include "formats/validate.h"
+
+namespace hlod::test {
+namespace {
+
+// Opens `path` expecting a FormatError; returns its message (checked to be one line naming the file).
+std::string openError(const std::string& path) {
+    try {
+        Database::open(path);
+    } catch (const FormatError& e) {
+        std::string m = e.what();
+        EXPECT_EQ(m.rfind(path + ": ", 0), 0u) << m;
+        EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+        return m;
+    }
+    ADD_FAILURE() << path << " opened";
+    return "";
+}
+
+struct BadInput : ::testing::Test {
+    TempDir dir;
+    std::string path = dir.file("db.hlod");
+    void SetUp() override {
+        SyntheticOptions o;
+        o.blocksX = 1;
+        o.blocksY = 1;
+        o.levels = 2;
+        o.levelFactor = 2;
+        o.trianglesPerNode = 8;
+        o.textureSize = 8;
+        writeSyntheticDatabase(path, o);
+    }
+};
+
+TEST_F(BadInput, MissingFile) { EXPECT_NE(openError(dir.file("nope.hlod")).find("no such file"), std::string::npos); }
+
+TEST_F(BadInput, Directory) { EXPECT_NE(openError(dir.path.string()).find("is a directory"), std::string::npos); }
+
+TEST_F(BadInput, EmptyFile) {
+    writeFile(path, {});
+    EXPECT_NE(openError(path).find("empty file"), std::string::npos);
+}
+
+TEST_F(BadInput, NotADatabase) {
+    std::string text(5000, 'x');
+    writeFile(path, std::vector<uint8_t>(text.begin(), text.end()));
+    EXPECT_NE(openError(path).find("not an HLOD database"), std::string::npos);
+    writeFile(path, {0x89, 'H'});
+    EXPECT_NE(openError(path).find("not an HLOD database"), std::string::npos);
+}
+
+TEST_F(BadInput, TruncatedAtManyPoints) {
+    const std::vector<uint8_t> file = readFile(path);
+    const uint64_t skOff = layout::load<uint64_t>(file, layout::kOffSkeletonOffset);
+    for (size_t cut : {size_t(8), size_t(11), size_t(12), size_t(40), size_t(63), size_t(64), size_t(100),
+                       size_t(skOff), size_t(skOff + 8), file.size() - 1}) {
+        writeFile(path, std::vector<uint8_t>(file.begin(), file.begin() + cut));
+        std::string m = openError(path);
+        EXPECT_NE(m.find("truncated"), std::string::npos) << "cut at " << cut << ": " << m;
+    }
+}
+
+TEST_F(BadInput, TrailingDataIsReported) {
+    std::vector<uint8_t> file = readFile(path);
+    file.push_back(0);
+    writeFile(path, file);
+    EXPECT_NE(openError(path).find("trailing data"), std::string::npos);
+}
+
+TEST_F(BadInput, EveryFlippedByteIsReported) {
+    const std::vector<uint8_t> file = readFile(path);
+    ASSERT_LT(file.size(), 20000u);  // keep the sweep small
+    const std::string flipped = dir.file("flipped.hlod");
+    size_t byOpen = 0, byValidate = 0;
+    for (size_t i = 0; i < file.size(); ++i) {
+        std::vector<uint8_t> bad = file;
+        bad[i] ^= 0xFF;
+        writeFile(flipped, bad);
+        try {
+            Database db = Database::open(flipped);
+            std::vector<Violation> v = validate(db, {});
+            EXPECT_FALSE(v.empty()) << "flip at byte " << i << " of " << file.size() << " went unnoticed";
+            ++byValidate;
+        } catch (const FormatError& e) {
+            std::string m = e.what();
+            EXPECT_EQ(m.rfind(flipped + ": ", 0), 0u) << m;
+            ++byOpen;
+        }
+    }
+    EXPECT_EQ(byOpen + byValidate, file.size());
+    EXPECT_GT(byValidate, 0u);  // blob bytes are only checked when read
+    EXPECT_GT(byOpen, 0u);
+}
+
+TEST_F(BadInput, ReadBlobVerifiesChecksumAndRange) {
+    std::vector<uint8_t> file = readFile(path);
+    Database good = Database::open(path);
+    const BlobRef b = good.skeleton().blobs[0];
+    file[b.offset + b.size / 2] ^= 1;
+    writeFile(path, file);
+    Database db = Database::open(path);  // the skeleton is intact
+    try {
+        db.readBlob(0);
+        FAIL() << "corrupt blob read without error";
+    } catch (const FormatError& e) {
+        EXPECT_EQ(std::string(e.what()), path + ": blob 0 (node 0) checksum mismatch (corrupt data)");
+    }
+    EXPECT_THROW(db.readBlob(uint32_t(db.skeleton().blobs.size())), FormatError);
+    std::vector<uint8_t> buf(16);
+    EXPECT_THROW(db.readRange(db.fileSize() - 8, buf), FormatError);
+    EXPECT_THROW(db.readRange(~uint64_t(0) - 4, buf), FormatError);
+}
+
+// Absurd values behind valid checksums are refused by open, not trusted.
+TEST_F(BadInput, AbsurdCountsAndOffsetsBehindValidChecksums) {
+    const std::vector<uint8_t> file = readFile(path);
+    auto expectRefused = [&](std::vector<uint8_t> bad, const char* what) {
+        writeFile(path, bad);
+        std::string m = openError(path);
+        EXPECT_FALSE(m.empty()) << what;
+    };
+    std::vector<uint8_t> bad = file;
+    patchRecord(bad, layout::kTagBlob, 0, kBlobOffset, uint64_t(1) << 62);
+    expectRefused(bad, "blob offset");
+    bad = file;
+    patchRecord(bad, layout::kTagBlob, 0, kBlobSize, ~uint64_t(0));
+    expectRefused(bad, "blob size");
+    bad = file;
+    patchRecord(bad, layout::kTagBlob, 0, kBlobWidth, uint32_t(1) << 20);
+    expectRefused(bad, "texture width");
+    bad = file;
+    patchRecord(bad, layout::kTagNode, 1, kNodeParent, uint32_t(12345));
+    expectRefused(bad, "parent link");
+    bad = file;
+    patchRecord(bad, layout::kTagNode, 0, 84, uint32_t(0xFFFFFFF0));  // firstBlob
+    expectRefused(bad, "first blob");
+    bad = file;
+    layout::store(std::span(bad), layout::kOffSkeletonSize, uint64_t(1) << 40);
+    layout::fixChecksums(bad);
+    expectRefused(bad, "skeleton size");
+    bad = file;  // section count
+    layout::store(std::span(bad), layout::load<uint64_t>(bad, layout::kOffSkeletonOffset), uint32_t(1) << 30);
+    layout::fixChecksums(bad);
+    expectRefused(bad, "section count");
+}
+
+}  // namespace
+}  // namespace hlod::test

@@ -1,0 +1,130 @@
+// End to end through the `hlod` tool on a small synthetic database: `play --renderer gl`
+// writes PNG frames shaded by level and a statistics log, scripts/plot_figures.sh turns the
+// log into Figures 6.1-6.6; `calibrate` and `view` fail with one line on bad input.
+// Skips the GL parts when no EGL context exists.
+#include "formats/synthetic.h"
+#include "player/gl/gl_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace hlod {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+    int status = -1;
+    std::string output;
+};
+
+Result run(const std::string& command) {
+    Result r;
+    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 512> buffer{};
+    while (fgets(buffer.data(), buffer.size(), pipe)) r.output += buffer.data();
+    const int status = pclose(pipe);
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+bool haveEgl() {
+    try {
+        makeGlRenderer({64, 64, false, false});
+        return true;
+    } catch (const std::runtime_error&) {
+        return false;
+    }
+}
+
+class HlodTool : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("hlod_gl_cli_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string hlod() const { return HLOD_EXE; }
+    fs::path dir_;
+};
+
+TEST_F(HlodTool, PlayWithGlWritesLevelShadedFramesAndTheLogPlots) {
+    if (!haveEgl()) GTEST_SKIP() << "no EGL OpenGL context";
+    const fs::path db = dir_ / "terrain.hlod";
+    SyntheticOptions synthetic;
+    synthetic.levels = 3;
+    synthetic.trianglesPerNode = 256;
+    writeSyntheticDatabase(db.string(), synthetic);
+    const fs::path path = dir_ / "fly.path", log = dir_ / "run.csv", frames = dir_ / "frames";
+    Result r = run(hlod() + " path " + db.string() + " --kind fly --duration 4 -o " + path.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = run(hlod() + " play " + db.string() + " --path " + path.string() + " --renderer gl --width 320 --height 180" +
+            " --sync-loader --stats " + log.string() + " --frames-dir " + frames.string() + " --every 20 --color-by-level");
+    ASSERT_EQ(r.status, 0) << r.output;
+    size_t pngs = 0;
+    for (const auto& entry : fs::directory_iterator(frames)) pngs += entry.path().extension() == ".png";
+    EXPECT_GT(pngs, 0u);
+    if (run("command -v gnuplot").status != 0) GTEST_SKIP() << "gnuplot is not installed";
+    r = run("bash " + std::string(HLOD_SOURCE_DIR) + "/scripts/plot_figures.sh " + log.string() + " " + (dir_ / "figs").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (int n = 1; n <= 6; ++n) EXPECT_GT(fs::file_size(dir_ / "figs" / ("fig6_" + std::to_string(n) + ".png")), 10000u);
+}
+
+TEST_F(HlodTool, CalibrateWritesAConstantsFile) {
+    if (!haveEgl()) GTEST_SKIP() << "no EGL OpenGL context";
+    const fs::path out = dir_ / "calibration.conf";
+    const Result r = run(hlod() + " calibrate --width 320 --height 180 --frames 3 --triangles 1000 80000 -o " + out.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream in(out);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("\nc_textured = 0."), std::string::npos) << text;
+    EXPECT_NE(text.find("# calibrate.msPerCost = "), std::string::npos) << text;
+}
+
+TEST_F(HlodTool, CalibrateToAnUnwritablePathFailsBeforeMeasuring) {
+    const std::string out = (dir_ / "missing-dir" / "c.conf").string();
+    const Result r = run(hlod() + " calibrate -o " + out);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.output, "hlod calibrate: " + out + ": cannot be written\n");
+}
+
+TEST_F(HlodTool, ViewOfAMissingDatabaseFailsWithOneLine) {
+    const std::string db = (dir_ / "missing.hlod").string();
+    const Result r = run(hlod() + " view " + db);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.output.find(db), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+TEST_F(HlodTool, ViewWithoutADisplayFailsWithOneLine) {
+    const fs::path db = dir_ / "terrain.hlod";
+    SyntheticOptions synthetic;
+    synthetic.levels = 2;
+    writeSyntheticDatabase(db.string(), synthetic);
+    const Result r = run("env -u DISPLAY -u WAYLAND_DISPLAY " + hlod() + " view " + db.string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.output.find("hlod view: GLFW"), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+TEST_F(HlodTool, ViewOfACorruptDatabaseFailsWithOneLine) {
+    const fs::path db = dir_ / "corrupt.hlod";
+    std::ofstream(db) << std::string(4096, 'x');
+    const Result r = run(hlod() + " view " + db.string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.output.find(db.string()), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+}  // namespace
+}  // namespace hlod

@@ -1,0 +1,139 @@
+// Test helpers for pipeline/: temporary folders, a generated wavy terrain (UVs an affine
+// function of position, so exact interpolation can be checked), PLY/OBJ writers, areas.
+#pragma once
+
+#include "pipeline/pipeline.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace hlod::test {
+
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        path = std::filesystem::temp_directory_path() /
+               ("hlod-pipeline-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" + std::to_string(::getpid()));
+        std::filesystem::remove_all(path);
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+// n x n quads (2 n^2 triangles) over [0, size]^2 in x/y, height a gentle wave; u = x/size,
+// v = y/size; material 0 for x < size/2, 1 otherwise when twoMaterials.
+inline Piece terrain(uint32_t n, float size = 100, bool twoMaterials = false) {
+    Piece p;
+    for (uint32_t j = 0; j <= n; ++j)
+        for (uint32_t i = 0; i <= n; ++i) {
+            const float x = size * i / n, y = size * j / n;
+            p.mesh.positions.insert(p.mesh.positions.end(), {x, y, 2.0f * std::sin(x * 0.11f) * std::cos(y * 0.07f)});
+            p.mesh.texcoords.insert(p.mesh.texcoords.end(), {x / size, y / size});
+        }
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            p.mesh.indices.insert(p.mesh.indices.end(), {a, b, d, a, d, c});
+            const uint32_t m = twoMaterials && 2 * i >= n ? 1 : 0;
+            p.materials.insert(p.materials.end(), {m, m});
+        }
+    return p;
+}
+
+inline double triangleArea(const MeshData& m, size_t t) {
+    const float* a = &m.positions[3 * m.indices[3 * t]];
+    const float* b = &m.positions[3 * m.indices[3 * t + 1]];
+    const float* c = &m.positions[3 * m.indices[3 * t + 2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+inline double meshArea(const MeshData& m) {
+    double sum = 0;
+    for (size_t t = 0; t < m.triangleCount(); ++t) sum += triangleArea(m, t);
+    return sum;
+}
+
+// Writes positions (+ u, v when present) as PLY; v is written OBJ-style (flipped back).
+inline void writePly(const std::string& path, const MeshData& m, bool binary) {
+    std::ofstream out(path, std::ios::binary);
+    const bool uv = !m.texcoords.empty();
+    out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\nelement vertex " << m.vertexCount()
+        << "\nproperty float x\nproperty float y\nproperty float z\n"
+        << (uv ? "property float u\nproperty float v\n" : "") << "element face " << m.triangleCount()
+        << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (size_t i = 0; i < m.vertexCount(); ++i) {
+        float v[5] = {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2], 0, 0};
+        if (uv) v[3] = m.texcoords[2 * i], v[4] = 1.0f - m.texcoords[2 * i + 1];
+        const int n = uv ? 5 : 3;
+        if (binary) out.write(reinterpret_cast<const char*>(v), n * sizeof(float));
+        else {
+            for (int k = 0; k < n; ++k) out << v[k] << (k + 1 < n ? " " : "\n");
+        }
+    }
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        if (binary) {
+            const unsigned char three = 3;
+            out.write(reinterpret_cast<const char*>(&three), 1);
+            out.write(reinterpret_cast<const char*>(&m.indices[3 * t]), 3 * sizeof(uint32_t));
+        } else {
+            out << "3 " << m.indices[3 * t] << " " << m.indices[3 * t + 1] << " " << m.indices[3 * t + 2] << "\n";
+        }
+    }
+}
+
+// Writes an OBJ (+ MTL naming `texture` for material 1 and 0 when given).
+inline void writeObj(const std::string& path, const Piece& p, const std::string& texture) {
+    const std::string mtl = std::filesystem::path(path).stem().string() + ".mtl";
+    std::ofstream out(path);
+    out << "mtllib " << mtl << "\n";
+    const MeshData& m = p.mesh;
+    for (size_t i = 0; i < m.vertexCount(); ++i)
+        out << "v " << m.positions[3 * i] << " " << m.positions[3 * i + 1] << " " << m.positions[3 * i + 2] << "\n";
+    for (size_t i = 0; i < m.vertexCount(); ++i) out << "vt " << m.texcoords[2 * i] << " " << 1.0f - m.texcoords[2 * i + 1] << "\n";
+    uint32_t current = UINT32_MAX;
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        if (p.materials[t] != current) current = p.materials[t], out << "usemtl mat" << current << "\n";
+        out << "f";
+        for (int k = 0; k < 3; ++k) out << " " << m.indices[3 * t + k] + 1 << "/" << m.indices[3 * t + k] + 1;
+        out << "\n";
+    }
+    std::ofstream mtlOut((std::filesystem::path(path).parent_path() / mtl).string());
+    for (int k = 0; k < 2; ++k) mtlOut << "newmtl mat" << k << "\nKd 1 1 1\n" << (texture.empty() ? "" : "map_Kd " + texture + "\n");
+}
+
+// A smooth RGB test image written with OpenImageIO-readable PNG via the formats codec.
+inline Image testImage(uint32_t w, uint32_t h) {
+    Image img{w, h, 3, {}};
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            img.pixels.insert(img.pixels.end(), {static_cast<uint8_t>(x * 255 / w), static_cast<uint8_t>(y * 255 / h), 128});
+    return img;
+}
+
+inline void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+inline std::vector<uint8_t> readBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+inline std::string sharedDir() {
+#ifdef HLOD_SHARED_DIR
+    return HLOD_SHARED_DIR;
+#else
+    return "";
+#endif
+}
+
+}  // namespace hlod::test

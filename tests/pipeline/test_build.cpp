@@ -1,0 +1,221 @@
+// End-to-end builds on generated meshes: validate passes, triangles per level follow the
+// factors, siblings tile the parent, measured errors, textures, determinism across -j,
+// shard + merge equals one build, folder inputs, and no partial output on bad input.
+#include "helpers.h"
+
+#include "formats/validate.h"
+
+#include <sstream>
+
+namespace hlod::test {
+namespace {
+
+BuildOptions smallOptions(int jobs) {
+    BuildOptions o;
+    o.constants.desiredTris = 600;
+    o.blockTriangles = 8000;
+    o.jobs = jobs;
+    return o;
+}
+
+BuildSummary build(const std::string& input, const std::string& output, const BuildOptions& options, bool shard = false,
+                   uint32_t first = 0, uint32_t last = UINT32_MAX) {
+    std::ostringstream log;
+    Progress progress(log, false);
+    BuildRequest r;
+    r.input = input, r.output = output, r.options = options, r.shard = shard, r.firstBlock = first, r.lastBlock = last;
+    return runBuild(r, progress);
+}
+
+void expectValid(const std::string& path) {
+    const Database db = Database::open(path);
+    const std::vector<Violation> violations = validate(db, ValidateOptions{});
+    for (const Violation& v : violations) ADD_FAILURE() << "node " << v.node << ": " << v.message;
+}
+
+double nodeArea(const Node& n) {
+    return n.triangles() ? double(n.staticBenefit) * n.staticBenefit / n.triangles() : 0;
+}
+
+class TerrainBuild : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir_ = new std::filesystem::path(std::filesystem::temp_directory_path() / ("hlod-pipeline-build-" + std::to_string(getpid())));
+        std::filesystem::create_directories(*dir_);
+        writePly(file("terrain.ply"), terrain(120).mesh, true);  // 28,800 triangles
+        summary_ = build(file("terrain.ply"), file("j1.hlod"), smallOptions(1));
+    }
+    static void TearDownTestSuite() {
+        std::filesystem::remove_all(*dir_);
+        delete dir_;
+    }
+    static std::string file(const std::string& name) { return (*dir_ / name).string(); }
+    static std::filesystem::path* dir_;
+    static BuildSummary summary_;
+};
+std::filesystem::path* TerrainBuild::dir_ = nullptr;
+BuildSummary TerrainBuild::summary_;
+
+TEST_F(TerrainBuild, ValidatePasses) {
+    expectValid(file("j1.hlod"));
+    EXPECT_EQ(summary_.blockCount, 4u);
+    EXPECT_GE(summary_.inputTriangles, 28800u);  // plus the triangles the block cuts made
+}
+
+// Per block, level L holds numTriangles_b / factor_L triangles (§3.2), factor_L = f0 / 4^L, until
+// the leaves, which hold the original triangles plus those made by the cuts. Tolerance: locked
+// piece borders keep simplified levels within -20 % / +50 % of the target.
+TEST_F(TerrainBuild, TrianglesPerLevelFollowTheFactors) {
+    const Skeleton& s = Database::open(file("j1.hlod")).skeleton();
+    for (uint32_t root : s.roots()) {
+        std::vector<uint64_t> perLevel;
+        uint64_t leaves = 0;
+        std::vector<uint32_t> stack{root};
+        while (!stack.empty()) {
+            const Node& n = s.nodes[stack.back()];
+            stack.pop_back();
+            if (perLevel.size() <= n.level) perLevel.resize(n.level + 1);
+            perLevel[n.level] += n.triangles();
+            if (n.firstChild == kNone) leaves += n.triangles();
+            for (uint32_t c : s.children(n.id)) stack.push_back(c);
+        }
+        ASSERT_EQ(perLevel.size(), 3u);  // f0 = ~7,300 / 600 = 12.2 -> 3.05 -> 0.76 (leaves)
+        const double blockTris = double(perLevel.back());
+        EXPECT_GE(leaves, 7200u);
+        EXPECT_LE(leaves, 7800u);
+        const double f0 = blockTris / 600;
+        for (size_t level = 0; level + 1 < perLevel.size(); ++level) {
+            const double expected = blockTris / (f0 / std::pow(4.0, double(level)));
+            EXPECT_GE(perLevel[level], 0.8 * expected) << "level " << level;
+            EXPECT_LE(perLevel[level], 1.5 * expected) << "level " << level;
+        }
+    }
+}
+
+TEST_F(TerrainBuild, SiblingsTileTheParent) {
+    const Skeleton& s = Database::open(file("j1.hlod")).skeleton();
+    for (const Node& n : s.nodes) {
+        const std::vector<uint32_t> children = s.children(n.id);
+        if (children.empty()) continue;
+        EXPECT_EQ(children.size(), 4u);
+        double area = 0;
+        for (uint32_t c : children) {
+            const Node& child = s.nodes[c];
+            area += nodeArea(child);
+            EXPECT_EQ(child.level, n.level + 1);
+            EXPECT_GE(child.bounds.min.x, n.bounds.min.x - 1e-3f);
+            EXPECT_LE(child.bounds.max.x, n.bounds.max.x + 1e-3f);
+            EXPECT_GE(child.bounds.min.y, n.bounds.min.y - 1e-3f);
+            EXPECT_LE(child.bounds.max.y, n.bounds.max.y + 1e-3f);
+        }
+        EXPECT_NEAR(area, nodeArea(n), 0.01 * nodeArea(n)) << "node " << n.id;
+    }
+}
+
+TEST_F(TerrainBuild, GeometricErrorIsMeasuredPerNode) {
+    const Skeleton& s = Database::open(file("j1.hlod")).skeleton();
+    for (const Node& n : s.nodes) {
+        if (n.firstChild == kNone) EXPECT_EQ(n.geometricError, 0.0f);
+        else EXPECT_GT(n.geometricError, 0.0f);
+        EXPECT_LT(n.geometricError, 4.0f);
+    }
+}
+
+TEST_F(TerrainBuild, ByteIdenticalForAnyJobs) {
+    build(file("terrain.ply"), file("j2.hlod"), smallOptions(2));
+    build(file("terrain.ply"), file("j3.hlod"), smallOptions(3));
+    EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("j2.hlod")));
+    EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("j3.hlod")));
+}
+
+TEST_F(TerrainBuild, ShardsMergedEqualOneBuild) {
+    build(file("terrain.ply"), file("shardA"), smallOptions(1), true, 0, 1);
+    build(file("terrain.ply"), file("shardB"), smallOptions(2), true, 1, 4);
+    mergeShards({file("shardB"), file("shardA")}, file("merged.hlod"), 0.127);
+    EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("merged.hlod")));
+    EXPECT_THROW(mergeShards({file("shardA")}, file("partial.hlod"), 0.127), std::runtime_error);  // blocks 1..3 missing
+    EXPECT_FALSE(std::filesystem::exists(file("partial.hlod")));
+    EXPECT_THROW(mergeShards({file("shardA"), file("shardA"), file("shardB")}, file("dup.hlod"), 0.127), std::runtime_error);
+}
+
+TEST_F(TerrainBuild, MetaHoldsConstantsAndOptionsButNothingRunSpecific) {
+    const Skeleton& s = Database::open(file("j1.hlod")).skeleton();
+    ASSERT_NE(s.findMeta("c_desiredTris"), nullptr);
+    EXPECT_EQ(*s.findMeta("c_desiredTris"), "600");
+    EXPECT_EQ(*s.findMeta("simplifier"), "meshopt");
+    EXPECT_EQ(*s.findMeta("input"), file("terrain.ply"));
+    EXPECT_EQ(s.findMeta("command")->find("-j"), std::string::npos);
+}
+
+TEST(Build, TexturedObjWithTwoMaterials) {
+    TempDir dir;
+    writeBytes(dir.file("atlas.png"), encodeTexture(testImage(256, 256), Codec::Png).bytes);
+    writeObj(dir.file("t.obj"), terrain(60, 100, true), "atlas.png");
+    BuildOptions o = smallOptions(2);
+    o.constants.desiredTris = 400;
+    build(dir.file("t.obj"), dir.file("t.hlod"), o);
+    expectValid(dir.file("t.hlod"));
+    const Database db = Database::open(dir.file("t.hlod"));
+    const Skeleton& s = db.skeleton();
+    uint64_t rootTexels = 0, leafTexels = 0;
+    for (const Node& n : s.nodes) {
+        EXPECT_EQ(n.untexturedTriangles, 0u);
+        if (n.level == 0) rootTexels += n.texelCount;
+        if (n.firstChild == kNone) leafTexels += n.texelCount;
+    }
+    EXPECT_GT(rootTexels, 0u);
+    EXPECT_LT(rootTexels, leafTexels / 4);  // hlod0 downsampled by its factor
+    for (uint32_t b = 0; b < s.blobs.size(); ++b) {
+        if (s.blobs[b].kind != BlobKind::Geometry) continue;
+        const MeshData m = decodeGeometry(db.readBlob(b), "blob");
+        for (float t : m.texcoords) {
+            EXPECT_GE(t, -1e-3f);
+            EXPECT_LE(t, 1 + 1e-3f);
+        }
+    }
+}
+
+TEST(Build, FolderOfBlocksInNameOrder) {
+    TempDir dir;
+    std::filesystem::create_directories(dir.path / "in");
+    for (int b = 0; b < 3; ++b) {
+        Piece p = terrain(20 + 10 * b);
+        for (size_t i = 0; i < p.mesh.vertexCount(); ++i) p.mesh.positions[3 * i] += 100.0f * b;
+        writePly(dir.file("in/block_00" + std::to_string(2 - b) + ".ply"), p.mesh, false);
+    }
+    const BuildSummary summary = build(dir.file("in"), dir.file("f.hlod"), smallOptions(2));
+    EXPECT_EQ(summary.blockCount, 3u);
+    expectValid(dir.file("f.hlod"));
+    const Skeleton& s = Database::open(dir.file("f.hlod")).skeleton();
+    const std::vector<uint32_t> roots = s.roots();
+    ASSERT_EQ(roots.size(), 3u);
+    for (uint32_t b = 0; b < 3; ++b) {
+        EXPECT_EQ(roots[b], b);  // hlod0 nodes first, in block order
+        EXPECT_EQ(s.nodes[roots[b]].block, b);
+        EXPECT_NEAR(s.nodes[roots[b]].bounds.min.x, 100.0f * (2 - b), 1e-3);  // block_000 is the third terrain
+    }
+}
+
+TEST(Build, BadBlockLeavesNoDatabaseAndNoTemporaries) {
+    TempDir dir;
+    std::filesystem::create_directories(dir.path / "in");
+    writePly(dir.file("in/a.ply"), terrain(10).mesh, false);
+    std::ofstream(dir.file("in/b.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n";
+    EXPECT_THROW(build(dir.file("in"), dir.file("out.hlod"), smallOptions(2)), InputError);
+    for (const auto& entry : std::filesystem::directory_iterator(dir.path))
+        EXPECT_EQ(entry.path().filename(), "in") << "left behind: " << entry.path();
+}
+
+TEST(Build, OpenMeshSimplifierAlsoValidates) {
+    TempDir dir;
+    writePly(dir.file("s.ply"), terrain(40).mesh, true);
+    BuildOptions o = smallOptions(2);
+    o.simplifier = Simplifier::OpenMesh;
+    o.constants.desiredTris = 400;
+    build(dir.file("s.ply"), dir.file("s.hlod"), o);
+    expectValid(dir.file("s.hlod"));
+    EXPECT_EQ(*Database::open(dir.file("s.hlod")).skeleton().findMeta("simplifier"), "openmesh");
+}
+
+}  // namespace
+}  // namespace hlod::test

@@ -1,0 +1,220 @@
+// Readers (PLY ascii/binary, OBJ+MTL, glTF) on generated files and the real scans in
+// ../shared/datasets, and one test per class of bad input.
+#include "helpers.h"
+
+#include "formats/codec.h"
+
+#include <nlohmann/json.hpp>
+
+namespace hlod::test {
+namespace {
+
+std::string dataset(const std::string& relative) {
+    const std::string path = sharedDir() + "/datasets/" + relative;
+    return std::filesystem::exists(path) ? path : "";
+}
+
+void expectSameMesh(const MeshData& a, const MeshData& b) {
+    ASSERT_EQ(a.indices, b.indices);
+    ASSERT_EQ(a.positions.size(), b.positions.size());
+    for (size_t i = 0; i < a.positions.size(); ++i) ASSERT_NEAR(a.positions[i], b.positions[i], 1e-4f);
+    ASSERT_EQ(a.texcoords.size(), b.texcoords.size());
+    for (size_t i = 0; i < a.texcoords.size(); ++i) ASSERT_NEAR(a.texcoords[i], b.texcoords[i], 1e-5f);
+}
+
+std::string errorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(ReadPly, AsciiAndBinaryGiveTheSameMesh) {
+    TempDir dir;
+    const Piece p = terrain(12);
+    writePly(dir.file("a.ply"), p.mesh, false);
+    writePly(dir.file("b.ply"), p.mesh, true);
+    const SourceMesh a = readMesh(dir.file("a.ply")), b = readMesh(dir.file("b.ply"));
+    expectSameMesh(a.piece.mesh, p.mesh);
+    expectSameMesh(b.piece.mesh, p.mesh);
+    EXPECT_EQ(a.piece.materials.size(), p.mesh.triangleCount());
+}
+
+TEST(ReadPly, StanfordBunnyAscii) {
+    const std::string path = dataset("A1_stanford_bunny/bun_zipper.ply");
+    if (path.empty()) GTEST_SKIP() << "no ../shared/datasets";
+    const SourceMesh s = readMesh(path);
+    EXPECT_EQ(s.piece.mesh.vertexCount(), 35947u);
+    EXPECT_EQ(s.piece.mesh.triangleCount() + s.stats.degenerateDropped, 69451u);
+}
+
+TEST(ReadPly, LucyBinary) {
+    const std::string path = dataset("A3_stanford_lucy_100k/Lucy100k.ply");
+    if (path.empty()) GTEST_SKIP() << "no ../shared/datasets";
+    const SourceMesh s = readMesh(path);
+    EXPECT_EQ(s.piece.mesh.triangleCount() + s.stats.degenerateDropped, 100000u);
+}
+
+TEST(ReadObj, BananaWithTextureAtlas) {
+    const std::string path = dataset("A2_ycb_011_banana_textured_scan/textured_simple_reoriented.obj");
+    if (path.empty()) GTEST_SKIP() << "no ../shared/datasets";
+    const SourceMesh s = readMesh(path);
+    EXPECT_EQ(s.piece.mesh.triangleCount() + s.stats.degenerateDropped, 15728u);
+    EXPECT_EQ(s.piece.mesh.texcoords.size(), 2 * s.piece.mesh.vertexCount());
+    ASSERT_FALSE(s.materials.empty());
+    EXPECT_TRUE(s.materials[s.piece.materials[0]].texturePath.ends_with("texture_map.png"));
+    EXPECT_TRUE(s.stats.warnings.empty());
+}
+
+TEST(ReadObj, ManyMaterialsAndFlippedV) {
+    TempDir dir;
+    const Piece p = terrain(8, 100, true);
+    writeBytes(dir.file("atlas.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+    writeObj(dir.file("m.obj"), p, "atlas.png");
+    const SourceMesh s = readMesh(dir.file("m.obj"));
+    expectSameMesh(s.piece.mesh, p.mesh);
+    EXPECT_EQ(s.piece.materials, p.materials);
+    EXPECT_EQ(s.materials[1].texturePath, std::filesystem::canonical(dir.file("atlas.png")).string());
+}
+
+std::string base64(const std::vector<uint8_t>& in) {
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < in.size(); i += 3) {
+        const uint32_t n = (in[i] << 16) | ((i + 1 < in.size() ? in[i + 1] : 0) << 8) | (i + 2 < in.size() ? in[i + 2] : 0);
+        out += table[(n >> 18) & 63], out += table[(n >> 12) & 63];
+        out += i + 1 < in.size() ? table[(n >> 6) & 63] : '=';
+        out += i + 2 < in.size() ? table[n & 63] : '=';
+    }
+    return out;
+}
+
+// One mesh (positions, TEXCOORD_0, uint32 indices in a data-URI buffer) instanced by a node
+// translated by (10, 0, 0) whose child is scaled by 2.
+void writeGltf(const std::string& path, const MeshData& m) {
+    std::vector<uint8_t> buffer;
+    auto append = [&](const void* p, size_t n) { buffer.insert(buffer.end(), (const uint8_t*)p, (const uint8_t*)p + n); };
+    append(m.positions.data(), m.positions.size() * 4);
+    append(m.texcoords.data(), m.texcoords.size() * 4);
+    append(m.indices.data(), m.indices.size() * 4);
+    const size_t vc = m.vertexCount(), p = vc * 12, t = vc * 8;
+    const Box3f b = pieceBounds(m);
+    nlohmann::json j = {
+        {"asset", {{"version", "2.0"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {{{"translation", {10, 0, 0}}, {"children", {1}}}, {{"scale", {2, 2, 2}}, {"mesh", 0}}}},
+        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"TEXCOORD_0", 1}}}, {"indices", 2}}}}}}},
+        {"buffers", {{{"byteLength", buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(buffer)}}}},
+        {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", p}},
+                         {{"buffer", 0}, {"byteOffset", p}, {"byteLength", t}},
+                         {{"buffer", 0}, {"byteOffset", p + t}, {"byteLength", m.indices.size() * 4}}}},
+        {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", vc}, {"type", "VEC3"},
+                        {"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}},
+                       {{"bufferView", 1}, {"componentType", 5126}, {"count", vc}, {"type", "VEC2"}},
+                       {{"bufferView", 2}, {"componentType", 5125}, {"count", m.indices.size()}, {"type", "SCALAR"}}}}};
+    std::ofstream(path) << j.dump();
+}
+
+TEST(ReadGltf, NodeTransformsAreApplied) {
+    TempDir dir;
+    const Piece p = terrain(6);
+    writeGltf(dir.file("t.gltf"), p.mesh);
+    const SourceMesh s = readMesh(dir.file("t.gltf"));
+    ASSERT_EQ(s.piece.mesh.indices, p.mesh.indices);
+    for (size_t i = 0; i < p.mesh.vertexCount(); ++i) {
+        EXPECT_FLOAT_EQ(s.piece.mesh.positions[3 * i], 10 + 2 * p.mesh.positions[3 * i]);
+        EXPECT_FLOAT_EQ(s.piece.mesh.positions[3 * i + 1], 2 * p.mesh.positions[3 * i + 1]);
+    }
+    EXPECT_TRUE(s.piece.mesh.texcoords.empty());  // no textured material: UVs dropped
+}
+
+TEST(BadInput, MissingFile) {
+    EXPECT_NE(errorOf([] { readMesh("/nonexistent/x.ply"); }).find("/nonexistent/x.ply: no such file"), std::string::npos);
+}
+
+TEST(BadInput, UnsupportedFormat) {
+    TempDir dir;
+    writeBytes(dir.file("x.stl"), {1, 2, 3});
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("x.stl")); }).find("unsupported format"), std::string::npos);
+}
+
+TEST(BadInput, TruncatedPly) {
+    TempDir dir;
+    for (bool binary : {false, true}) {
+        writePly(dir.file("t.ply"), terrain(6).mesh, binary);
+        std::vector<uint8_t> bytes = readBytes(dir.file("t.ply"));
+        bytes.resize(bytes.size() * 3 / 4);
+        writeBytes(dir.file("t.ply"), bytes);
+        EXPECT_NE(errorOf([&] { readMesh(dir.file("t.ply")); }).find("truncated PLY"), std::string::npos) << binary;
+    }
+}
+
+TEST(BadInput, CorruptPlyHeader) {
+    TempDir dir;
+    std::ofstream(dir.file("c.ply")) << "ply\nformat ascii 1.0\nelement vertex lots\nend_header\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("c.ply")); }).find("corrupt PLY header"), std::string::npos);
+    std::ofstream(dir.file("d.ply")) << "solid x\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("d.ply")); }).find("not a PLY file"), std::string::npos);
+}
+
+TEST(BadInput, NaNCoordinate) {
+    TempDir dir;
+    std::ofstream(dir.file("n.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                        "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                        "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("n.ply")); }).find("vertex 1 has a NaN/Inf coordinate"), std::string::npos);
+}
+
+TEST(BadInput, OutOfRangeIndex) {
+    TempDir dir;
+    std::ofstream(dir.file("i.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                        "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                        "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("i.ply")); }).find("uses vertex 7 but there are only 3"), std::string::npos);
+    std::ofstream(dir.file("i.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("i.obj")); }), "");
+}
+
+TEST(BadInput, DegenerateTrianglesAreDroppedAndCounted) {
+    TempDir dir;
+    std::ofstream(dir.file("g.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\nf 1 2 4\n";
+    const SourceMesh s = readMesh(dir.file("g.obj"));
+    EXPECT_EQ(s.piece.mesh.triangleCount(), 1u);
+    EXPECT_EQ(s.stats.degenerateDropped, 2u);  // repeated vertex; collinear (zero area)
+}
+
+TEST(BadInput, EmptyMesh) {
+    TempDir dir;
+    std::ofstream(dir.file("e.obj")) << "# nothing\nv 0 0 0\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("e.obj")); }).find("empty mesh"), std::string::npos);
+}
+
+TEST(BadInput, MissingTextureIsAWarningAndUntextured) {
+    TempDir dir;
+    writeObj(dir.file("m.obj"), terrain(4), "nothere.jpg");
+    const SourceMesh s = readMesh(dir.file("m.obj"));
+    ASSERT_FALSE(s.stats.warnings.empty());
+    EXPECT_NE(s.stats.warnings[0].find("missing texture"), std::string::npos);
+    for (const Material& m : s.materials) EXPECT_TRUE(m.texturePath.empty());
+}
+
+TEST(BadInput, TextureOutsideTheInputFolderIsRefused) {
+    TempDir dir;
+    std::filesystem::create_directories(dir.path / "in");
+    writeObj(dir.file("in/m.obj"), terrain(4), "../secret.png");
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("in/m.obj")); }).find("outside the input's folder"), std::string::npos);
+}
+
+TEST(BadInput, CorruptGltf) {
+    TempDir dir;
+    std::ofstream(dir.file("c.gltf")) << "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("c.gltf")); }).find("corrupt glTF"), std::string::npos);
+    writeBytes(dir.file("c.glb"), {'g', 'l', 'T', 'F', 2, 0, 0, 0});
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("c.glb")); }).find("corrupt glTF"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hlod::test
