@@ -29,6 +29,7 @@ EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality) {
     if (!out) throw std::runtime_error("encodeTexture: " + OIIO::geterror());
     OIIO::ImageSpec spec(int(image.width), int(image.height), int(image.channels), OIIO::TypeDesc::UINT8);
     if (codec == Codec::Jpeg) spec.attribute("Compression", "jpeg:" + std::to_string(jpegQuality));
+    spec.attribute("oiio:UnassociatedAlpha", 1);  // store alpha as given, never premultiplied
     bool ok = out->set_ioproxy(&proxy) && out->open(memoryName(codec), spec) &&
               out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) && out->close();
     if (!ok) throw std::runtime_error("encodeTexture: " + out->geterror());
@@ -45,9 +46,11 @@ EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality) {
 Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
     if (codec != Codec::Jpeg && codec != Codec::Png) throw FormatError(name + ": not an image codec");
     OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
-    auto in = OIIO::ImageInput::create(memoryName(codec), false, nullptr, &proxy);
-    OIIO::ImageSpec spec;
-    if (!in || !in->set_ioproxy(&proxy) || !in->open(memoryName(codec), spec)) {
+    // No proxy at create(): OIIO would then probe the bytes with every other format plugin.
+    auto in = OIIO::ImageInput::create(memoryName(codec));
+    OIIO::ImageSpec spec, config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    if (!in || !in->set_ioproxy(&proxy) || !in->open(memoryName(codec), spec, config)) {
         std::string why = in ? in->geterror() : OIIO::geterror();
         throw FormatError(name + ": bad " + (codec == Codec::Png ? "PNG" : "JPEG") + " texture: " +
                           why.substr(0, why.find('\n')));

@@ -44,7 +44,7 @@ Database Database::open(const std::string& path) {
     Database db;
     Impl& d = *db.impl_;
     d.path = path;
-    d.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    d.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);  // a FIFO must not block us
     if (d.fd < 0) {
         if (errno == ENOENT) throw FormatError(path + ": no such file");
         throw FormatError(path + ": cannot open: " + std::strerror(errno));

@@ -12,15 +12,20 @@ nlohmann::json vec(const Vec3f& v) { return {v.x, v.y, v.z}; }
 
 const char* codecName(Codec c) { return c == Codec::Draco ? "draco" : c == Codec::Jpeg ? "jpeg" : c == Codec::Png ? "png" : "?"; }
 
-nlohmann::json treeNode(const Skeleton& s, uint32_t id, uint32_t depth, uint32_t maxDepth) {
+constexpr uint32_t kMaxTreeDepth = 256;
+
+// `shown` marks printed nodes: each node appears once even when corrupt links share or cycle.
+nlohmann::json treeNode(const Skeleton& s, uint32_t id, uint32_t depth, uint32_t maxDepth, std::vector<uint8_t>& shown) {
+    shown[id] = 1;
     const Node& n = s.nodes[id];
     nlohmann::json j = {{"id", id},          {"level", n.level},        {"block", n.block},
                         {"triangles", n.triangles()}, {"texels", n.texelCount}, {"bytes", n.dataSize},
                         {"error", n.geometricError}};
     nlohmann::json kids = nlohmann::json::array();
-    // depth is bounded by the node count, so a corrupt cycle cannot recurse forever.
-    if ((maxDepth == 0 || depth + 1 < maxDepth) && depth < s.nodes.size())
-        for (uint32_t c : s.children(id)) kids.push_back(treeNode(s, c, depth + 1, maxDepth));
+    if (depth >= kMaxTreeDepth) j["truncated"] = true;  // only corrupt links nest this deep
+    else if (maxDepth == 0 || depth + 1 < maxDepth)
+        for (uint32_t c : s.children(id))
+            if (!shown[c]) kids.push_back(treeNode(s, c, depth + 1, maxDepth, shown));
     j["children"] = kids;
     return j;
 }
@@ -144,7 +149,9 @@ nlohmann::json nodeJson(const Skeleton& s, uint32_t id) {
 
 nlohmann::json treeJson(const Skeleton& s, uint32_t maxDepth) {
     nlohmann::json roots = nlohmann::json::array();
-    for (uint32_t r : s.roots()) roots.push_back(treeNode(s, r, 0, maxDepth));
+    std::vector<uint8_t> shown(s.nodes.size(), 0);
+    for (uint32_t r : s.roots())
+        if (!shown[r]) roots.push_back(treeNode(s, r, 0, maxDepth, shown));
     return roots;
 }
 

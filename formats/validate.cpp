@@ -39,19 +39,25 @@ bool inside(const Box3f& c, const Box3f& p, double relTol) {
            c.max.x <= p.max.x + tol && c.max.y <= p.max.y + tol && c.max.z <= p.max.z + tol;
 }
 
-// Walks the root sibling list and every child list once; checks tree shape and parent links.
+// Walks the root sibling list and every child list; each node may be listed once, so the walk
+// is linear even on corrupt links. Checks tree shape and parent links.
 void checkLinks(const Skeleton& s, Report& r) {
     const auto n = uint32_t(s.nodes.size());
     std::vector<uint32_t> rootOfBlock(s.blockCount, kNone);
-    std::vector<uint8_t> seen(n, 0);
+    std::vector<uint8_t> listed(n, 0);
     std::vector<uint32_t> stack;
     std::vector<uint32_t> roots = s.roots();
-    uint32_t steps = 0;
-    for (uint32_t c = roots.empty() ? kNone : roots.front(); c != kNone && steps <= n; c = s.nodes[c].nextSibling, ++steps) {
-        if (s.nodes[c].parent != kNone) r.add(c, "is in the hlod0 sibling list but has a parent");
+    auto list = [&](uint32_t c) {
+        if (listed[c]) {
+            r.add(c, "is reached twice through the child/sibling links (a cycle or a shared node)");
+            return false;
+        }
+        listed[c] = 1;
         stack.push_back(c);
-    }
-    if (steps > n) r.add(kNone, "the hlod0 sibling list has a cycle");
+        return true;
+    };
+    for (uint32_t c = roots.empty() ? kNone : roots.front(); c != kNone && list(c); c = s.nodes[c].nextSibling)
+        if (s.nodes[c].parent != kNone) r.add(c, "is in the hlod0 sibling list but has a parent");
     for (uint32_t root : roots) {
         const Node& nd = s.nodes[root];
         if (nd.level != 0) r.add(root, "has no parent but level " + std::to_string(nd.level) + " (hlod0 is level 0)");
@@ -63,21 +69,13 @@ void checkLinks(const Skeleton& s, Report& r) {
     while (!stack.empty()) {
         uint32_t id = stack.back();
         stack.pop_back();
-        if (seen[id]++) {
-            r.add(id, "is reached twice through the child/sibling links (not a tree)");
-            continue;
-        }
-        uint32_t count = 0;
-        for (uint32_t c = s.nodes[id].firstChild; c != kNone && count <= n; c = s.nodes[c].nextSibling, ++count) {
-            const Node& child = s.nodes[c];
-            if (child.parent != id) r.add(c, "is in the child list of node " + std::to_string(id) + " but its parent is " +
-                                                 (child.parent == kNone ? "none" : std::to_string(child.parent)));
-            stack.push_back(c);
-        }
-        if (count > n) r.add(id, "its child list has a cycle");
+        for (uint32_t c = s.nodes[id].firstChild; c != kNone && list(c); c = s.nodes[c].nextSibling)
+            if (s.nodes[c].parent != id)
+                r.add(c, "is in the child list of node " + std::to_string(id) + " but its parent is " +
+                             (s.nodes[c].parent == kNone ? "none" : std::to_string(s.nodes[c].parent)));
     }
     for (uint32_t i = 0; i < n; ++i)
-        if (!seen[i]) r.add(i, "is not reachable from the hlod0 list through child/sibling links");
+        if (!listed[i]) r.add(i, "is not reachable from the hlod0 list through child/sibling links");
 }
 
 void checkNode(const Skeleton& s, const Node& nd, const ValidateOptions& o, double cTextured, Report& r) {
@@ -143,7 +141,9 @@ void checkCoverage(const Database& db, Report& r) {
                                        : "blobs overlap at byte " + std::to_string(offset)));
         pos = std::max(pos, offset + size);
     }
-    if (pos != h.skeletonOffset) r.add(kNone, "the blobs do not end where the skeleton starts");
+    if (pos < h.skeletonOffset)
+        r.add(kNone, "bytes " + std::to_string(pos) + ".." + std::to_string(h.skeletonOffset) + " belong to no blob");
+    if (pos > h.skeletonOffset) r.add(kNone, "blobs overlap the skeleton");
 }
 
 void checkBlobData(const Database& db, uint32_t i, Report& r) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace hlod {
@@ -60,6 +61,7 @@ Writer::Writer(const std::string& path, double cTextured) : impl_(std::make_uniq
     impl_->fd = ::mkstemp(tmpl.data());
     if (impl_->fd < 0) throw ioError(path, "cannot create temporary file");
     impl_->tmpPath = tmpl;
+    ::fchmod(impl_->fd, 0644);  // mkstemp's 0600 would hide the database from other readers
     const uint8_t placeholder[layout::kHeaderSize] = {};  // zero magic: never opens as a database
     writeAll(impl_->fd, 0, placeholder, impl_->tmpPath);
 }

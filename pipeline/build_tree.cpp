@@ -63,7 +63,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         for (size_t i = 0; i < parts.size(); ++i)
             if (const Image* source = textures.get(parts[i].material))
                 images[i] = cropTexture(*source, parts[i].mesh, std::max(p.factor, 1.0));
-        emit(packNode(parts, images, p.parentLocal, p.level, blockIndex, error, options));
+        emit(packNode(parts, images, pieceBounds(p.piece.mesh), p.parentLocal, p.level, blockIndex, error, options));
         if (stats.nodesPerLevel.size() <= p.level) stats.nodesPerLevel.resize(p.level + 1);
         ++stats.nodesPerLevel[p.level];
         if (progress) progress->advance(p.piece.mesh.triangleCount());

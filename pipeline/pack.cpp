@@ -1,5 +1,6 @@
 // Packing one node (thesis §3.3): geometry as Draco blobs (one per material), textures as JPEG
-// blobs, and the node attributes: bounding box, static benefit sqrt(numTriangles * sum area),
+// blobs, and the node attributes: bounding box (of the ORIGINAL piece, so it holds every
+// descendant; the simplified surface alone may not), static benefit sqrt(numTriangles * sum area),
 // area-weighted average normal (formats/metrics.h), measured geometric error. The cost of
 // eq. 3.1 is left to the writer (cost < 0), which computes it from the blobs and c_textured.
 // Normals are not stored: they cost 0.45-0.95 B/tri in Draco and the player recomputes them.
@@ -9,8 +10,8 @@
 
 namespace hlod {
 
-NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, uint32_t parentLocal,
-                    uint32_t level, uint32_t block, double geometricError, const BuildOptions& options) {
+NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const Box3f& bounds,
+                    uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError, const BuildOptions& options) {
     NodeRecord record;
     record.parentLocal = parentLocal;
     NodeInput& node = record.node;
@@ -34,7 +35,7 @@ NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>&
         meshes.push_back(std::move(mesh));
     }
     const SurfaceMetrics metrics = surfaceMetrics(meshes);
-    node.bounds = metrics.bounds;
+    node.bounds = bounds;  // the original piece's: contains the node and all its descendants
     node.staticBenefit = metrics.staticBenefit;
     node.avgNormal = metrics.avgNormal;
     node.geometricError = static_cast<float>(geometricError);

@@ -168,7 +168,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
                       const std::function<void(NodeRecord&&)>& emit);
 
 // pack.cpp: encodes a node's sub-meshes (Draco) and textures (JPEG) and fills §3.3 attributes.
-NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures,
+NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const Box3f& bounds,
                     uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
                     const BuildOptions& options);
 

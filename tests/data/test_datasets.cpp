@@ -18,13 +18,13 @@ namespace {
 const fs::path kSource = HLOD_SOURCE_DIR;
 const fs::path kShared = fs::path(HLOD_SHARED_DIR) / "datasets";
 
-struct Run {
+struct CmdResult {
     int status;
     std::string output;
 };
 
 // Runs make on Makefile.datasets from the source root with DATASETS in a temporary directory.
-Run make(const fs::path& datasets, const std::string& args) {
+CmdResult make(const fs::path& datasets, const std::string& args) {
     std::string cmd = "cd " + kSource.string() + " && make -f Makefile.datasets HLOD=" + HLOD_BINARY +
                       " DATASETS=" + datasets.string() + " SHARED=" + kShared.string() + " " + args + " 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
@@ -62,14 +62,14 @@ std::string readAll(const fs::path& p) {
 
 TEST(Datasets, GeneratedCityVerifiesAndACorruptedFileIsDetected) {
     fs::path d = tempDir("city");
-    Run gen = make(d, "city-small");
+    CmdResult gen = make(d, "city-small");
     ASSERT_EQ(gen.status, 0) << gen.output;
     EXPECT_NE(gen.output.find("city-small: sha256 OK"), std::string::npos) << gen.output;
-    Run again = make(d, "city-small");  // already there: verified, not regenerated
+    CmdResult again = make(d, "city-small");  // already there: verified, not regenerated
     EXPECT_EQ(again.status, 0) << again.output;
     EXPECT_NE(again.output.find("already verified"), std::string::npos) << again.output;
     flipByte(d / "city-small" / "block_003.obj", 200);
-    Run bad = make(d, "verify-city-small");
+    CmdResult bad = make(d, "verify-city-small");
     EXPECT_NE(bad.status, 0) << bad.output;
     EXPECT_NE(bad.output.find("block_003.obj"), std::string::npos) << bad.output;
     EXPECT_NE(bad.output.find("checksum mismatch"), std::string::npos) << bad.output;
@@ -79,11 +79,11 @@ TEST(Datasets, GeneratedCityVerifiesAndACorruptedFileIsDetected) {
 TEST(Datasets, SharedScanCopiesVerifyAndCorruptionIsDetected) {
     if (!fs::exists(kShared / "SHA256SUMS")) GTEST_SKIP() << "no " << kShared;
     fs::path d = tempDir("scan");
-    Run copy = make(d, "bunny");
+    CmdResult copy = make(d, "bunny");
     ASSERT_EQ(copy.status, 0) << copy.output;
     EXPECT_NE(copy.output.find("bunny: sha256 OK"), std::string::npos) << copy.output;
     flipByte(d / "A1_stanford_bunny" / "bun_zipper.ply", 5000);
-    Run bad = make(d, "verify-scan-bunny");
+    CmdResult bad = make(d, "verify-scan-bunny");
     EXPECT_NE(bad.status, 0) << bad.output;
     EXPECT_NE(bad.output.find("bun_zipper.ply"), std::string::npos) << bad.output;
     fs::remove_all(d);
@@ -96,7 +96,7 @@ TEST(Datasets, CommittedShareScanChecksumsMatchTheSharedList) {
 
 TEST(Datasets, UnreachableDownloadFailsWithAClearMessage) {
     fs::path d = tempDir("download");
-    Run r = make(d, "download-stanford-bunny URL_stanford-bunny=http://127.0.0.1:9/bunny.tar.gz");
+    CmdResult r = make(d, "download-stanford-bunny URL_stanford-bunny=http://127.0.0.1:9/bunny.tar.gz");
     EXPECT_NE(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("error: cannot download http://127.0.0.1:9/bunny.tar.gz"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(d / "downloads" / "bunny.tar.gz.part"));

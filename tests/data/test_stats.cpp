@@ -30,12 +30,12 @@ struct Fixture {
     ~Fixture() { fs::remove_all(dir); }
 };
 
-struct Run {
+struct CmdResult {
     int status;
     std::string out, err;
 };
 
-Run run(const std::string& args, const fs::path& errFile) {
+CmdResult run(const std::string& args, const fs::path& errFile) {
     std::string cmd = std::string(HLOD_BINARY) + " " + args + " 2>" + errFile.string();
     FILE* p = popen(cmd.c_str(), "r");
     std::string out;
@@ -89,8 +89,8 @@ TEST(Stats, FiguresMatchAnIndependentCountOfTheSkeleton) {
 
 TEST(Stats, AgreesWithInspect) {
     Fixture f("inspect");
-    Run st = run("stats --json " + f.db.string(), f.dir / "err1");
-    Run in = run("inspect --json " + f.db.string(), f.dir / "err2");
+    CmdResult st = run("stats --json " + f.db.string(), f.dir / "err1");
+    CmdResult in = run("inspect --json " + f.db.string(), f.dir / "err2");
     ASSERT_EQ(st.status, 0) << st.err;
     ASSERT_EQ(in.status, 0) << in.err;
     auto a = nlohmann::json::parse(st.out), b = nlohmann::json::parse(in.out);
@@ -131,7 +131,7 @@ TEST(Stats, CorruptSidecarIsOneLineNamingIt) {
     Fixture f("corrupt");
     for (const char* bad : {"{\"stages\": [", "[1,2]", R"({"stages":[]})", R"({"stages":[{"name":3}]})"}) {
         writeSidecar(f.db, bad);
-        Run r = run("stats " + f.db.string(), f.dir / "err");
+        CmdResult r = run("stats " + f.db.string(), f.dir / "err");
         EXPECT_EQ(r.status, 1) << bad;
         EXPECT_NE(r.err.find(f.db.string() + ".build.json"), std::string::npos) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -140,12 +140,12 @@ TEST(Stats, CorruptSidecarIsOneLineNamingIt) {
 
 TEST(Stats, MissingOrTruncatedDatabaseFailsCleanly) {
     Fixture f("bad");
-    Run missing = run("stats " + (f.dir / "nope.hlod").string(), f.dir / "err");
+    CmdResult missing = run("stats " + (f.dir / "nope.hlod").string(), f.dir / "err");
     EXPECT_NE(missing.status, 0);
     EXPECT_NE(missing.err.find("nope.hlod"), std::string::npos) << missing.err;
     EXPECT_EQ(std::count(missing.err.begin(), missing.err.end(), '\n'), 1) << missing.err;
     fs::resize_file(f.db, fs::file_size(f.db) / 2);
-    Run truncated = run("stats " + f.db.string(), f.dir / "err");
+    CmdResult truncated = run("stats " + f.db.string(), f.dir / "err");
     EXPECT_NE(truncated.status, 0);
     EXPECT_NE(truncated.err.find("tiny.hlod"), std::string::npos) << truncated.err;
     EXPECT_TRUE(truncated.out.empty());

@@ -7,6 +7,8 @@
 #include "formats/synthetic.h"
 #include "formats/validate.h"
 
+#include <sys/stat.h>
+
 namespace hlod::test {
 namespace {
 
@@ -42,6 +44,12 @@ struct BadInput : ::testing::Test {
 TEST_F(BadInput, MissingFile) { EXPECT_NE(openError(dir.file("nope.hlod")).find("no such file"), std::string::npos); }
 
 TEST_F(BadInput, Directory) { EXPECT_NE(openError(dir.path.string()).find("is a directory"), std::string::npos); }
+
+TEST_F(BadInput, FifoDoesNotHang) {
+    const std::string fifo = dir.file("fifo.hlod");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    EXPECT_NE(openError(fifo).find("not a regular file"), std::string::npos);
+}
 
 TEST_F(BadInput, EmptyFile) {
     writeFile(path, {});

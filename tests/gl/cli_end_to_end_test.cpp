@@ -64,6 +64,7 @@ TEST_F(HlodTool, PlayWithGlWritesLevelShadedFramesAndTheLogPlots) {
     SyntheticOptions synthetic;
     synthetic.levels = 3;
     synthetic.trianglesPerNode = 256;
+    synthetic.textureSize = 0;  // textured drawing is covered by gl_renderer_test
     writeSyntheticDatabase(db.string(), synthetic);
     const fs::path path = dir_ / "fly.path", log = dir_ / "run.csv", frames = dir_ / "frames";
     Result r = run(hlod() + " path " + db.string() + " --kind fly --duration 4 -o " + path.string());

@@ -62,7 +62,7 @@ TEST(Divide, PiecesHaveEqualTriangleCountsAndTileTheParent) {
     for (const Piece& c : pieces) {
         area += meshArea(c.mesh);
         triangles += c.mesh.triangleCount();
-        EXPECT_NEAR(double(c.mesh.triangleCount()) / p.mesh.triangleCount(), 0.25, 0.03);
+        EXPECT_NEAR(double(c.mesh.triangleCount()) / p.mesh.triangleCount(), 0.25, 0.04);  // + cut triangles
         expectUVsExact(c.mesh);
     }
     EXPECT_NEAR(area, meshArea(p.mesh), 1e-6 * area);
