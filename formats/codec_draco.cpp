@@ -36,6 +36,17 @@ void checkMesh(const MeshData& m) {
         if (i >= n) throw std::runtime_error("encodeGeometry: index out of range");
 }
 
+// Only the attribute layouts hlod writes are accepted (a corrupt stream may declare others,
+// e.g. bool attributes whose bytes are not valid bools).
+const draco::PointAttribute* attribute(const draco::Mesh& mesh, draco::GeometryAttribute::Type type,
+                                       draco::DataType dataType, int minComponents, int maxComponents,
+                                       const std::string& name) {
+    const draco::PointAttribute* a = mesh.GetNamedAttribute(type);
+    if (a && (a->data_type() != dataType || a->num_components() < minComponents || a->num_components() > maxComponents))
+        throw FormatError(name + ": Draco geometry has an attribute of unexpected type or size");
+    return a;
+}
+
 template <class T, int N>
 std::vector<T> extract(const draco::Mesh& mesh, const draco::PointAttribute* att) {
     std::vector<T> out(size_t(mesh.num_points()) * N);
@@ -98,16 +109,16 @@ MeshData decodeGeometry(std::span<const uint8_t> bytes, const std::string& name)
     if (!result.ok()) throw FormatError(name + ": bad Draco geometry: " + result.status().error_msg_string());
     const draco::Mesh& mesh = *result.value();
     using GA = draco::GeometryAttribute;
-    const draco::PointAttribute* pos = mesh.GetNamedAttribute(GA::POSITION);
-    if (!pos || pos->num_components() != 3) throw FormatError(name + ": Draco geometry has no 3D positions");
+    const draco::PointAttribute* pos = attribute(mesh, GA::POSITION, draco::DT_FLOAT32, 3, 3, name);
+    if (!pos) throw FormatError(name + ": Draco geometry has no positions");
     if (mesh.num_points() > layout::kMaxElements || mesh.num_faces() > layout::kMaxElements)
         throw FormatError(name + ": Draco geometry is absurdly large");
 
     MeshData m;
     m.positions = extract<float, 3>(mesh, pos);
-    if (auto* a = mesh.GetNamedAttribute(GA::TEX_COORD)) m.texcoords = extract<float, 2>(mesh, a);
-    if (auto* a = mesh.GetNamedAttribute(GA::NORMAL)) m.normals = extract<float, 3>(mesh, a);
-    if (auto* a = mesh.GetNamedAttribute(GA::COLOR)) m.colors = extract<uint8_t, 4>(mesh, a);
+    if (auto* a = attribute(mesh, GA::TEX_COORD, draco::DT_FLOAT32, 2, 2, name)) m.texcoords = extract<float, 2>(mesh, a);
+    if (auto* a = attribute(mesh, GA::NORMAL, draco::DT_FLOAT32, 3, 3, name)) m.normals = extract<float, 3>(mesh, a);
+    if (auto* a = attribute(mesh, GA::COLOR, draco::DT_UINT8, 3, 4, name)) m.colors = extract<uint8_t, 4>(mesh, a);
     m.indices.reserve(size_t(mesh.num_faces()) * 3);
     for (uint32_t f = 0; f < mesh.num_faces(); ++f)
         for (int k = 0; k < 3; ++k) {

@@ -158,6 +158,11 @@ void checkBlobData(const Database& db, uint32_t i, Report& r) {
                                   std::to_string(m.vertexCount()) + " vertices, its record claims " +
                                   std::to_string(b.triangles) + " and " + std::to_string(b.vertices));
             if (b.texture != kNone && m.texcoords.empty()) r.add(b.node, name + " is textured but has no texture coordinates");
+            const uint8_t mask = kAttrPosition | (m.texcoords.empty() ? 0 : kAttrTexcoord) |
+                                 (m.normals.empty() ? 0 : kAttrNormal) | (m.colors.empty() ? 0 : kAttrColor);
+            if (mask != b.attributes)
+                r.add(b.node, name + " decodes to attribute mask " + std::to_string(mask) + ", its record claims " +
+                                  std::to_string(b.attributes));
         } else {
             Image img = decodeTexture(bytes, b.codec, name);
             if (img.width != b.width || img.height != b.height || img.channels != b.channels)

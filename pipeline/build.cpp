@@ -108,6 +108,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
     BlockRecordWriter records(blockRecordPath(dir, index));
     stats = buildBlock(mesh.piece, mesh.materials, index, options, &progress,
                        [&](NodeRecord&& r) { records.add(r); });
+    records.setGeometricErrors(stats.geometricErrors);
     records.finish();
     stats.degenerateDropped = mesh.stats.degenerateDropped;
     stats.warnings = mesh.stats.warnings;

@@ -25,18 +25,26 @@ class TextureCache {
 public:
     explicit TextureCache(const std::vector<Material>& materials) : materials_(materials) {}
 
-    const Image* get(uint32_t material) {
+    // The material's texture downsampled for `level` (factor); nullptr when untextured.
+    const Image* get(uint32_t material, uint32_t level, double factor) {
         if (material >= materials_.size()) return nullptr;
-        if (materials_[material].image) return materials_[material].image.get();
-        if (materials_[material].texturePath.empty()) return nullptr;
-        auto it = images_.find(material);
-        if (it == images_.end()) it = images_.emplace(material, loadTexture(materials_[material].texturePath)).first;
+        const Image* source = materials_[material].image.get();
+        if (!source && materials_[material].texturePath.empty()) return nullptr;
+        if (!source) {
+            auto it = sources_.find(material);
+            if (it == sources_.end()) it = sources_.emplace(material, loadTexture(materials_[material].texturePath)).first;
+            source = &it->second;
+        }
+        if (factor <= 1) return source;
+        auto it = scaled_.find({material, level});
+        if (it == scaled_.end()) it = scaled_.emplace(std::pair{material, level}, downsampleTexture(*source, factor)).first;
         return &it->second;
     }
 
 private:
     const std::vector<Material>& materials_;
-    std::map<uint32_t, Image> images_;
+    std::map<uint32_t, Image> sources_;
+    std::map<std::pair<uint32_t, uint32_t>, Image> scaled_;
 };
 
 }  // namespace
@@ -50,7 +58,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     TextureCache textures(materials);
     std::deque<Pending> queue;
     queue.push_back({block, static_cast<double>(block.mesh.triangleCount()) / c.desiredTris, 0, kNone});  // §3.2 hlod0
-    uint32_t nextLocal = 0;
+    std::vector<uint32_t> parentOf;
     while (!queue.empty()) {
         Pending p = std::move(queue.front());
         queue.pop_front();
@@ -61,17 +69,22 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         const double error = p.factor > 1 ? surfaceDistance(parts, original) : 0.0;
         std::vector<Image> images(parts.size());
         for (size_t i = 0; i < parts.size(); ++i)
-            if (const Image* source = textures.get(parts[i].material))
-                images[i] = cropTexture(*source, parts[i].mesh, std::max(p.factor, 1.0));
+            if (const Image* scaled = textures.get(parts[i].material, p.level, p.factor))
+                images[i] = atlasTexture(*scaled, parts[i].mesh);
         emit(packNode(parts, images, pieceBounds(p.piece.mesh), p.parentLocal, p.level, blockIndex, error, options));
         if (stats.nodesPerLevel.size() <= p.level) stats.nodesPerLevel.resize(p.level + 1);
         ++stats.nodesPerLevel[p.level];
         if (progress) progress->advance(p.piece.mesh.triangleCount());
-        const uint32_t self = nextLocal++;
+        const uint32_t self = static_cast<uint32_t>(parentOf.size());
+        parentOf.push_back(p.parentLocal);
+        stats.geometricErrors.push_back(static_cast<float>(error));
         if (p.factor <= 1) continue;
         for (Piece& child : dividePiece(p.piece, levelFactor))  // §3.2: simplification_hlod(i+1)
             queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});
     }
+    // A node's error bounds its whole subtree's: a child's measure can exceed its parent's.
+    for (size_t i = parentOf.size(); i-- > 1;)
+        stats.geometricErrors[parentOf[i]] = std::max(stats.geometricErrors[parentOf[i]], stats.geometricErrors[i]);
     return stats;
 }
 

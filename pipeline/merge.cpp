@@ -36,9 +36,10 @@ struct BlockRecordWriter::Impl {
     std::string file;
     std::FILE* f = nullptr;
     uint64_t count = 0;
+    std::vector<long> errorOffsets;  // file offset of each record's geometricError
 };
 
-BlockRecordWriter::BlockRecordWriter(const std::string& file) : impl_(new Impl{file, std::fopen(file.c_str(), "wb"), 0}) {
+BlockRecordWriter::BlockRecordWriter(const std::string& file) : impl_(new Impl{file, std::fopen(file.c_str(), "wb"), 0, {}}) {
     if (!impl_->f) {
         const std::string problem = std::strerror(errno);
         delete impl_;
@@ -57,6 +58,7 @@ void BlockRecordWriter::add(const NodeRecord& record) {
     const NodeInput& n = record.node;
     write(f, kRecordTag, file), write(f, record.parentLocal, file), write(f, n.level, file), write(f, n.block, file);
     write(f, n.bounds, file), write(f, n.cost, file), write(f, n.staticBenefit, file), write(f, n.avgNormal, file);
+    impl_->errorOffsets.push_back(std::ftell(f));
     write(f, n.geometricError, file), write(f, static_cast<uint32_t>(n.blobs.size()), file);
     for (const EncodedBlob& blob : n.blobs) {
         write(f, blob.info, file), write(f, blob.textureSlot, file), write(f, static_cast<uint64_t>(blob.bytes.size()), file);
@@ -64,6 +66,16 @@ void BlockRecordWriter::add(const NodeRecord& record) {
             throw std::runtime_error(file + ": write failed (" + std::strerror(errno) + ")");
     }
     ++impl_->count;
+}
+
+void BlockRecordWriter::setGeometricErrors(const std::vector<float>& errors) {
+    if (errors.size() != impl_->errorOffsets.size()) throw std::logic_error(impl_->file + ": error count differs from nodes");
+    const long end = std::ftell(impl_->f);
+    for (size_t i = 0; i < errors.size(); ++i) {
+        if (std::fseek(impl_->f, impl_->errorOffsets[i], SEEK_SET) != 0) throw std::runtime_error(impl_->file + ": seek failed");
+        write(impl_->f, errors[i], impl_->file);
+    }
+    if (std::fseek(impl_->f, end, SEEK_SET) != 0) throw std::runtime_error(impl_->file + ": seek failed");
 }
 
 void BlockRecordWriter::finish() {

@@ -101,14 +101,17 @@ struct SubMesh {
 std::vector<SubMesh> splitByMaterial(const Piece& piece);
 MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier);
 
-// error.cpp: largest distance from points sampled on `simplified` (vertices, edge midpoints,
+// error.cpp: largest distance from points sampled on `simplified` (edge midpoints and
 // centroids) to the surface of `original` (CGAL AABB tree). 0 when either is empty.
 double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original);
 
-// texture.cpp: the source texels a sub-mesh uses (bounding rectangle of its UVs plus one texel),
-// downsampled by sqrt(factor) per side (box filter); rewrites the UVs into the crop, exactly.
+// texture.cpp. A node's texture for one material: the source atlas downsampled by the node's
+// factor (sqrt(factor) per side, box filter), then the UV charts its triangles use (connected
+// triangles; bounding rectangle + 1 texel margin each) repacked into one atlas; UVs rewritten
+// affinely per chart, exactly.
 Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError
-Image cropTexture(const Image& source, MeshData& mesh, double factor);
+Image downsampleTexture(const Image& source, double factor);
+Image atlasTexture(const Image& scaled, MeshData& mesh);
 
 struct BuildOptions {
     Constants constants;
@@ -156,6 +159,7 @@ struct NodeRecord {
 
 struct BlockStats {
     uint64_t inputTriangles = 0;
+    std::vector<float> geometricErrors;  // per local node: max of its own measure and its children's
     uint64_t degenerateDropped = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<std::string> warnings;
@@ -178,6 +182,8 @@ public:
     explicit BlockRecordWriter(const std::string& file);  // throws std::runtime_error
     ~BlockRecordWriter();
     void add(const NodeRecord& record);
+    // Rewrites the geometric error of every added node (made monotone after the block is built).
+    void setGeometricErrors(const std::vector<float>& errors);
     void finish();  // writes the node count; a record file without it is refused by merge
 
 private:

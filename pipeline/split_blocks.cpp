@@ -72,7 +72,7 @@ GridSpec chooseGrid(const Box3f& bounds, uint64_t triangles, uint64_t targetTria
         g.cellsV = static_cast<uint32_t>(std::clamp(std::ceil(ev / blockSize), 1.0, 4096.0));
     } else {
         const double blocks = std::ceil(static_cast<double>(triangles) / std::max<uint64_t>(targetTrianglesPerBlock, 1));
-        g.cellsU = static_cast<uint32_t>(std::clamp(std::round(std::sqrt(blocks * eu / ev)), 1.0, 4096.0));
+        g.cellsU = static_cast<uint32_t>(std::clamp(std::round(std::sqrt(blocks * eu / ev)), 1.0, std::min(blocks, 4096.0)));
         g.cellsV = static_cast<uint32_t>(std::clamp(std::ceil(blocks / g.cellsU), 1.0, 4096.0));
     }
     g.minU = mins[g.axisU], g.minV = mins[g.axisV];

@@ -1,10 +1,11 @@
 // Node textures (thesis §3.2: "the original texture data is down-sampled by this
-// simplification factor as well"). Crop per material: a node's texture for one material is the
-// bounding rectangle of the source texels its triangles use, plus one texel of margin so
-// bilinear filtering at chart borders reads source texels (no bleeding from other content),
-// downsampled so its texel count drops by the node's factor (sqrt(factor) per side) with
-// OpenImageIO's box filter (an exact average of the covered texels, 8-25x faster than the
-// default lanczos3 here). UVs are mapped affinely onto the crop, which keeps them exact.
+// simplification factor as well"). Per material, the source atlas is downsampled once per level
+// so its texel count drops by the factor (sqrt(factor) per side) with OpenImageIO's box filter
+// (an exact average of the covered texels; 8-25x faster than the default lanczos3 here). A node
+// then keeps only the charts its triangles use: each connected set of triangles gets the
+// bounding rectangle of its texels plus one texel of margin (so bilinear filtering at a chart
+// border reads the source's own neighbours, never another chart: no bleeding), and the
+// rectangles are shelf-packed into one atlas. UVs move by one affine map per chart: exact.
 #include "pipeline/pipeline.h"
 
 #include <OpenImageIO/imagebuf.h>
@@ -32,39 +33,112 @@ Image loadTexture(const std::string& path) {
     return image;
 }
 
-Image cropTexture(const Image& source, MeshData& mesh, double factor) {
-    float lo[2] = {1, 1}, hi[2] = {0, 0};
-    for (size_t i = 0; i < mesh.texcoords.size(); ++i) {
-        const float c = std::clamp(mesh.texcoords[i], 0.0f, 1.0f);
-        lo[i % 2] = std::min(lo[i % 2], c), hi[i % 2] = std::max(hi[i % 2], c);
-    }
-    const double size[2] = {static_cast<double>(source.width), static_cast<double>(source.height)};
-    int64_t begin[2], end[2];
-    for (int a = 0; a < 2; ++a) {
-        begin[a] = std::max<int64_t>(0, static_cast<int64_t>(std::floor(lo[a] * size[a])) - 1);
-        end[a] = std::min<int64_t>(static_cast<int64_t>(size[a]), static_cast<int64_t>(std::ceil(hi[a] * size[a])) + 1);
-        end[a] = std::max(end[a], begin[a] + 1);
-    }
-    const int cw = static_cast<int>(end[0] - begin[0]), ch = static_cast<int>(end[1] - begin[1]);
-    const int nc = static_cast<int>(source.channels);
-    OIIO::ImageBuf crop(OIIO::ImageSpec(cw, ch, nc, OIIO::TypeDesc::UINT8));
-    const size_t row = static_cast<size_t>(source.width) * nc;
-    crop.set_pixels(OIIO::ROI(0, cw, 0, ch, 0, 1, 0, nc), OIIO::TypeDesc::UINT8,
-                    source.pixels.data() + static_cast<size_t>(begin[1]) * row + static_cast<size_t>(begin[0]) * nc,
-                    nc, static_cast<OIIO::stride_t>(row));
+Image downsampleTexture(const Image& source, double factor) {
     const double scale = factor > 1 ? 1 / std::sqrt(factor) : 1;
-    const int ow = std::max(1, static_cast<int>(std::lround(cw * scale)));
-    const int oh = std::max(1, static_cast<int>(std::lround(ch * scale)));
-    OIIO::ImageBuf out = ow == cw && oh == ch ? crop
-                                               : OIIO::ImageBufAlgo::resize(crop, "box", 0, OIIO::ROI(0, ow, 0, oh, 0, 1, 0, nc), 1);
-    Image image{static_cast<uint32_t>(ow), static_cast<uint32_t>(oh), static_cast<uint32_t>(nc), {}};
+    const int w = static_cast<int>(source.width), h = static_cast<int>(source.height), nc = static_cast<int>(source.channels);
+    const int ow = std::max(1, static_cast<int>(std::lround(w * scale))), oh = std::max(1, static_cast<int>(std::lround(h * scale)));
+    if (ow == w && oh == h) return source;
+    const OIIO::ImageSpec spec(w, h, nc, OIIO::TypeDesc::UINT8);
+    const OIIO::ImageBuf in(spec, const_cast<uint8_t*>(source.pixels.data()));
+    const OIIO::ImageBuf out = OIIO::ImageBufAlgo::resize(in, "box", 0, OIIO::ROI(0, ow, 0, oh, 0, 1, 0, nc), 1);
+    Image image{static_cast<uint32_t>(ow), static_cast<uint32_t>(oh), source.channels, {}};
     image.pixels.resize(static_cast<size_t>(ow) * oh * nc);
     out.get_pixels(OIIO::ROI(0, ow, 0, oh, 0, 1, 0, nc), OIIO::TypeDesc::UINT8, image.pixels.data());
-    for (size_t i = 0; i < mesh.texcoords.size(); i += 2) {
-        mesh.texcoords[i] = static_cast<float>((mesh.texcoords[i] * size[0] - begin[0]) / cw);
-        mesh.texcoords[i + 1] = static_cast<float>((mesh.texcoords[i + 1] * size[1] - begin[1]) / ch);
-    }
     return image;
+}
+
+namespace {
+
+uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+struct Chart {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // texel rectangle in the scaled source, margin included
+    int ox = 0, oy = 0;                  // its place in the atlas
+};
+
+// Charts = triangles connected through shared (welded, so same-UV) vertices; returns the
+// chart of every vertex.
+std::vector<uint32_t> chartOfVertex(const MeshData& mesh, uint32_t& count) {
+    std::vector<uint32_t> parent(mesh.vertexCount());
+    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    for (size_t t = 0; t < mesh.triangleCount(); ++t)
+        for (int k = 1; k < 3; ++k) {
+            const uint32_t a = findRoot(parent, mesh.indices[3 * t]), b = findRoot(parent, mesh.indices[3 * t + k]);
+            parent[std::max(a, b)] = std::min(a, b);
+        }
+    std::vector<uint32_t> chart(parent.size(), kNone), id(parent.size(), kNone);
+    count = 0;
+    for (uint32_t i = 0; i < parent.size(); ++i) {
+        const uint32_t r = findRoot(parent, i);
+        if (id[r] == kNone) id[r] = count++;
+        chart[i] = id[r];
+    }
+    return chart;
+}
+
+// Shelf packing, tallest first (ties by chart order, so deterministic); returns atlas size.
+std::pair<int, int> packCharts(std::vector<Chart>& charts) {
+    std::vector<uint32_t> order(charts.size());
+    double area = 0;
+    int widest = 1;
+    for (uint32_t i = 0; i < order.size(); ++i) {
+        order[i] = i;
+        area += double(charts[i].x1 - charts[i].x0) * (charts[i].y1 - charts[i].y0);
+        widest = std::max(widest, charts[i].x1 - charts[i].x0);
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return charts[a].y1 - charts[a].y0 > charts[b].y1 - charts[b].y0; });
+    const int width = std::max(widest, static_cast<int>(std::ceil(std::sqrt(area) * 1.1)));
+    int x = 0, y = 0, shelf = 0;
+    for (uint32_t i : order) {
+        Chart& c = charts[i];
+        if (x + (c.x1 - c.x0) > width) x = 0, y += shelf, shelf = 0;
+        c.ox = x, c.oy = y;
+        x += c.x1 - c.x0;
+        shelf = std::max(shelf, c.y1 - c.y0);
+    }
+    return {width, std::max(1, y + shelf)};
+}
+
+}  // namespace
+
+Image atlasTexture(const Image& scaled, MeshData& mesh) {
+    uint32_t count = 0;
+    const std::vector<uint32_t> chart = chartOfVertex(mesh, count);
+    const double size[2] = {static_cast<double>(scaled.width), static_cast<double>(scaled.height)};
+    std::vector<float> lo(2 * count, 1), hi(2 * count, 0);
+    for (size_t v = 0; v < mesh.vertexCount(); ++v)
+        for (int a = 0; a < 2; ++a) {
+            const float c = std::clamp(mesh.texcoords[2 * v + a], 0.0f, 1.0f);
+            lo[2 * chart[v] + a] = std::min(lo[2 * chart[v] + a], c), hi[2 * chart[v] + a] = std::max(hi[2 * chart[v] + a], c);
+        }
+    std::vector<Chart> charts(count);
+    for (uint32_t c = 0; c < count; ++c) {
+        int* begin[2] = {&charts[c].x0, &charts[c].y0};
+        int* end[2] = {&charts[c].x1, &charts[c].y1};
+        for (int a = 0; a < 2; ++a) {
+            *begin[a] = std::max(0, static_cast<int>(std::floor(lo[2 * c + a] * size[a])) - 1);
+            *end[a] = std::min(static_cast<int>(size[a]), static_cast<int>(std::ceil(hi[2 * c + a] * size[a])) + 1);
+            *end[a] = std::max(*end[a], *begin[a] + 1);
+        }
+    }
+    const auto [width, height] = packCharts(charts);
+    const uint32_t nc = scaled.channels;
+    Image atlas{static_cast<uint32_t>(width), static_cast<uint32_t>(height), nc, {}};
+    atlas.pixels.assign(static_cast<size_t>(width) * height * nc, 0);
+    for (const Chart& c : charts)
+        for (int y = c.y0; y < c.y1; ++y)
+            std::copy_n(scaled.pixels.begin() + (static_cast<size_t>(y) * scaled.width + c.x0) * nc, static_cast<size_t>(c.x1 - c.x0) * nc,
+                        atlas.pixels.begin() + (static_cast<size_t>(c.oy + y - c.y0) * width + c.ox) * nc);
+    for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+        const Chart& c = charts[chart[v]];
+        mesh.texcoords[2 * v] = static_cast<float>((mesh.texcoords[2 * v] * size[0] - c.x0 + c.ox) / width);
+        mesh.texcoords[2 * v + 1] = static_cast<float>((mesh.texcoords[2 * v + 1] * size[1] - c.y0 + c.oy) / height);
+    }
+    return atlas;
 }
 
 }  // namespace hlod

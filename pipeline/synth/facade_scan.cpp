@@ -15,7 +15,7 @@ namespace {
 
 constexpr double kScannerHeight = 3.0;     // metres above the road
 constexpr double kFacadeShare = 0.85;      // of a block's triangles; the rest is aerial
-constexpr double kAnisotropy = 7.0;        // vertical sample spacing / scan line spacing
+constexpr double kAnisotropy = 4.2;        // vertical sample spacing / scan line spacing
 constexpr double kHoleAllowance = 0.06;    // expected share of triangles lost to holes
 constexpr double kRecess = 0.12;           // window depth behind the wall
 constexpr double kGlassDropout = 0.12;     // chance that glass returns nothing

