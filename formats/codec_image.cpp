@@ -6,6 +6,8 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
+
 namespace hlod {
 
 namespace {
@@ -46,8 +48,14 @@ EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality) {
 Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
     if (codec != Codec::Jpeg && codec != Codec::Png) throw FormatError(name + ": not an image codec");
     OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
-    // No proxy at create(): OIIO would then probe the bytes with every other format plugin.
-    auto in = OIIO::ImageInput::create(memoryName(codec));
+    // OIIO probes every other format plugin when the bytes do not look like the named
+    // format; checking the signature first keeps decoding to the one codec the record names.
+    static constexpr uint8_t kJpegMagic[] = {0xFF, 0xD8, 0xFF};
+    static constexpr uint8_t kPngMagic[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    std::span<const uint8_t> magic = codec == Codec::Png ? std::span<const uint8_t>(kPngMagic) : kJpegMagic;
+    if (bytes.size() < magic.size() || !std::equal(magic.begin(), magic.end(), bytes.begin()))
+        throw FormatError(name + ": bad " + (codec == Codec::Png ? "PNG" : "JPEG") + " texture: wrong signature");
+    auto in = OIIO::ImageInput::create(memoryName(codec), false, nullptr, &proxy);
     OIIO::ImageSpec spec, config;
     config.attribute("oiio:UnassociatedAlpha", 1);
     if (!in || !in->set_ioproxy(&proxy) || !in->open(memoryName(codec), spec, config)) {

@@ -114,6 +114,19 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
     stats.warnings = mesh.stats.warnings;
 }
 
+// Triangles the §3.2 recursion will visit (each level goes over the block's originals), for
+// the progress percentage; 0 (unknown) for folder inputs, whose blocks are read as they build.
+uint64_t expectedWork(const std::vector<BlockSource>& blocks, uint32_t first, uint32_t last, const Constants& c) {
+    uint64_t total = 0;
+    for (uint32_t b = first; b < last; ++b) {
+        if (!blocks[b].triangles) return 0;
+        uint64_t levels = 1;
+        for (double f = blocks[b].triangles / c.desiredTris; f > 1; f /= c.levelFactor) ++levels;
+        total += blocks[b].triangles * levels;
+    }
+    return total;
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {
@@ -159,7 +172,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const int cores = options.jobs > 0 ? options.jobs : tbb::info::default_concurrency();
     const int byMemory = static_cast<int>(std::max<uint64_t>(1, options.memoryLimit / (largest * kBytesPerBlockTriangle)));
     std::vector<BlockStats> stats(blockCount);
-    progress.beginStage("build", 0);
+    progress.beginStage("build", expectedWork(inputs.blocks, first, last, options.constants));
     tbb::task_arena arena(std::max(1, std::min(cores, byMemory)));
     arena.execute([&] {
         tbb::parallel_for(first, last, [&](uint32_t b) {

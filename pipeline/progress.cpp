@@ -63,11 +63,11 @@ struct Progress::Impl {
         const double eta = rate > 0 && total > d ? (total - d) / rate : 0;
         if (total)
             std::snprintf(text, sizeof text, "%-8s %5.1f%%  %8.0f k%s/s  ETA %5.0f s  RSS %s (peak %s)", stage.c_str(), percent,
-                          rate / 1000, unit.c_str(), eta, formatBytes(currentRss()).c_str(), formatBytes(peakRss()).c_str());
+                          rate / 1000, unit.c_str(), eta, formatBytes(currentRss()).c_str(), formatBytes(std::max(peakRss(), currentRss())).c_str());
         else
             std::snprintf(text, sizeof text, "%-8s %12llu %s  %8.0f k%s/s  RSS %s (peak %s)", stage.c_str(),
                           static_cast<unsigned long long>(d), unit.c_str(), rate / 1000, unit.c_str(),
-                          formatBytes(currentRss()).c_str(), formatBytes(peakRss()).c_str());
+                          formatBytes(currentRss()).c_str(), formatBytes(std::max(peakRss(), currentRss())).c_str());
         return text;
     }
 

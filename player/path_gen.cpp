@@ -42,17 +42,61 @@ void lookAlong(const Vector3d& forward, const Vector3d& up, double q[4]) {
     q[3] = qq.w();
 }
 
-// Ground under a horizontal point: the lowest box floor among the finest nodes above it.
-double groundAt(const Skeleton& s, const Frame& f, double x, double y, double fallback) {
-    uint32_t deepest = 0;
-    for (const Node& n : s.nodes) deepest = std::max(deepest, n.level);
-    double ground = INFINITY;
-    for (const Node& n : s.nodes)
-        if (n.level == deepest && x >= axis(n.bounds.min, f.a) && x <= axis(n.bounds.max, f.a) &&
-            y >= axis(n.bounds.min, f.b) && y <= axis(n.bounds.max, f.b))
-            ground = std::min(ground, axis(n.bounds.min, f.up));
-    return std::isfinite(ground) ? ground : fallback;
-}
+// Ground under a horizontal point: the lowest floor of the finest-level node boxes above it,
+// found through a uniform grid of those boxes' footprints.
+class GroundIndex {
+public:
+    GroundIndex(const Skeleton& s, const Frame& f, double fallback) : f_(f), fallback_(fallback) {
+        uint32_t deepest = 0;
+        for (const Node& n : s.nodes) deepest = std::max(deepest, n.level);
+        for (const Node& n : s.nodes)
+            if (n.level == deepest) leaves_.push_back(n.bounds);
+        lo_[0] = lo_[1] = INFINITY;
+        double hi[2] = {-INFINITY, -INFINITY};
+        for (const Box3f& b : leaves_)
+            for (int i = 0; i < 2; ++i) {
+                lo_[i] = std::min(lo_[i], axis(b.min, i == 0 ? f.a : f.b));
+                hi[i] = std::max(hi[i], axis(b.max, i == 0 ? f.a : f.b));
+            }
+        cells_ = std::max<uint32_t>(1, uint32_t(std::sqrt(double(leaves_.size()))));
+        for (int i = 0; i < 2; ++i) size_[i] = std::max((hi[i] - lo_[i]) / cells_, 1e-6);
+        grid_.resize(size_t(cells_) * cells_);
+        for (uint32_t k = 0; k < leaves_.size(); ++k) {
+            const Box3f& b = leaves_[k];
+            auto [x0, y0] = cell(axis(b.min, f.a), axis(b.min, f.b));
+            auto [x1, y1] = cell(axis(b.max, f.a), axis(b.max, f.b));
+            for (uint32_t y = y0; y <= y1; ++y)
+                for (uint32_t x = x0; x <= x1; ++x) grid_[size_t(y) * cells_ + x].push_back(k);
+        }
+    }
+
+    double at(double x, double y) const {
+        if (leaves_.empty()) return fallback_;
+        auto [cx, cy] = cell(x, y);
+        double ground = INFINITY;
+        for (uint32_t k : grid_[size_t(cy) * cells_ + cx]) {
+            const Box3f& b = leaves_[k];
+            if (x >= axis(b.min, f_.a) && x <= axis(b.max, f_.a) && y >= axis(b.min, f_.b) && y <= axis(b.max, f_.b))
+                ground = std::min(ground, axis(b.min, f_.up));
+        }
+        return std::isfinite(ground) ? ground : fallback_;
+    }
+
+private:
+    Frame f_;
+    double fallback_;
+    std::vector<Box3f> leaves_;
+    std::vector<std::vector<uint32_t>> grid_;
+    uint32_t cells_ = 1;
+    double lo_[2] = {0, 0}, size_[2] = {1, 1};
+
+    std::pair<uint32_t, uint32_t> cell(double x, double y) const {
+        auto clampCell = [&](double v, int i) {
+            return uint32_t(std::clamp((v - lo_[i]) / size_[i], 0.0, double(cells_ - 1)));
+        };
+        return {clampCell(x, 0), clampCell(y, 1)};
+    }
+};
 
 struct Route {
     Vector3d center, ea, eb, up;  // ellipse: center + cos t * ea + sin t * eb
@@ -121,12 +165,13 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
 
     double speed = o.speed > 0 ? o.speed : (o.kind == PathKind::Drive ? 15.0 : 1.5);
     double duration = o.duration > 0 ? o.duration : route.perimeter() / speed;
+    GroundIndex ground(skeleton, f, lo[f.up]);
     std::mt19937 rng(o.seed);
     std::uniform_real_distribution<double> gap(2.0, 5.0), angle(0, 2 * M_PI), coin(0, 1);
     double theta = 0, direction = 1, nextEvent = gap(rng);
     auto place = [&](double t, double th, double dir) {
         Vector3d p = route.at(th);
-        p[f.up] = groundAt(skeleton, f, p[f.a], p[f.b], lo[f.up]) + o.eyeHeight;
+        p[f.up] = ground.at(p[f.a], p[f.b]) + o.eyeHeight;
         path.keys.push_back(key(t, p, dir * route.tangent(th), up));
     };
     for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {

@@ -13,7 +13,7 @@ namespace {
 
 std::string count(uint64_t v) {
     char buf[32];
-    if (v >= 10'000'000) std::snprintf(buf, sizeof buf, "%.2f M", v / 1e6);
+    if (v >= 1'000'000) std::snprintf(buf, sizeof buf, "%.2f M", v / 1e6);
     else std::snprintf(buf, sizeof buf, "%llu", static_cast<unsigned long long>(v));
     return buf;
 }
