@@ -1,7 +1,8 @@
 // A small procedural HLOD database: a grid of blocks over a wavy terrain; in each block level
 // L has levelFactor^L grid patches that tile their parent (cut along the longest axis, as
 // thesis §3.2). Cost/benefit/normal come from metrics.h and eq. 3.1 (the Writer), bounds
-// enclose the subtree, and the geometric error is the linear-interpolation bound h^2/8 * |f''|.
+// enclose the subtree, and the geometric error is the linear-interpolation bound h^2/8 * |f''|
+// (capped by the terrain's height range).
 #include "formats/synthetic.h"
 
 #include "formats/codec.h"
@@ -26,6 +27,7 @@ struct Terrain {
     float height(float x, float y) const {
         return amplitude * (std::sin(x * fx + phase) * std::cos(y * fy) + 0.3f * std::sin((x + y) * fx * 2.3f));
     }
+    float maxDeviation() const { return 2 * 1.3f * amplitude; }  // height range: no error exceeds it
     float maxCurvature() const {  // bound on |second derivative| along any direction
         return amplitude * (fx * fx + fy * fy + 0.3f * 2 * (fx * 2.3f) * (fx * 2.3f));
     }
@@ -123,7 +125,7 @@ void writePatch(Writer& w, const Patch& p, uint32_t parent, uint32_t block, cons
     in.staticBenefit = sm.staticBenefit;
     in.avgNormal = sm.avgNormal;
     float h = std::max(p.rect.x1 - p.rect.x0, p.rect.y1 - p.rect.y0) / float(cells);
-    in.geometricError = p.level + 1 == o.levels ? 0.0f : h * h / 8 * t.maxCurvature();
+    in.geometricError = p.level + 1 == o.levels ? 0.0f : std::min(h * h / 8 * t.maxCurvature(), t.maxDeviation());
     if (o.textureSize > 0) {
         in.blobs.push_back(encodeTexture(patchImage(p.rect, o.textureSize, t), Codec::Jpeg, 85));
         in.blobs.push_back(encodeGeometry(p.mesh, DracoOptions{}));

@@ -38,13 +38,13 @@ double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector
     Tree tree(triangles.begin(), triangles.end());
     tree.accelerate_distance_queries();
     double worst = 0;
-    auto probe = [&](const Point& p) { worst = std::max(worst, tree.squared_distance(p)); };
     for (const SubMesh& part : simplified) {
         const MeshData& m = part.mesh;
         for (size_t t = 0; t < m.triangleCount(); ++t) {
-            const Point a = vertex(m, m.indices[3 * t]), b = vertex(m, m.indices[3 * t + 1]), c = vertex(m, m.indices[3 * t + 2]);
-            probe(CGAL::midpoint(a, b)), probe(CGAL::midpoint(b, c)), probe(CGAL::midpoint(c, a));
-            probe(CGAL::centroid(a, b, c));
+            const uint32_t* i = &m.indices[3 * t];
+            const Point a = vertex(m, i[0]), b = vertex(m, i[1]), c = vertex(m, i[2]);
+            for (const Point& p : {CGAL::midpoint(a, b), CGAL::midpoint(b, c), CGAL::midpoint(c, a), CGAL::centroid(a, b, c)})
+                worst = std::max(worst, tree.squared_distance(p));
         }
     }
     return std::sqrt(worst);

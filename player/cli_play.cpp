@@ -83,8 +83,9 @@ int runPlay(PlayArgs& a) {
     if (a.every == 0) throw std::invalid_argument("--every must be at least 1");
     CameraPath path = readCameraPath(a.path);
     Database db = Database::open(a.db);
-    std::unique_ptr<Renderer> renderer = makeRenderer(a);
     a.player.threadedLoader = !a.syncLoader;
+    a.model.realTime = !a.syncLoader;  // the loading thread needs the frames' wall-clock time
+    std::unique_ptr<Renderer> renderer = makeRenderer(a);
     Player player(db, c, *renderer, a.player);
     if (!a.framesDir.empty()) std::filesystem::create_directories(a.framesDir);
 
@@ -145,7 +146,10 @@ void addPlay(CLI::App& app, int& status) {
                   "switch to children only when all of them are loaded (thesis §5.2)");
     sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path)");
     sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions");
-    sub->add_flag("--sync-loader", a->syncLoader, "step the loader in the render thread (exactly repeatable runs)");
+    sub->add_flag("--sync-loader", a->syncLoader,
+                  "step the loader in the render thread: exactly repeatable and as fast as the CPU allows "
+                  "(otherwise the cost model sleeps for each modelled frame time, so the loading thread gets "
+                  "real time)");
     sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame");
     sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most");
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)");

@@ -6,8 +6,10 @@
 #include <xxhash.h>
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace hlod {
 
@@ -42,7 +44,9 @@ double CostModelRenderer::drawFrame(const Camera&, std::span<const DrawItem> ite
     double ms = model_.overheadMs;
     for (const DrawItem& item : items) ms += trueCostMs(item.node);
     std::normal_distribution<double> noise(0.0, model_.noise);
-    return ms * std::max(0.1, 1 + noise(rng_));
+    ms *= std::max(0.1, 1 + noise(rng_));
+    if (model_.realTime) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(ms));
+    return ms;
 }
 
 }  // namespace hlod

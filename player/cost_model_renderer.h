@@ -18,6 +18,8 @@ struct CostModel {
     double noise = 0.02;                  // relative sd of the Gaussian noise on each frame
     double nodeError = 0;                 // each node's true cost is off by a fixed factor in [-e, e]
     uint64_t seed = 1;
+    bool realTime = false;                // sleep for the modelled time, so that a loading thread
+                                          // gets the wall-clock time a real frame would give it
 };
 
 class CostModelRenderer final : public Renderer {

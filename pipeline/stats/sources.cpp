@@ -77,8 +77,17 @@ std::optional<CityManifest> findCityManifest(const std::string& dbPath, const Sk
     const std::string* input = skeleton.findMeta("input");
     if (!input || input->empty()) return std::nullopt;
     fs::path in(*input);
+    // A relative input was relative to where the build ran: try the working directory, then the
+    // database's folder and each folder above it.
     std::vector<fs::path> bases = {in};
-    if (in.is_relative()) bases.push_back(fs::path(dbPath).parent_path() / in);
+    if (in.is_relative()) {
+        std::error_code ec;
+        fs::path dir = fs::absolute(fs::path(dbPath), ec).parent_path();
+        for (int up = 0; up < 64 && !dir.empty(); ++up, dir = dir.parent_path()) {
+            bases.push_back(dir / in);
+            if (dir == dir.root_path()) break;
+        }
+    }
     for (const fs::path& base : bases) {
         for (const fs::path& candidate : {base, base / "city.json", base.parent_path() / "city.json"}) {
             if (candidate.filename() != "city.json") continue;

@@ -54,7 +54,7 @@ struct CityManifest {
 };
 
 // Looks for city.json at the database's "input" (the file itself, inside it, or beside it),
-// relative to the working directory and to the database's directory.
+// relative to the working directory, the database's directory and the directories above it.
 std::optional<CityManifest> findCityManifest(const std::string& dbPath, const Skeleton& skeleton);
 
 // Thesis figures are shown when the input is the synthetic city at scale 1 (its manifest says

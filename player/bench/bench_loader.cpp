@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <thread>
 #include <unistd.h>
 
 using namespace hlod;
@@ -36,7 +37,10 @@ int main(int argc, char** argv) {
         size_t taken = 0;
         if (threaded) loader.start();
         while (taken < s.nodes.size()) {
-            if (!threaded) loader.step(16);
+            if (threaded)
+                std::this_thread::sleep_for(std::chrono::milliseconds(1));  // the render thread's frames
+            else
+                loader.step(16);
             taken += loader.takeReady(1 << 30, ~0ull).size();
         }
         double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

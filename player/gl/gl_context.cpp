@@ -48,8 +48,10 @@ public:
     ~EglContext() override {
         eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
-        eglTerminate(display_);
         eglReleaseThread();
+        // No eglTerminate: the display stays initialised for the process (eglInitialize of an
+        // initialised display is a no-op, so a later renderer reuses it). Terminating makes Mesa
+        // unload its driver, after which LeakSanitizer reports the driver's allocations unwound.
     }
     std::string description() const override { return glDescription() + " via EGL"; }
 

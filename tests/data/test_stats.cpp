@@ -171,6 +171,8 @@ TEST(Stats, ThesisFiguresOnlyForTheScaleOneCity) {
     EXPECT_FALSE(stats::isThesisScale(stats::findCityManifest(db, sk)));
     sk.meta = {{"input", (dir / "city" / "block_000.obj").string()}};  // a file of the city: beside it
     EXPECT_TRUE(stats::findCityManifest(db, sk).has_value());
+    sk.meta = {{"input", "city"}};  // relative to a folder above the database (built from the repo root)
+    EXPECT_TRUE(stats::findCityManifest((dir / "out" / "thesis" / "city.hlod").string(), sk).has_value());
     sk.meta = {{"input", "elsewhere"}};
     EXPECT_FALSE(stats::findCityManifest(db, sk).has_value());
     fs::remove_all(dir);
