@@ -42,8 +42,9 @@ void lookAlong(const Vector3d& forward, const Vector3d& up, double q[4]) {
     q[3] = qq.w();
 }
 
-// Ground under a horizontal point: the lowest floor of the finest-level node boxes above it,
-// found through a uniform grid of those boxes' footprints.
+// Ground under a horizontal point: the lowest top of the finest-level node boxes above it (a
+// terrain patch's top is at or above its surface, a street node's top is near street level
+// while facades reach higher), found through a uniform grid of those boxes' footprints.
 class GroundIndex {
 public:
     GroundIndex(const Skeleton& s, const Frame& f, double fallback) : f_(f), fallback_(fallback) {
@@ -77,7 +78,7 @@ public:
         for (uint32_t k : grid_[size_t(cy) * cells_ + cx]) {
             const Box3f& b = leaves_[k];
             if (x >= axis(b.min, f_.a) && x <= axis(b.max, f_.a) && y >= axis(b.min, f_.b) && y <= axis(b.max, f_.b))
-                ground = std::min(ground, axis(b.min, f_.up));
+                ground = std::min(ground, axis(b.max, f_.up));
         }
         return std::isfinite(ground) ? ground : fallback_;
     }

@@ -69,7 +69,7 @@ nlohmann::json toJson(const Distribution& d) { return {{"mean", d.mean}, {"sd", 
 StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames) {
     StatsSummary s;
     s.frames = frames.size();
-    s.warmupFrames = std::min<uint64_t>(warmupFrames, frames.size());
+    s.warmupFrames = std::min<uint64_t>(warmupFrames, frames.size() / 2);  // short runs keep half
     std::vector<double> ms, err, est, estNoFb;
     for (size_t i = 0; i < frames.size(); ++i) {
         const FrameStats& f = frames[i];

@@ -46,7 +46,7 @@ struct StatsSummary {
     double longestStallMs = 0;
 };
 
-// Summary over frames[warmup, end).
+// Summary over frames[warmup, end), warmup at most half of the frames.
 StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames);
 void printSummary(std::ostream& os, const StatsSummary& s);
 std::string summaryJson(const StatsSummary& s, const Constants& c);

@@ -125,7 +125,7 @@ bool isWindow(const Building& b, double s, double h, double hTop) {
     }
     double inFloor = std::fmod(h - b.groundFloor, b.floorHeight);
     double windowTop = h - inFloor + 0.9 + b.windowHeight;
-    if (inFloor < 0.9 || windowTop > hTop - 0.3) return false;
+    if (inFloor < 0.9 || h > windowTop || windowTop > hTop - 0.3) return false;
     double cell = std::floor((u + b.windowPhase) / b.windowPitch);
     double centre = b.s0 + (cell + 0.5) * b.windowPitch - b.windowPhase;
     if (centre - b.windowWidth / 2 < b.s0 + 0.6 || centre + b.windowWidth / 2 > b.s1 - 0.6) return false;

@@ -75,7 +75,7 @@ TEST(CameraPath, GeneratedWalkAndDriveHaveTheirSpeeds) {
         for (size_t i = 1; i < p.keys.size(); ++i) {
             double v = dist(p.keys[i].position, p.keys[i - 1].position) / (p.keys[i].time - p.keys[i - 1].time);
             EXPECT_NEAR(v, speed, speed * 0.05) << i;
-            EXPECT_NEAR(p.keys[i].position[2], 1.7, 1e-6);  // eye height above the ground (z = 0)
+            EXPECT_NEAR(p.keys[i].position[2], 11.7, 1e-6);  // eye height above the boxes' tops (z = 10)
         }
     }
 }

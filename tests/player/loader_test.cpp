@@ -11,7 +11,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <functional>
+#include <thread>
 
 using namespace hlod;
 
@@ -158,7 +160,7 @@ TEST(LoaderThread, BudgetHeldUnderErraticPath) {
     model.msPerTexturedTriangle = 2e-3;
     CostModelRenderer renderer(model);
     PlayerOptions po;
-    po.memoryBudget = hlod0Bytes * 6;
+    po.memoryBudget = hlod0Bytes * 3;  // hlod0 + 18 more nodes
     po.chunkBytes = 1024;
     Constants c;
     Player player(src, c, renderer, po);
@@ -174,10 +176,15 @@ TEST(LoaderThread, BudgetHeldUnderErraticPath) {
         ASSERT_LE(f.residentBytes, po.memoryBudget) << "frame " << f.frame;
         evictions += f.evictions;
         loads += f.loads;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));  // frames take time: the loader runs
     });
     EXPECT_EQ(frames.size(), 1500u);
     EXPECT_GT(loads, 0u);
-    EXPECT_GT(evictions, 0u);  // the budget was binding
+    uint64_t capacity = po.memoryBudget / src->expectedBytes(0) - 9;
+    if (loads > capacity) {
+        EXPECT_GE(evictions, loads - capacity);  // every load past capacity evicted one
+    }
+    std::cout << "loads " << loads << ", evictions " << evictions << ", capacity " << capacity << "\n";
     for (const Node& n : s.nodes)
         EXPECT_TRUE(n.level > 0 || player.resident(n.id)) << n.id;
 }
