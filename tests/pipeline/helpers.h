@@ -18,8 +18,11 @@ struct TempDir {
     std::filesystem::path path;
     TempDir() {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = std::filesystem::temp_directory_path() /
-               ("hlod-pipeline-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" + std::to_string(::getpid()));
+        std::string name = "hlod-pipeline-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" +
+                           std::to_string(::getpid());
+        for (char& c : name)
+            if (c == '/') c = '_';  // parameterised suites are named "Real/Scans"
+        path = std::filesystem::temp_directory_path() / name;
         std::filesystem::remove_all(path);
         std::filesystem::create_directories(path);
     }
