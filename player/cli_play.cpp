@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -34,7 +35,27 @@ struct PlayArgs {
     PlayerOptions player;
     CostModel model;
     ConstantOptions constants;
+    std::string calibration;
 };
+
+// Reads the render-time model written by `hlod calibrate` ("# calibrate.msPerCost = X" and
+// "# calibrate.fixedOverheadMs = Y" lines) into the initial v_time and the fixed overhead.
+void applyCalibration(const std::string& file, PlayerOptions& options) {
+    std::ifstream in(file);
+    if (!in) throw std::runtime_error(file + ": cannot read calibration file");
+    bool vTime = false, overhead = false;
+    std::string line;
+    while (std::getline(in, line)) {
+        char key[64];
+        double value = 0;
+        if (std::sscanf(line.c_str(), "# calibrate.%63[A-Za-z] = %lf", key, &value) != 2) continue;
+        if (!std::isfinite(value) || value < 0) throw std::runtime_error(file + ": bad value for calibrate." + key);
+        if (std::string(key) == "msPerCost") options.initialVTime = value, vTime = true;
+        if (std::string(key) == "fixedOverheadMs") options.overheadMs = value, overhead = true;
+    }
+    if (!vTime || !overhead)
+        throw std::runtime_error(file + ": not a calibration file (no calibrate.msPerCost / calibrate.fixedOverheadMs)");
+}
 
 void writePng(const std::string& file, const Image& image) {
     auto out = OIIO::ImageOutput::create(file);
@@ -79,6 +100,7 @@ std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
 int runPlay(PlayArgs& a) {
     Constants c;
     applyConstantOptions(a.constants, c);
+    if (!a.calibration.empty()) applyCalibration(a.calibration, a.player);
     if (!a.framesDir.empty() && a.renderer != "gl") throw std::invalid_argument("--frames-dir needs --renderer gl");
     if (a.every == 0) throw std::invalid_argument("--every must be at least 1");
     CameraPath path = readCameraPath(a.path);
@@ -154,6 +176,8 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most");
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)");
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured with drawing off)");
+    sub->add_option("--calibration", a->calibration,
+                    "render-time model from `hlod calibrate`: sets the initial v_time and the fixed overhead");
     sub->add_option("--frames-dir", a->framesDir, "write PNG frames here (needs --renderer gl)");
     sub->add_option("--every", a->every, "with --frames-dir: every Nth frame");
     sub->add_flag("--color-by-level", a->player.frameOptions.colorByLevel, "shade nodes by level");

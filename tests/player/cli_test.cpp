@@ -151,3 +151,22 @@ TEST_F(Cli, PathKindsAndBadDatabase) {
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_FALSE(fs::exists(dir / "x.path"));
 }
+
+TEST_F(Cli, CalibrationFileSetsInitialVTimeAndOverhead) {
+    std::string path = walk();
+    std::string cal = (dir / "cal.conf").string();
+    std::ofstream(cal) << "c_textured = 0.5\n# calibrate.msPerCost = 0.0123\n# calibrate.fixedOverheadMs = 4.5\n";
+    std::string csv = (dir / "cal.csv").string();
+    Result r = run("play " + db + " --path " + path + " --sync-loader --frames 5 --calibration " + cal + " --stats " + csv);
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::string text = slurp(csv);
+    EXPECT_NE(text.find("# overhead_ms: 4.500000"), std::string::npos) << text.substr(0, 600);
+    EXPECT_NE(text.find("# initial_v_time: 0.012300"), std::string::npos) << text.substr(0, 600);
+
+    std::string notCal = (dir / "notcal.conf").string();
+    std::ofstream(notCal) << "c_textured = 0.5\n";
+    r = run("play " + db + " --path " + path + " --calibration " + notCal);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("notcal.conf: not a calibration file"), std::string::npos) << r.err;
+}
