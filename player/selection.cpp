@@ -75,21 +75,26 @@ struct Traversal {
         out.drawnCost += skeleton.nodes[id].cost;
     }
 
+    // Evaluates one node's priority; a visible node joins `siblings`. Returns the priority it
+    // adds to the visible siblings' sum (0 when not visible).
+    double visit(uint32_t id) {
+        NodeEval e = evaluate(id);
+        NodeState& s = state.nodes[id];
+        s.priority = e.priority;
+        s.frustumVis = e.frustumVis;
+        out.visited.push_back(id);
+        if (e.frustumVis < 1) return 0;
+        siblings.push_back(id);
+        return e.priority;
+    }
+
     // Computes priorities of a sibling set; returns the visible ones in `siblings`.
     double evaluateSiblings(uint32_t first) {
         siblings.clear();
         double sum = 0;
         for (uint32_t id = first; id != kNone; id = skeleton.nodes[id].nextSibling) {
             if (skeleton.nodes[id].parent != skeleton.nodes[first].parent) break;  // hlod0 chain guard
-            NodeEval e = evaluate(id);
-            NodeState& s = state.nodes[id];
-            s.priority = e.priority;
-            s.frustumVis = e.frustumVis;
-            out.visited.push_back(id);
-            if (e.frustumVis >= 1) {
-                siblings.push_back(id);
-                sum += e.priority;
-            }
+            sum += visit(id);
         }
         return sum;
     }
@@ -153,15 +158,7 @@ struct Traversal {
         siblings.clear();
         double sum = 0;
         for (uint32_t id : state.roots) {
-            NodeEval e = evaluate(id);
-            NodeState& s = state.nodes[id];
-            s.priority = e.priority;
-            s.frustumVis = e.frustumVis;
-            out.visited.push_back(id);
-            if (e.frustumVis >= 1) {
-                siblings.push_back(id);
-                sum += e.priority;
-            }
+            sum += visit(id);
         }
         return sum;
     }
