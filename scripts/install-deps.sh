@@ -20,6 +20,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   clang libclang-rt-14-dev  # libFuzzer targets and sanitizer runtime
   gnuplot-nox            # thesis Figure 6.x plots
+  xvfb xdotool           # `hlod view` window test under a virtual X server
 )
 
 missing=()

@@ -144,10 +144,14 @@ int runView(const ViewArgs& args) {
         glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
             static_cast<InputState*>(glfwGetWindowUserPointer(w))->scroll += dy;
         });
+        // Escape as an event, not a polled state: a quick tap between two slow frames still quits.
+        glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
+            if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
+        });
         CameraPath recorded;
         const double start = glfwGetTime();
         double last = start, lastTitle = start;
-        while (!glfwWindowShouldClose(window) && glfwGetKey(window, GLFW_KEY_ESCAPE) != GLFW_PRESS) {
+        while (!glfwWindowShouldClose(window)) {
             glfwPollEvents();
             const double now = glfwGetTime();
             navigate(camera, readInput(window, input, now - last));

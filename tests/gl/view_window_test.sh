@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# `hlod view` in a real window under a virtual X server: the window opens, holding W flies the
+# camera forward, Escape quits, and --record writes a camera path whose last key has moved.
+# Exit 77 (skipped) when Xvfb or xdotool is missing.
+set -u
+hlod=$1
+command -v xvfb-run >/dev/null && command -v xdotool >/dev/null || { echo "SKIP: xvfb-run/xdotool absent"; exit 77; }
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+"$hlod" build "$HLOD_SOURCE_DIR/samples/city" -o "$dir/city.hlod" >/dev/null || { echo "FAIL: build"; exit 1; }
+
+cat > "$dir/drive.sh" <<EOS
+#!/usr/bin/env bash
+"$hlod" view "$dir/city.hlod" --record "$dir/rec.path" --width 320 --height 200 > "$dir/view.log" 2>&1 &
+pid=\$!
+for i in \$(seq 1 120); do
+  wid=\$(xdotool search --pid \$pid 2>/dev/null | head -1)
+  [ -n "\$wid" ] && break
+  sleep 0.5
+done
+[ -n "\$wid" ] || { echo "FAIL: no window"; kill \$pid; exit 1; }
+sleep 2
+xdotool mousemove --window \$wid 160 100  # no window manager: focus follows the pointer
+xdotool windowfocus \$wid 2>/dev/null
+xdotool keydown w; sleep 2; xdotool keyup w
+xdotool key Escape
+for i in \$(seq 1 60); do kill -0 \$pid 2>/dev/null || break; sleep 0.5; done
+kill -0 \$pid 2>/dev/null && { echo "FAIL: Escape did not quit"; kill \$pid; exit 1; }
+wait \$pid
+EOS
+chmod +x "$dir/drive.sh"
+xvfb-run -a -s "-screen 0 640x400x24" "$dir/drive.sh" || { echo "FAIL: view exited non-zero"; cat "$dir/view.log"; exit 1; }
+[ -s "$dir/rec.path" ] || { echo "FAIL: no recording"; exit 1; }
+first=$(grep -v '^#' "$dir/rec.path" | sed -n 2p | awk '{print $2, $3, $4}')
+last=$(tail -1 "$dir/rec.path" | awk '{print $2, $3, $4}')
+[ "$first" != "$last" ] || { echo "FAIL: camera did not move ($first)"; exit 1; }
+echo "PASS: window opened, W moved the camera from ($first) to ($last), Escape quit, path recorded"
