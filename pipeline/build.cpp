@@ -36,9 +36,14 @@ struct Inputs {
     std::vector<Material> materials;  // of a single-mesh input
 };
 
-bool isMeshFile(const fs::path& p) {
+std::string extensionOf(const fs::path& p) {
     std::string ext = p.extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+bool isMeshFile(const fs::path& p) {
+    const std::string ext = extensionOf(p);
     return ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb";
 }
 
@@ -60,6 +65,43 @@ uint64_t blockTarget(const BuildOptions& o) {
     return o.blockTriangles ? o.blockTriangles : std::max<uint64_t>(o.memoryLimit / (4 * kBytesPerBlockTriangle), 16384);
 }
 
+bool isStreamable(const std::string& input) {
+    const std::string ext = extensionOf(input);
+    return (ext == ".ply" || ext == ".obj") && fs::is_regular_file(input);
+}
+
+void reportRead(const std::string& input, const ReadStats& stats, Progress& progress) {
+    for (const std::string& w : stats.warnings) progress.message("warning: " + w);
+    if (stats.degenerateDropped)
+        progress.message(input + ": dropped " + std::to_string(stats.degenerateDropped) + " degenerate triangles");
+}
+
+// One PLY or OBJ mesh, out of core: parsed once into spill files, then streamed to the grid.
+Inputs streamBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
+    const std::string rawDir = (fs::path(tempDir) / "raw").string();
+    fs::create_directories(rawDir);
+    Inputs in;
+    {
+        RawMesh raw;
+        raw.spillTo(rawDir);
+        raw.progress = &progress;
+        progress.beginStage("read", fs::file_size(input), "B");
+        if (extensionOf(input) == ".ply") parsePly(input, raw);
+        else parseObj(input, raw);
+        progress.endStage();
+        checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
+        const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
+        progress.beginStage("split", raw.triangles.size());
+        for (const CellFile& cell : streamSplit(raw, grid, tempDir, options.memoryLimit / 4, input, raw.stats, &progress))
+            in.blocks.push_back({cell.file, true, cell.triangles});
+        progress.endStage();
+        reportRead(input, raw.stats, progress);
+        in.materials = std::move(raw.materials);
+    }
+    fs::remove_all(rawDir);
+    return in;
+}
+
 Inputs findBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
     Inputs in;
     if (fs::is_directory(input)) {
@@ -71,13 +113,12 @@ Inputs findBlocks(const std::string& input, const BuildOptions& options, const s
         for (const auto& f : files) in.blocks.push_back({f.string(), false, 0});
         return in;
     }
+    if (isStreamable(input)) return streamBlocks(input, options, tempDir, progress);
     progress.beginStage("read", 0);
     SourceMesh source = readMesh(input);
     progress.advance(source.piece.mesh.triangleCount());
     progress.endStage();
-    for (const std::string& w : source.stats.warnings) progress.message("warning: " + w);
-    if (source.stats.degenerateDropped)
-        progress.message(input + ": dropped " + std::to_string(source.stats.degenerateDropped) + " degenerate triangles");
+    reportRead(input, source.stats, progress);
     progress.beginStage("split", source.piece.mesh.triangleCount());
     const GridSpec grid = chooseGrid(pieceBounds(source.piece.mesh), source.piece.mesh.triangleCount(), blockTarget(options),
                                      options.blockSize);

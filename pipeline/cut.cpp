@@ -24,9 +24,12 @@ struct Extended {
 };
 
 uint32_t edgeVertex(Extended& ex, uint32_t a, uint32_t b, const std::vector<float>& d, int axis, float position) {
-    if (a > b) std::swap(a, b);
-    const uint64_t key = (static_cast<uint64_t>(a) << 32) | b;
+    const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
     if (auto it = ex.byEdge.find(key); it != ex.byEdge.end()) return it->second;
+    // Interpolate from the endpoint below the plane: the result depends on the edge alone, not
+    // on vertex numbering, so two pieces holding the same edge (neighbouring blocks of the
+    // streamed split) create the same vertex.
+    if (d[a] > d[b]) std::swap(a, b);
     const float t = d[a] / (d[a] - d[b]);
     const MeshData& s = ex.source;
     auto lerp = [&](const std::vector<float>& v, std::vector<float>& out, int n) {

@@ -71,12 +71,15 @@ void sanitize(SourceMesh& source, const std::string& name) {
     m.indices.resize(3 * kept);
     source.piece.materials.resize(kept);
     if (kept == 0) throw InputError(name + ": empty mesh (no valid triangles)");
-    for (Material& material : source.materials) {
+    checkTextures(source.materials, !m.texcoords.empty(), name, source.stats);
+}
+
+void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const std::string& name, ReadStats& stats) {
+    for (Material& material : materials) {
         if (material.texturePath.empty() && !material.image) continue;
-        if (m.texcoords.empty() || (!material.image && !fs::is_regular_file(material.texturePath))) {
-            source.stats.warnings.push_back(name + ": " +
-                                            (m.texcoords.empty() ? "no texture coordinates for '" : "missing texture '") +
-                                            material.texturePath + "', material '" + material.name + "' is untextured");
+        if (!hasTexcoords || (!material.image && !fs::is_regular_file(material.texturePath))) {
+            stats.warnings.push_back(name + ": " + (!hasTexcoords ? "no texture coordinates for '" : "missing texture '") +
+                                     material.texturePath + "', material '" + material.name + "' is untextured");
             material.texturePath.clear();
             material.image.reset();
         }

@@ -10,6 +10,7 @@
 #include "formats/codec.h"
 #include "formats/constants.h"
 #include "formats/db.h"
+#include "pipeline/spill_array.h"
 
 #include <cstdint>
 #include <functional>
@@ -50,6 +51,47 @@ struct SourceMesh {
     ReadStats stats;
 };
 
+class Progress;
+
+// raw_mesh.cpp: a PLY or OBJ mesh as parsed, before welding. The arrays live in memory (a block
+// file) or spill to disk (a single large input, issue 3 "never hold the whole mesh"), from
+// where split_stream.cpp routes the triangles to per-block files in one pass. Adding an
+// attribute checks it is finite (InputError naming the vertex).
+struct RawTriangle {
+    uint32_t position[3], texcoord[3], normal[3];  // indices into the arrays (PLY: all = position)
+    uint32_t material;                              // into materials; kNone = the default material
+};
+struct RawMesh {
+    SpillArray<float> positions, texcoords, normals;  // 3, 2, 3 floats per element
+    SpillArray<uint8_t> colors;                       // 4 per position, or none
+    SpillArray<RawTriangle> triangles;
+    bool hasTexcoords = false, hasNormals = false;    // every triangle has them
+    bool sharedIndices = false;                       // texcoord/normal indices equal position's (PLY)
+    Box3f bounds{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};
+    std::vector<Material> materials;
+    ReadStats stats;
+    Progress* progress = nullptr;  // advanced by the bytes read
+
+    void spillTo(const std::string& dir);  // before parsing: keep the arrays in files under dir
+    void addPosition(const float p[3], const std::string& name);
+    void addTexcoord(float u, float v, const std::string& name);
+    void addNormal(const float n[3], const std::string& name);
+    void seal();  // parsing done
+    size_t positionCount() const { return positions.size() / 3; }
+};
+void parsePly(const std::string& path, RawMesh& raw);
+void parseObj(const std::string& path, RawMesh& raw);
+// Welds the corners (OBJ: by position/texcoord/normal index triple, in first-use order) into
+// an indexed SourceMesh and sanitizes it.
+SourceMesh toSourceMesh(const RawMesh& raw, const std::string& name);
+// The three corners of triangle t as vertices with every attribute of the layout; throws
+// InputError when an index is out of range. Returns false for a degenerate triangle.
+struct Corner {
+    float position[3], texcoord[2], normal[3];
+    uint8_t color[4];
+};
+bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& name);
+
 // Readers. Throw InputError("FILE: problem") on a missing, truncated or corrupt file.
 // Texture paths outside the folder of `path` are refused (InputError); missing textures give a
 // warning and untextured triangles.
@@ -62,6 +104,8 @@ SourceMesh readMesh(const std::string& path);  // by extension
 // naming `name`), drops degenerate triangles (counted in stats), turns missing textures into
 // warnings (untextured).
 void sanitize(SourceMesh& source, const std::string& name);
+// Missing texture files, or no texture coordinates: a warning, and the material is untextured.
+void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const std::string& name, ReadStats& stats);
 // Resolves `texture` relative to the folder of `meshPath`; throws InputError when it leaves it.
 std::string resolveTexturePath(const std::string& meshPath, const std::string& texture);
 
@@ -87,7 +131,20 @@ GridSpec chooseGrid(const Box3f& bounds, uint64_t triangles, uint64_t targetTria
 // Cuts `piece` along the grid lines; returns one piece per cell (row-major in V then U).
 std::vector<Piece> splitByGrid(const Piece& piece, const GridSpec& grid);
 
-// Temporary per-block storage: a Piece appended to / read from a binary file.
+// split_stream.cpp: splitByGrid out of core, for a RawMesh read from its spill files: each
+// triangle goes to every cell its bounds reach (buffers of about `bufferBytes` in all, flushed to
+// a file per cell), then each cell is welded and clipped to its rectangle by the same cuts.
+// Returns the non-empty cells in row-major order; degenerate triangles are counted in `stats`.
+struct CellFile {
+    uint32_t cell = 0;
+    std::string file;  // a loadPiece file
+    uint64_t triangles = 0;
+};
+std::vector<CellFile> streamSplit(const RawMesh& raw, const GridSpec& grid, const std::string& dir, uint64_t bufferBytes,
+                                  const std::string& name, ReadStats& stats, Progress* progress);
+
+// Temporary per-block storage: a Piece appended to / read from a binary file; loading welds
+// identical vertices (all attributes equal) of the appended chunks.
 void appendPiece(const std::string& file, const Piece& piece);
 Piece loadPiece(const std::string& file);
 

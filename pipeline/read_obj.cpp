@@ -1,97 +1,186 @@
-// OBJ + MTL input through tinyobjloader: many materials and texture atlases (map_Kd), as
-// photogrammetry produces. Corners are welded by their (position, texcoord, normal) index
-// triple in first-use order, so the result is deterministic and UV seams stay seams.
+// OBJ + MTL input: many materials and texture atlases (map_Kd), as photogrammetry produces.
+// The OBJ is parsed here line by line in one streaming pass into a RawMesh (v, vt, vn, f with
+// v/vt/vn, v//vn and negative indices, polygons fanned, usemtl, mtllib), because a scan can be
+// larger than memory and every number must be checked: tinyobjloader reads whole files and turns
+// an unparsable number into 0. The MTL files are parsed by tinyobjloader (LoadMtl).
 #include "pipeline/pipeline.h"
 
 #include <tiny_obj_loader.h>
 
+#include <charconv>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <unordered_map>
+#include <fstream>
+#include <map>
+#include <memory>
 
 namespace hlod {
 namespace {
 
-struct CornerKey {
-    int v, t, n;
-    bool operator==(const CornerKey&) const = default;
-};
-struct CornerHash {
-    size_t operator()(const CornerKey& k) const {
-        return (static_cast<size_t>(k.v) * 73856093u) ^ (static_cast<size_t>(k.t) * 19349663u) ^
-               (static_cast<size_t>(k.n) * 83492791u);
-    }
+namespace fs = std::filesystem;
+
+struct Line {
+    const char* p;
+    const char* end;
+    size_t number;
 };
 
-std::string firstLine(const std::string& text) {
-    return text.substr(0, text.find('\n'));
+bool blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+std::string_view token(Line& l) {
+    while (l.p < l.end && blank(*l.p)) ++l.p;
+    const char* start = l.p;
+    while (l.p < l.end && !blank(*l.p)) ++l.p;
+    return {start, static_cast<size_t>(l.p - start)};
 }
 
-uint32_t addCorner(const tinyobj::attrib_t& attrib, const tinyobj::index_t& index, MeshData& mesh,
-                   std::unordered_map<CornerKey, uint32_t, CornerHash>& corners, bool withUV, bool withNormals,
-                   const std::string& path) {
-    const CornerKey key{index.vertex_index, withUV ? index.texcoord_index : -1, withNormals ? index.normal_index : -1};
-    if (auto it = corners.find(key); it != corners.end()) return it->second;
-    if (key.v < 0 || static_cast<size_t>(key.v) * 3 >= attrib.vertices.size() ||
-        (withUV && (key.t < 0 || static_cast<size_t>(key.t) * 2 >= attrib.texcoords.size())) ||
-        (withNormals && (key.n < 0 || static_cast<size_t>(key.n) * 3 >= attrib.normals.size())))
-        throw InputError(path + ": face index out of range (v " + std::to_string(key.v + 1) + ")");
-    const uint32_t id = static_cast<uint32_t>(mesh.vertexCount());
-    for (int a = 0; a < 3; ++a) mesh.positions.push_back(attrib.vertices[3 * key.v + a]);
-    if (withUV) {
-        mesh.texcoords.push_back(attrib.texcoords[2 * key.t]);
-        mesh.texcoords.push_back(1.0f - attrib.texcoords[2 * key.t + 1]);
+class ObjParser {
+public:
+    ObjParser(const std::string& path, RawMesh& raw) : path_(path), raw_(raw) {}
+
+    void parse() {
+        std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path_.c_str(), "rb"), &std::fclose);
+        if (!f) throw InputError(path_ + ": cannot open (" + std::strerror(errno) + ")");
+        std::vector<char> buffer(1 << 20);
+        std::string carry;
+        size_t number = 0, n = 0;
+        while ((n = std::fread(buffer.data(), 1, buffer.size(), f.get())) > 0) {
+            if (raw_.progress) raw_.progress->advance(n);
+            const char* p = buffer.data();
+            const char* end = p + n;
+            while (const char* nl = static_cast<const char*>(std::memchr(p, '\n', end - p))) {
+                if (carry.empty()) {
+                    line({p, nl, ++number});
+                } else {
+                    carry.append(p, nl);
+                    line({carry.data(), carry.data() + carry.size(), ++number});
+                    carry.clear();
+                }
+                p = nl + 1;
+            }
+            carry.append(p, end);
+        }
+        if (std::ferror(f.get())) throw InputError(path_ + ": read error (" + std::strerror(errno) + ")");
+        lastLine_ = true;
+        if (!carry.empty()) line({carry.data(), carry.data() + carry.size(), ++number});
+        raw_.hasTexcoords = everyFaceHasTexcoords_ && raw_.texcoords.size() > 0;
+        raw_.hasNormals = everyFaceHasNormals_ && raw_.normals.size() > 0;
+        raw_.materials.push_back({"default", "", nullptr});
     }
-    if (withNormals)
-        for (int a = 0; a < 3; ++a) mesh.normals.push_back(attrib.normals[3 * key.n + a]);
-    corners.emplace(key, id);
-    return id;
-}
 
-bool allFacesHave(const std::vector<tinyobj::shape_t>& shapes, int tinyobj::index_t::*field) {
-    for (const auto& shape : shapes)
-        for (const auto& index : shape.mesh.indices)
-            if (index.*field < 0) return false;
-    return true;
-}
+private:
+    [[noreturn]] void corrupt(const Line& l, const std::string& what) const {
+        throw InputError(path_ + ":" + std::to_string(l.number) + ": " + (lastLine_ ? "truncated or corrupt" : "corrupt") +
+                         " OBJ (" + what + ")");
+    }
+
+    float number(Line& l, bool required, float fallback = 0) {
+        const std::string_view t = token(l);
+        if (t.empty()) {
+            if (required) corrupt(l, "missing number");
+            return fallback;
+        }
+        const char* begin = t.data() + (t.front() == '+' ? 1 : 0);
+        float v = 0;
+        const auto [end, ec] = std::from_chars(begin, t.data() + t.size(), v);
+        if (ec != std::errc() || end != t.data() + t.size()) corrupt(l, "bad number '" + std::string(t) + "'");
+        return v;
+    }
+
+    // One index of a face corner: 1-based, or negative = relative to the elements so far.
+    uint32_t index(const Line& l, std::string_view t, size_t count) {
+        long long v = 0;
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (ec != std::errc() || end != t.data() + t.size() || v == 0) corrupt(l, "bad face index '" + std::string(t) + "'");
+        const long long resolved = v > 0 ? v - 1 : static_cast<long long>(count) + v;
+        if (resolved < 0 || resolved >= 0xFFFFFFFFll) corrupt(l, "face index " + std::to_string(v) + " out of range");
+        return static_cast<uint32_t>(resolved);
+    }
+
+    void face(Line& l) {
+        uint32_t p[3] = {}, t[3] = {}, n[3] = {};
+        int corners = 0;
+        for (std::string_view c = token(l); !c.empty(); c = token(l), ++corners) {
+            const size_t s1 = c.find('/'), s2 = s1 == c.npos ? c.npos : c.find('/', s1 + 1);
+            const int k = corners < 3 ? corners : 2;
+            if (corners >= 3) p[1] = p[2], t[1] = t[2], n[1] = n[2];  // fan: (0, k-1, k)
+            p[k] = index(l, c.substr(0, s1), raw_.positionCount());
+            const std::string_view vt = s1 == c.npos ? std::string_view() : c.substr(s1 + 1, s2 == c.npos ? c.npos : s2 - s1 - 1);
+            const std::string_view vn = s2 == c.npos ? std::string_view() : c.substr(s2 + 1);
+            if (vt.empty()) everyFaceHasTexcoords_ = false;
+            else t[k] = index(l, vt, raw_.texcoords.size() / 2);
+            if (vn.empty()) everyFaceHasNormals_ = false;
+            else n[k] = index(l, vn, raw_.normals.size() / 3);
+            if (corners >= 2) {
+                RawTriangle tri{{p[0], p[1], p[2]}, {t[0], t[1], t[2]}, {n[0], n[1], n[2]}, material_};
+                raw_.triangles.push(&tri, 1);
+            }
+        }
+        if (corners < 3) corrupt(l, "face with fewer than 3 vertices");
+    }
+
+    void materialLibrary(Line& l) {
+        for (std::string_view name = token(l); !name.empty(); name = token(l)) {
+            const std::string file = resolveTexturePath(path_, std::string(name));
+            std::ifstream in(file);
+            if (!in) {
+                raw_.stats.warnings.push_back(path_ + ": material library '" + std::string(name) + "' not found");
+                continue;
+            }
+            std::map<std::string, int> ids;
+            std::vector<tinyobj::material_t> materials;
+            std::string warning, error;
+            tinyobj::LoadMtl(&ids, &materials, &in, &warning, &error);
+            for (const tinyobj::material_t& m : materials) {
+                byName_[m.name] = static_cast<uint32_t>(raw_.materials.size());
+                raw_.materials.push_back(
+                    {m.name, m.diffuse_texname.empty() ? "" : resolveTexturePath(path_, m.diffuse_texname), nullptr});
+            }
+        }
+    }
+
+    void line(Line l) {
+        const std::string_view keyword = token(l);
+        if (keyword == "v") {
+            const float x = number(l, true), y = number(l, true), z = number(l, true);
+            const float p[3] = {x, y, z};
+            raw_.addPosition(p, path_);
+        } else if (keyword == "vt") {
+            const float u = number(l, true), v = number(l, false);
+            raw_.addTexcoord(u, 1.0f - v, path_);
+        } else if (keyword == "vn") {
+            const float x = number(l, true), y = number(l, true), z = number(l, true);
+            const float n[3] = {x, y, z};
+            raw_.addNormal(n, path_);
+        } else if (keyword == "f") {
+            face(l);
+        } else if (keyword == "usemtl") {
+            const auto it = byName_.find(std::string(token(l)));
+            material_ = it == byName_.end() ? kNone : it->second;
+        } else if (keyword == "mtllib") {
+            materialLibrary(l);
+        }
+    }
+
+    const std::string& path_;
+    RawMesh& raw_;
+    std::map<std::string, uint32_t> byName_;
+    uint32_t material_ = kNone;
+    bool everyFaceHasTexcoords_ = true, everyFaceHasNormals_ = true, lastLine_ = false;
+};
 
 }  // namespace
 
-SourceMesh readObj(const std::string& path) {
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    config.mtl_search_path = std::filesystem::path(path).parent_path().string();
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(path, config))
-        throw InputError(path + ": corrupt OBJ (" + firstLine(reader.Error()) + ")");
-    const tinyobj::attrib_t& attrib = reader.GetAttrib();
-    const auto& shapes = reader.GetShapes();
-    SourceMesh source;
-    for (const auto& m : reader.GetMaterials())
-        source.materials.push_back({m.name, m.diffuse_texname.empty() ? "" : resolveTexturePath(path, m.diffuse_texname), nullptr});
-    const uint32_t defaultMaterial = static_cast<uint32_t>(source.materials.size());
-    source.materials.push_back({"default", "", nullptr});
-    if (!reader.Warning().empty() && reader.Warning().find("not found") != std::string::npos)
-        source.stats.warnings.push_back(path + ": " + firstLine(reader.Warning()));
+void parseObj(const std::string& path, RawMesh& raw) {
+    ObjParser(path, raw).parse();
+    raw.seal();
+}
 
-    const bool withUV = !attrib.texcoords.empty() && allFacesHave(shapes, &tinyobj::index_t::texcoord_index);
-    const bool withNormals = !attrib.normals.empty() && allFacesHave(shapes, &tinyobj::index_t::normal_index);
-    std::unordered_map<CornerKey, uint32_t, CornerHash> corners;
-    MeshData& mesh = source.piece.mesh;
-    for (const auto& shape : shapes) {
-        const auto& indices = shape.mesh.indices;
-        for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
-            if (shape.mesh.num_face_vertices[f] != 3) throw InputError(path + ": corrupt OBJ (face not triangulated)");
-            for (int k = 0; k < 3; ++k)
-                mesh.indices.push_back(addCorner(attrib, indices[3 * f + k], mesh, corners, withUV, withNormals, path));
-            const int mat = shape.mesh.material_ids[f];
-            source.piece.materials.push_back(mat < 0 || mat >= static_cast<int>(defaultMaterial)
-                                                 ? defaultMaterial
-                                                 : static_cast<uint32_t>(mat));
-        }
-    }
-    sanitize(source, path);
-    return source;
+SourceMesh readObj(const std::string& path) {
+    RawMesh raw;
+    parseObj(path, raw);
+    return toSourceMesh(raw, path);
 }
 
 }  // namespace hlod

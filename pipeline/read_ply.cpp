@@ -1,6 +1,7 @@
 // PLY input (ascii, binary little/big endian): positions, per-vertex normals, texture
 // coordinates (u/v, s/t, texture_u/texture_v) and colours when present; polygons are fanned into
-// triangles. Read in one buffered pass; every short read is reported as a truncated file.
+// triangles. Read in one buffered pass into a RawMesh (in memory, or spilled to disk for a large
+// single input); every short read is reported as a truncated file.
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
@@ -51,7 +52,8 @@ bool parseType(const std::string& s, PlyType& t) {
 // Buffered reader of PLY values in any of the three encodings.
 class PlyReader {
 public:
-    PlyReader(std::FILE* f, PlyFormat format, std::string name) : f_(f), format_(format), name_(std::move(name)) {}
+    PlyReader(std::FILE* f, PlyFormat format, std::string name, Progress* progress)
+        : f_(f), format_(format), name_(std::move(name)), progress_(progress) {}
 
     double value(PlyType t) {
         if (format_ == PlyFormat::Ascii) return asciiValue();
@@ -84,6 +86,7 @@ private:
     bool fill() {
         size_ = std::fread(buffer_.get(), 1, kBuffer, f_);
         pos_ = 0;
+        if (progress_) progress_->advance(size_);
         return size_ > 0;
     }
     void bytes(unsigned char* out, size_t n) {
@@ -118,6 +121,7 @@ private:
     std::FILE* f_;
     PlyFormat format_;
     std::string name_;
+    Progress* progress_;
     std::unique_ptr<char[]> buffer_{new char[kBuffer]};
     size_t size_ = 0, pos_ = 0;
 };
@@ -189,14 +193,14 @@ int findProperty(const PlyElement& e, std::initializer_list<const char*> names) 
     return -1;
 }
 
-void readVertices(PlyReader& r, const PlyElement& e, MeshData& mesh) {
+void readVertices(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::string& name) {
     const int pos[3] = {findProperty(e, {"x"}), findProperty(e, {"y"}), findProperty(e, {"z"})};
     const int nrm[3] = {findProperty(e, {"nx"}), findProperty(e, {"ny"}), findProperty(e, {"nz"})};
     const int uv[2] = {findProperty(e, {"u", "s", "texture_u"}), findProperty(e, {"v", "t", "texture_v"})};
     const int col[4] = {findProperty(e, {"red", "r"}), findProperty(e, {"green", "g"}),
                         findProperty(e, {"blue", "b"}), findProperty(e, {"alpha", "a"})};
-    const bool hasN = nrm[0] >= 0 && nrm[1] >= 0 && nrm[2] >= 0;
-    const bool hasUV = uv[0] >= 0 && uv[1] >= 0;
+    raw.hasNormals = nrm[0] >= 0 && nrm[1] >= 0 && nrm[2] >= 0;
+    raw.hasTexcoords = uv[0] >= 0 && uv[1] >= 0;
     const bool hasC = col[0] >= 0 && col[1] >= 0 && col[2] >= 0;
     const bool floatColor = hasC && e.properties[col[0]].type >= PlyType::F32;
     std::vector<double> values(e.properties.size());
@@ -210,22 +214,27 @@ void readVertices(PlyReader& r, const PlyElement& e, MeshData& mesh) {
             const double n = r.value(prop.countType);
             for (double k = 0; k < n; ++k) r.value(prop.type);
         }
-        for (int a = 0; a < 3; ++a) mesh.positions.push_back(static_cast<float>(values[pos[a]]));
-        if (hasN)
-            for (int a = 0; a < 3; ++a) mesh.normals.push_back(static_cast<float>(values[nrm[a]]));
-        if (hasUV) {
-            mesh.texcoords.push_back(static_cast<float>(values[uv[0]]));
-            mesh.texcoords.push_back(1.0f - static_cast<float>(values[uv[1]]));
+        const float position[3] = {static_cast<float>(values[pos[0]]), static_cast<float>(values[pos[1]]),
+                                   static_cast<float>(values[pos[2]])};
+        raw.addPosition(position, name);
+        if (raw.hasNormals) {
+            const float normal[3] = {static_cast<float>(values[nrm[0]]), static_cast<float>(values[nrm[1]]),
+                                     static_cast<float>(values[nrm[2]])};
+            raw.addNormal(normal, name);
         }
-        if (hasC)
+        if (raw.hasTexcoords) raw.addTexcoord(static_cast<float>(values[uv[0]]), 1.0f - static_cast<float>(values[uv[1]]), name);
+        if (hasC) {
+            uint8_t rgba[4];
             for (int a = 0; a < 4; ++a) {
                 const double v = col[a] < 0 ? (floatColor ? 1.0 : 255.0) : values[col[a]];
-                mesh.colors.push_back(static_cast<uint8_t>(std::clamp(floatColor ? v * 255.0 : v, 0.0, 255.0)));
+                rgba[a] = static_cast<uint8_t>(std::clamp(floatColor ? v * 255.0 : v, 0.0, 255.0));
             }
+            raw.colors.push(rgba, 4);
+        }
     }
 }
 
-void readFaces(PlyReader& r, const PlyElement& e, MeshData& mesh, const std::string& name) {
+void readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::string& name) {
     int list = -1;
     for (size_t i = 0; i < e.properties.size(); ++i)
         if (e.properties[i].isList && (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
@@ -250,29 +259,33 @@ void readFaces(PlyReader& r, const PlyElement& e, MeshData& mesh, const std::str
                     polygon.push_back(static_cast<uint32_t>(index));
                 }
             }
-            for (size_t k = 2; static_cast<int>(p) == list && k < polygon.size(); ++k)
-                mesh.indices.insert(mesh.indices.end(), {polygon[0], polygon[k - 1], polygon[k]});
+            for (size_t k = 2; static_cast<int>(p) == list && k < polygon.size(); ++k) {
+                RawTriangle t{};
+                t.material = 0;
+                const uint32_t corners[3] = {polygon[0], polygon[k - 1], polygon[k]};
+                for (int c = 0; c < 3; ++c) t.position[c] = t.texcoord[c] = t.normal[c] = corners[c];
+                raw.triangles.push(&t, 1);
+            }
         }
     }
 }
 
 }  // namespace
 
-SourceMesh readPly(const std::string& path) {
+void parsePly(const std::string& path, RawMesh& raw) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!f) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
     const PlyHeader header = readHeader(f.get(), path);
-    SourceMesh source;
-    PlyReader reader(f.get(), header.format, path);
+    PlyReader reader(f.get(), header.format, path, raw.progress);
     bool haveVertices = false, haveFaces = false;
     for (const PlyElement& e : header.elements) {
         if (e.name == "vertex") {
             if (findProperty(e, {"x"}) < 0 || findProperty(e, {"y"}) < 0 || findProperty(e, {"z"}) < 0)
                 throw InputError(path + ": unsupported PLY (vertex element without x, y, z)");
-            readVertices(reader, e, source.piece.mesh);
+            readVertices(reader, e, raw, path);
             haveVertices = true;
         } else if (e.name == "face") {
-            readFaces(reader, e, source.piece.mesh, path);
+            readFaces(reader, e, raw, path);
             haveFaces = true;
         } else {
             for (uint64_t i = 0; i < e.count; ++i)
@@ -283,12 +296,16 @@ SourceMesh readPly(const std::string& path) {
         }
     }
     if (!haveVertices || !haveFaces) throw InputError(path + ": PLY has no " + (haveVertices ? "faces" : "vertices"));
-    source.materials.push_back({"ply", "", nullptr});
-    if (!header.textures.empty() && !source.piece.mesh.texcoords.empty())
-        source.materials[0].texturePath = resolveTexturePath(path, header.textures[0]);
-    source.piece.materials.assign(source.piece.mesh.triangleCount(), 0);
-    sanitize(source, path);
-    return source;
+    raw.sharedIndices = true;
+    raw.materials.push_back({"ply", "", nullptr});
+    if (!header.textures.empty() && raw.hasTexcoords) raw.materials[0].texturePath = resolveTexturePath(path, header.textures[0]);
+    raw.seal();
+}
+
+SourceMesh readPly(const std::string& path) {
+    RawMesh raw;
+    parsePly(path, raw);
+    return toSourceMesh(raw, path);
 }
 
 }  // namespace hlod

@@ -1,8 +1,9 @@
 // Splitting one large mesh into blocks (thesis §3.2: the acquired city "is split up into
 // blocks"): a grid over the two longest axes of the input bounds (the horizontal ones for a scan
 // of terrain or a city), cut with the Fig. 3.2 plane cut so blocks tile the input exactly and
-// share their border vertices. Each block goes to its own temporary file (appendPiece) so the
-// per-block stages never hold more than one block.
+// share their border vertices. splitByGrid is the in-memory form (glTF input, which tinygltf
+// reads whole); split_stream.cpp is the out-of-core form for PLY and OBJ. Each block goes to its
+// own temporary file (appendPiece) so the per-block stages never hold more than one block.
 #include "pipeline/pipeline.h"
 
 #include <meshoptimizer.h>
@@ -120,7 +121,6 @@ Piece loadPiece(const std::string& file) {
     if (!f) throw std::runtime_error(file + ": cannot read (" + std::strerror(errno) + ")");
     Piece out;
     uint64_t h[5];
-    size_t chunks = 0;
     while (std::fread(h, sizeof h, 1, f.get()) == 1) {
         Piece c;
         if (!get(f.get(), c.mesh.positions, 3 * h[0]) || !get(f.get(), c.mesh.texcoords, h[2]) ||
@@ -133,9 +133,8 @@ Piece loadPiece(const std::string& file) {
         append(out.mesh.positions, c.mesh.positions), append(out.mesh.texcoords, c.mesh.texcoords);
         append(out.mesh.normals, c.mesh.normals), append(out.mesh.colors, c.mesh.colors);
         append(out.mesh.indices, c.mesh.indices), append(out.materials, c.materials);
-        ++chunks;
     }
-    if (chunks > 1) weld(out);
+    if (out.mesh.vertexCount() > 0) weld(out);
     return out;
 }
 

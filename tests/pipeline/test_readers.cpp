@@ -22,15 +22,6 @@ void expectSameMesh(const MeshData& a, const MeshData& b) {
     for (size_t i = 0; i < a.texcoords.size(); ++i) ASSERT_NEAR(a.texcoords[i], b.texcoords[i], 1e-5f);
 }
 
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
-}
-
 TEST(ReadPly, AsciiAndBinaryGiveTheSameMesh) {
     TempDir dir;
     const Piece p = terrain(12);

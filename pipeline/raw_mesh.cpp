@@ -1,0 +1,148 @@
+// The parsed-but-not-welded mesh shared by the PLY and OBJ readers (issue 3 "Input"): attributes
+// are checked as they arrive, triangles keep their per-corner attribute indices, and the whole
+// thing either becomes an indexed SourceMesh (a block file) or is streamed to the block grid
+// straight from its spill files (split_stream.cpp), so a large input is never held whole.
+#include "pipeline/pipeline.h"
+
+#include <cmath>
+#include <filesystem>
+#include <unordered_map>
+
+namespace hlod {
+namespace {
+
+void checkFinite(const float* v, int n, size_t index, const char* what, const std::string& name) {
+    for (int i = 0; i < n; ++i)
+        if (!std::isfinite(v[i])) throw InputError(name + ": vertex " + std::to_string(index) + " has a NaN/Inf " + what);
+}
+
+[[noreturn]] void outOfRange(size_t t, const char* what, uint32_t index, size_t count, const std::string& name) {
+    throw InputError(name + ": triangle " + std::to_string(t) + " uses " + what + " " + std::to_string(index) +
+                     " but there are only " + std::to_string(count));
+}
+
+struct CornerKey {
+    uint32_t p, t, n;
+    bool operator==(const CornerKey&) const = default;
+};
+struct CornerHash {
+    size_t operator()(const CornerKey& k) const {
+        return (static_cast<size_t>(k.p) * 73856093u) ^ (static_cast<size_t>(k.t) * 19349663u) ^
+               (static_cast<size_t>(k.n) * 83492791u);
+    }
+};
+
+uint32_t materialOf(const RawMesh& raw, const RawTriangle& t) {
+    return t.material == kNone ? static_cast<uint32_t>(raw.materials.size() - 1) : t.material;
+}
+
+// A PLY: the vertex arrays are already indexed by the triangles.
+void copyIndexed(const RawMesh& raw, SourceMesh& out) {
+    MeshData& m = out.piece.mesh;
+    m.positions.assign(raw.positions.data(), raw.positions.data() + raw.positions.size());
+    if (raw.hasTexcoords) m.texcoords.assign(raw.texcoords.data(), raw.texcoords.data() + raw.texcoords.size());
+    if (raw.hasNormals) m.normals.assign(raw.normals.data(), raw.normals.data() + raw.normals.size());
+    m.colors.assign(raw.colors.data(), raw.colors.data() + raw.colors.size());
+    for (size_t t = 0; t < raw.triangles.size(); ++t) {
+        const RawTriangle& tri = raw.triangles[t];
+        m.indices.insert(m.indices.end(), tri.position, tri.position + 3);
+        out.piece.materials.push_back(materialOf(raw, tri));
+    }
+}
+
+// An OBJ: corners welded by their (position, texcoord, normal) index triple, in first-use order.
+void weldCorners(const RawMesh& raw, SourceMesh& out, const std::string& name) {
+    MeshData& m = out.piece.mesh;
+    std::unordered_map<CornerKey, uint32_t, CornerHash> ids;
+    Corner corner[3];
+    for (size_t t = 0; t < raw.triangles.size(); ++t) {
+        const RawTriangle& tri = raw.triangles[t];
+        rawCorners(raw, t, corner, name);  // range checks; degenerate ones are dropped by sanitize
+        for (int c = 0; c < 3; ++c) {
+            const CornerKey key{tri.position[c], raw.hasTexcoords ? tri.texcoord[c] : 0, raw.hasNormals ? tri.normal[c] : 0};
+            auto [it, added] = ids.try_emplace(key, static_cast<uint32_t>(m.vertexCount()));
+            if (added) {
+                m.positions.insert(m.positions.end(), corner[c].position, corner[c].position + 3);
+                if (raw.hasTexcoords) m.texcoords.insert(m.texcoords.end(), corner[c].texcoord, corner[c].texcoord + 2);
+                if (raw.hasNormals) m.normals.insert(m.normals.end(), corner[c].normal, corner[c].normal + 3);
+            }
+            m.indices.push_back(it->second);
+        }
+        out.piece.materials.push_back(materialOf(raw, tri));
+    }
+}
+
+}  // namespace
+
+void RawMesh::spillTo(const std::string& dir) {
+    const std::filesystem::path d(dir);
+    positions.spillTo((d / "positions.raw").string());
+    texcoords.spillTo((d / "texcoords.raw").string());
+    normals.spillTo((d / "normals.raw").string());
+    colors.spillTo((d / "colors.raw").string());
+    triangles.spillTo((d / "triangles.raw").string());
+}
+
+void RawMesh::addPosition(const float p[3], const std::string& name) {
+    checkFinite(p, 3, positionCount(), "coordinate", name);
+    positions.push(p, 3);
+    bounds.min = {std::min(bounds.min.x, p[0]), std::min(bounds.min.y, p[1]), std::min(bounds.min.z, p[2])};
+    bounds.max = {std::max(bounds.max.x, p[0]), std::max(bounds.max.y, p[1]), std::max(bounds.max.z, p[2])};
+}
+
+void RawMesh::addTexcoord(float u, float v, const std::string& name) {
+    const float uv[2] = {u, v};
+    checkFinite(uv, 2, texcoords.size() / 2, "texture coordinate", name);
+    texcoords.push(uv, 2);
+}
+
+void RawMesh::addNormal(const float n[3], const std::string& name) {
+    checkFinite(n, 3, normals.size() / 3, "normal", name);
+    normals.push(n, 3);
+}
+
+void RawMesh::seal() {
+    positions.seal(), texcoords.seal(), normals.seal(), colors.seal(), triangles.seal();
+    if (hasTexcoords && texcoords.size() == 0) hasTexcoords = false;
+    if (hasNormals && normals.size() == 0) hasNormals = false;
+}
+
+bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& name) {
+    const RawTriangle& tri = raw.triangles[t];
+    const size_t positions = raw.positionCount(), texcoords = raw.texcoords.size() / 2, normals = raw.normals.size() / 3;
+    const bool colors = raw.colors.size() == 4 * positions && positions > 0;
+    for (int c = 0; c < 3; ++c) {
+        const uint32_t p = tri.position[c];
+        if (p >= positions) outOfRange(t, "vertex", p, positions, name);
+        std::copy_n(&raw.positions[3 * size_t(p)], 3, out[c].position);
+        if (raw.hasTexcoords) {
+            if (tri.texcoord[c] >= texcoords) outOfRange(t, "texture coordinate", tri.texcoord[c], texcoords, name);
+            std::copy_n(&raw.texcoords[2 * size_t(tri.texcoord[c])], 2, out[c].texcoord);
+        }
+        if (raw.hasNormals) {
+            if (tri.normal[c] >= normals) outOfRange(t, "normal", tri.normal[c], normals, name);
+            std::copy_n(&raw.normals[3 * size_t(tri.normal[c])], 3, out[c].normal);
+        }
+        if (colors) std::copy_n(&raw.colors[4 * size_t(p)], 4, out[c].color);
+    }
+    if (tri.position[0] == tri.position[1] || tri.position[1] == tri.position[2] || tri.position[0] == tri.position[2])
+        return false;
+    const float* a = out[0].position;
+    const float* b = out[1].position;
+    const float* c = out[2].position;
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};  // as sanitize() computes it
+    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    return u[1] * v[2] - u[2] * v[1] != 0 || u[2] * v[0] - u[0] * v[2] != 0 || u[0] * v[1] - u[1] * v[0] != 0;
+}
+
+SourceMesh toSourceMesh(const RawMesh& raw, const std::string& name) {
+    SourceMesh out;
+    out.materials = raw.materials;
+    out.stats = raw.stats;
+    if (raw.sharedIndices) copyIndexed(raw, out);
+    else weldCorners(raw, out, name);
+    sanitize(out, name);
+    return out;
+}
+
+}  // namespace hlod

@@ -1,0 +1,76 @@
+// An append-only array that lives in memory, or, given a file, on disk (issue 3: "the input may
+// be larger than memory"): appends are buffered and written out a chunk at a time; seal() then
+// maps the file read-only, so random reads are served by the page cache and the kernel may drop
+// pages under pressure instead of the process holding the whole array.
+#pragma once
+
+#include <sys/mman.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace hlod {
+
+template <class T>
+class SpillArray {
+public:
+    SpillArray() = default;
+    SpillArray(const SpillArray&) = delete;
+    SpillArray& operator=(const SpillArray&) = delete;
+    ~SpillArray() {
+        if (map_) munmap(map_, mapBytes_);
+        if (file_) std::fclose(file_);
+    }
+
+    // Spill to `path` (created, truncated) instead of memory; call before the first push.
+    void spillTo(const std::string& path) {
+        path_ = path;
+        file_ = std::fopen(path.c_str(), "w+b");
+        if (!file_) throw std::runtime_error(path + ": cannot create temporary file (" + std::strerror(errno) + ")");
+    }
+
+    void push(const T* values, size_t n) {
+        buffer_.insert(buffer_.end(), values, values + n);
+        size_ += n;
+        if (file_ && buffer_.size() >= kChunk) flush();
+    }
+
+    // Ends appending; data() is valid from here on.
+    void seal() {
+        if (!file_) return;
+        flush();
+        buffer_.shrink_to_fit();
+        mapBytes_ = size_ * sizeof(T);
+        if (mapBytes_ == 0) return;
+        void* p = mmap(nullptr, mapBytes_, PROT_READ, MAP_PRIVATE, fileno(file_), 0);
+        if (p == MAP_FAILED) throw std::runtime_error(path_ + ": cannot map temporary file (" + std::strerror(errno) + ")");
+        map_ = p;
+    }
+
+    size_t size() const { return size_; }
+    const T* data() const { return file_ ? static_cast<const T*>(map_) : buffer_.data(); }
+    const T& operator[](size_t i) const { return data()[i]; }
+
+private:
+    static constexpr size_t kChunk = (1u << 20) / sizeof(T);
+
+    void flush() {
+        if (!buffer_.empty() && std::fwrite(buffer_.data(), sizeof(T), buffer_.size(), file_) != buffer_.size())
+            throw std::runtime_error(path_ + ": write failed (" + std::strerror(errno) + ")");
+        buffer_.clear();
+        if (std::fflush(file_) != 0) throw std::runtime_error(path_ + ": write failed (" + std::strerror(errno) + ")");
+    }
+
+    std::vector<T> buffer_;
+    size_t size_ = 0;
+    std::string path_;
+    std::FILE* file_ = nullptr;
+    void* map_ = nullptr;
+    size_t mapBytes_ = 0;
+};
+
+}  // namespace hlod

@@ -1,0 +1,145 @@
+// Out-of-core input (issue 3): a single PLY/OBJ is parsed into spill files and streamed to the
+// block grid. The streamed blocks must be the blocks of the in-memory split, whatever the buffer
+// size; the streaming OBJ parser must refuse corrupt numbers and truncated lines.
+#include "helpers.h"
+
+#include "formats/validate.h"
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <sstream>
+
+namespace hlod::test {
+namespace {
+
+// A triangle as its three (position, uv) corners, rotated so the smallest corner comes first.
+using Tri = std::array<std::array<float, 5>, 3>;
+
+std::vector<Tri> triangles(const Piece& p) {
+    std::vector<Tri> out;
+    const MeshData& m = p.mesh;
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        Tri tri;
+        for (int c = 0; c < 3; ++c) {
+            const uint32_t i = m.indices[3 * t + c];
+            tri[c] = {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2], m.texcoords[2 * i], m.texcoords[2 * i + 1]};
+        }
+        std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
+        out.push_back(tri);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// A terrain with a cell grid that cuts through triangles (cells are not multiples of the quads).
+struct Fixture {
+    TempDir dir;
+    Piece input = terrain(90);
+    GridSpec grid;
+    Fixture() {
+        writePly(dir.file("t.ply"), input.mesh, true);
+        grid = chooseGrid(pieceBounds(input.mesh), input.mesh.triangleCount(), input.mesh.triangleCount() / 6, 0);
+    }
+    std::vector<CellFile> stream(uint64_t bufferBytes, ReadStats& stats) {
+        const std::string spill = dir.file("raw");
+        std::filesystem::create_directories(spill);
+        RawMesh raw;
+        raw.spillTo(spill);
+        parsePly(dir.file("t.ply"), raw);
+        return streamSplit(raw, grid, dir.path.string(), bufferBytes, "t.ply", stats, nullptr);
+    }
+};
+
+TEST(StreamSplit, GivesTheBlocksOfTheInMemorySplitForAnyBufferSize) {
+    Fixture f;
+    ASSERT_GT(f.grid.cellsU * f.grid.cellsV, 4u);
+    const std::vector<Piece> expected = splitByGrid(readMesh(f.dir.file("t.ply")).piece, f.grid);
+    for (uint64_t buffer : {uint64_t(1), uint64_t(1) << 30}) {  // flush every 64 KiB per cell / never
+        ReadStats stats;
+        const std::vector<CellFile> cells = f.stream(buffer, stats);
+        size_t nonEmpty = 0;
+        for (const Piece& e : expected) nonEmpty += e.mesh.triangleCount() > 0;
+        ASSERT_EQ(cells.size(), nonEmpty) << buffer;
+        for (const CellFile& cell : cells) {
+            const Piece got = loadPiece(cell.file);
+            EXPECT_EQ(got.mesh.triangleCount(), cell.triangles);
+            EXPECT_TRUE(triangles(got) == triangles(expected[cell.cell])) << "cell " << cell.cell << ", buffer " << buffer;
+        }
+        EXPECT_EQ(stats.degenerateDropped, 0u);
+    }
+}
+
+TEST(StreamSplit, NeighbouringBlocksShareTheirBorderVerticesExactly) {
+    Fixture f;
+    ReadStats stats;
+    const std::vector<CellFile> cells = f.stream(1, stats);
+    const float plane = f.grid.minU + f.grid.sizeU * 1.0f;  // the first grid line along U
+    std::vector<std::array<float, 3>> left, right;
+    for (const CellFile& cell : cells) {
+        const uint32_t u = cell.cell % f.grid.cellsU;
+        if (u > 1) continue;
+        const Piece p = loadPiece(cell.file);
+        for (size_t i = 0; i < p.mesh.vertexCount(); ++i)
+            if (p.mesh.positions[3 * i + f.grid.axisU] == plane)
+                (u == 0 ? left : right).push_back({p.mesh.positions[3 * i], p.mesh.positions[3 * i + 1], p.mesh.positions[3 * i + 2]});
+    }
+    std::sort(left.begin(), left.end()), std::sort(right.begin(), right.end());
+    ASSERT_GT(left.size(), 10u);
+    EXPECT_TRUE(left == right);  // bitwise: no crack between the blocks
+}
+
+TEST(StreamSplit, BuildOfOnePlyIsValidAndUsesNoMoreThanItsBlocks) {
+    TempDir dir;
+    const Piece p = terrain(80);
+    writePly(dir.file("t.ply"), p.mesh, true);
+    BuildRequest request;
+    request.input = dir.file("t.ply");
+    request.output = dir.file("t.hlod");
+    request.options.blockTriangles = p.mesh.triangleCount() / 4;
+    std::ostringstream log;
+    Progress progress(log, false);
+    const BuildSummary summary = runBuild(request, progress);
+    EXPECT_GE(summary.blockCount, 4u);
+    uint64_t split = 0;  // the in-memory split's triangles: the grid lines cut some triangles in three
+    for (const Piece& c : splitByGrid(p, chooseGrid(pieceBounds(p.mesh), p.mesh.triangleCount(), request.options.blockTriangles, 0)))
+        split += c.mesh.triangleCount();
+    EXPECT_EQ(summary.inputTriangles, split);
+    EXPECT_NE(log.str().find("read"), std::string::npos);
+    EXPECT_TRUE(validate(Database::open(request.output), ValidateOptions{}).empty());
+    for (const auto& entry : std::filesystem::directory_iterator(dir.path))  // temporaries removed
+        EXPECT_EQ(entry.path().string().find("hlod-build-"), std::string::npos) << entry.path();
+}
+
+TEST(ReadObjStream, CorruptNumbersAndTruncatedLinesAreRefused) {
+    TempDir dir;
+    const std::pair<const char*, const char*> cases[] = {
+        {"v 0 0 0\nv 1 0 x\nv 0 1 0\nf 1 2 3\n", "t.obj:2: corrupt OBJ (bad number 'x')"},
+        {"v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n", "vertex 1 has a NaN/Inf coordinate"},
+        {"v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n", "vertex 1 has a NaN/Inf coordinate"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", "corrupt OBJ (bad face index '0')"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n", "face index -7 out of range"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2", "t.obj:5: truncated or corrupt OBJ (face with fewer than 3 vertices)"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1", "t.obj:4: truncated or corrupt OBJ (missing number)"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", "triangle 1 uses vertex 8 but there are only 3"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/5\n", "uses texture coordinate 4 but there are only 1"},
+    };
+    for (const auto& [text, message] : cases) {
+        std::ofstream(dir.file("t.obj")) << text;
+        EXPECT_NE(errorOf([&] { readMesh(dir.file("t.obj")); }).find(message), std::string::npos)
+            << text << "\n-> " << errorOf([&] { readMesh(dir.file("t.obj")); });
+    }
+}
+
+TEST(ReadObjStream, PolygonsNegativeIndicesAndMissingLibraries) {
+    TempDir dir;
+    std::ofstream(dir.file("q.obj")) << "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\n";
+    const SourceMesh s = readMesh(dir.file("q.obj"));
+    EXPECT_EQ(s.piece.mesh.triangleCount(), 2u);  // the quad fanned
+    EXPECT_EQ(s.piece.mesh.vertexCount(), 4u);
+    ASSERT_EQ(s.stats.warnings.size(), 1u);
+    EXPECT_NE(s.stats.warnings[0].find("material library 'nowhere.mtl' not found"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hlod::test
