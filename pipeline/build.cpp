@@ -23,7 +23,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr uint64_t kBytesPerBlockTriangle = 400;  // working set of buildBlock per input triangle
+// Working set of buildBlock: per input triangle (the piece, its per-material copies, the
+// simplified meshes, the CGAL tree of the error measure, the children's pieces) and per source
+// texel (the decoded atlas, its downsampled levels, the node atlases being encoded).
+constexpr uint64_t kBytesPerBlockTriangle = 400;
+constexpr uint64_t kBytesPerSourceTexel = 6;
 
 struct BlockSource {
     std::string file;      // mesh file of a folder input, or the temporary piece file
@@ -137,8 +141,29 @@ Inputs findBlocks(const std::string& input, const BuildOptions& options, const s
     return in;
 }
 
+// Source texels of the materials a block's triangles use (image headers only).
+uint64_t usedTexels(const SourceMesh& mesh) {
+    std::vector<bool> used(mesh.materials.size());
+    for (uint32_t m : mesh.piece.materials) used[m] = true;
+    uint64_t texels = 0;
+    for (size_t m = 0; m < used.size(); ++m) {
+        if (!used[m]) continue;
+        const Material& material = mesh.materials[m];
+        if (material.image) texels += uint64_t(material.image->width) * material.image->height;
+        else if (!material.texturePath.empty()) texels += textureTexels(material.texturePath);
+    }
+    return texels;
+}
+
+struct GateTicket {
+    MemoryGate& gate;
+    uint64_t bytes;
+    GateTicket(MemoryGate& g, uint64_t b) : gate(g), bytes(b) { gate.acquire(bytes); }
+    ~GateTicket() { gate.release(bytes); }
+};
+
 void buildOne(const BlockSource& source, const std::vector<Material>& materials, uint32_t index, const std::string& dir,
-              const BuildOptions& options, Progress& progress, BlockStats& stats) {
+              const BuildOptions& options, MemoryGate& gate, Progress& progress, BlockStats& stats) {
     SourceMesh mesh;
     if (source.isPiece) {
         mesh.piece = loadPiece(source.file);
@@ -146,6 +171,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
     } else {
         mesh = readMesh(source.file);
     }
+    const GateTicket ticket(gate, blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh)));
     BlockRecordWriter records(blockRecordPath(dir, index));
     stats = buildBlock(mesh.piece, mesh.materials, index, options, &progress,
                        [&](NodeRecord&& r) { records.add(r); });
@@ -169,6 +195,29 @@ uint64_t expectedWork(const std::vector<BlockSource>& blocks, uint32_t first, ui
 }
 
 }  // namespace
+
+void MemoryGate::acquire(uint64_t bytes) {
+    std::unique_lock lock(mutex_);
+    freed_.wait(lock, [&] { return used_ == 0 || used_ + bytes <= limit_; });
+    used_ += bytes;
+}
+
+void MemoryGate::release(uint64_t bytes) {
+    {
+        const std::lock_guard lock(mutex_);
+        used_ -= bytes;
+    }
+    freed_.notify_all();
+}
+
+uint64_t MemoryGate::inUse() const {
+    const std::lock_guard lock(mutex_);
+    return used_;
+}
+
+uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels) {
+    return triangles * kBytesPerBlockTriangle + texels * kBytesPerSourceTexel;
+}
 
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {
     const char* simplifier = o.simplifier == Simplifier::Meshopt ? "meshopt" : "openmesh";
@@ -208,16 +257,14 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     if (request.shard) recordDir = request.output;
     fs::create_directories(recordDir);
 
-    uint64_t largest = 1;
-    for (const BlockSource& b : inputs.blocks) largest = std::max(largest, b.triangles);
     const int cores = options.jobs > 0 ? options.jobs : tbb::info::default_concurrency();
-    const int byMemory = static_cast<int>(std::max<uint64_t>(1, options.memoryLimit / (largest * kBytesPerBlockTriangle)));
     std::vector<BlockStats> stats(blockCount);
+    MemoryGate gate(options.memoryLimit);
     progress.beginStage("build", expectedWork(inputs.blocks, first, last, options.constants));
-    tbb::task_arena arena(std::max(1, std::min(cores, byMemory)));
+    tbb::task_arena arena(std::max(1, cores));
     arena.execute([&] {
-        tbb::parallel_for(first, last, [&](uint32_t b) {
-            buildOne(inputs.blocks[b], inputs.materials, b, recordDir, options, progress, stats[b]);
+        tbb::parallel_for(first, last, 1u, [&](uint32_t b) {
+            buildOne(inputs.blocks[b], inputs.materials, b, recordDir, options, gate, progress, stats[b]);
         });
     });
     progress.endStage();

@@ -4,7 +4,9 @@
 // each node simplifying the piece's ORIGINAL triangles by its factor (leaves, factor <= 1, keep
 // them), then dividing the piece into c_levelFactor children by c_levelFactor - 1 plane cuts
 // (cut.cpp). Textures are cropped and downsampled by the same factor (texture.cpp); the
-// geometric error is measured against the original piece (error.cpp).
+// geometric error is measured against the original piece (error.cpp). All nodes are encoded on
+// one position lattice (DracoOptions::positionStep, by default the block root's), so the
+// borders the cuts made identical stay identical after quantization.
 #include "pipeline/pipeline.h"
 
 #include <deque>
@@ -50,7 +52,10 @@ private:
 }  // namespace
 
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
-                      const BuildOptions& options, Progress* progress, const std::function<void(NodeRecord&&)>& emit) {
+                      const BuildOptions& blockOptions, Progress* progress, const std::function<void(NodeRecord&&)>& emit) {
+    BuildOptions options = blockOptions;  // every node of the block on one position lattice
+    if (options.draco.positionStep <= 0)
+        options.draco.positionStep = positionLatticeStep(pieceBounds(block.mesh), options.draco.positionBits);
     const Constants& c = options.constants;
     const uint32_t levelFactor = static_cast<uint32_t>(c.levelFactor);
     BlockStats stats;
@@ -65,7 +70,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         const std::vector<SubMesh> original = splitByMaterial(p.piece);
         std::vector<SubMesh> parts = original;
         if (p.factor > 1)
-            for (SubMesh& part : parts) part.mesh = simplifyMesh(part.mesh, p.factor, options.simplifier);
+            for (SubMesh& part : parts) part.mesh = simplifyMesh(part.mesh, p.factor, options.simplifier, part.locked);
         const double error = p.factor > 1 ? surfaceDistance(parts, original) : 0.0;
         std::vector<Image> images(parts.size());
         for (size_t i = 0; i < parts.size(); ++i)

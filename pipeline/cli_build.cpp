@@ -45,11 +45,12 @@ void parseBlockRange(const std::string& text, BuildRequest& r) {
 }
 
 void writeSidecar(const std::string& db, const std::vector<StageFigures>& stages, const BuildSummary& summary, double wall,
-                  double cpu) {
+                  double cpu, uint64_t memoryLimit) {
     nlohmann::json j;
     j["stages"] = nlohmann::json::array();
     for (const StageFigures& s : stages) j["stages"].push_back({{"name", s.name}, {"seconds", s.seconds}, {"items", s.items}});
     j["peak_rss_bytes"] = peakRss();
+    j["memory_limit_bytes"] = memoryLimit;
     j["input_triangles"] = summary.inputTriangles;
     j["wall_seconds"] = wall;
     j["cpu_seconds"] = cpu;
@@ -58,7 +59,7 @@ void writeSidecar(const std::string& db, const std::vector<StageFigures>& stages
     std::ofstream(db + ".build.json") << j.dump(2) << "\n";
 }
 
-void printSummary(const std::string& db, const BuildSummary& s, double wall, double cpu) {
+void printSummary(const std::string& db, const BuildSummary& s, double wall, double cpu, uint64_t memoryLimit) {
     std::cout << "nodes per level:";
     uint64_t nodes = 0;
     for (size_t l = 0; l < s.nodesPerLevel.size(); ++l) std::cout << " hlod" << l << "=" << s.nodesPerLevel[l], nodes += s.nodesPerLevel[l];
@@ -67,7 +68,9 @@ void printSummary(const std::string& db, const BuildSummary& s, double wall, dou
               << "summary: " << s.inputTriangles << " input triangles, " << bytes << " bytes ("
               << (s.inputTriangles ? double(bytes) / s.inputTriangles : 0) << " B/input triangle), wall " << wall << " s, cpu "
               << cpu << " s (" << (cpu > 0 ? s.inputTriangles / cpu / 1000 : 0) << " k input tri/CPU-s), peak RSS "
-              << formatBytes(peakRss()) << "\n";
+              << formatBytes(peakRss()) << " (--memory-limit " << formatBytes(memoryLimit) << ")\n";
+    if (peakRss() > memoryLimit)
+        std::cout << "warning: peak RSS " << formatBytes(peakRss()) << " exceeded --memory-limit " << formatBytes(memoryLimit) << "\n";
 }
 
 int runBuildCommand(BuildArgs& a) {
@@ -91,8 +94,8 @@ int runBuildCommand(BuildArgs& a) {
                   << std::min(a.request.lastBlock, summary.blockCount) << " of " << summary.blockCount << "\n";
         return 0;
     }
-    printSummary(a.request.output, summary, wall, cpuSeconds());
-    writeSidecar(a.request.output, stages, summary, wall, cpuSeconds());
+    printSummary(a.request.output, summary, wall, cpuSeconds(), o.memoryLimit);
+    writeSidecar(a.request.output, stages, summary, wall, cpuSeconds(), o.memoryLimit);
     return 0;
 }
 
@@ -123,7 +126,9 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)");
     sub->add_option("--memory-limit", o.memoryLimit, "working-set bound, e.g. 512M, 2G (default 1G)")
         ->transform(CLI::AsSizeValue(false));
-    sub->add_option("--draco-position-bits", o.draco.positionBits, "Draco position quantization bits")->check(CLI::Range(8, 30));
+    sub->add_option("--draco-position-bits", o.draco.positionBits,
+                    "Draco position bits over the largest block (one lattice for all nodes, FORMAT.md)")
+        ->check(CLI::Range(8, kMaxPositionBits));
     sub->add_option("--draco-texcoord-bits", o.draco.texcoordBits, "Draco texture coordinate quantization bits")->check(CLI::Range(6, 30));
     sub->add_option("--draco-level", o.draco.compressionLevel, "Draco compression level 0..10")->check(CLI::Range(0, 10));
     sub->add_option("--jpeg-quality", o.jpegQuality, "JPEG quality of node textures")->check(CLI::Range(1, 100));

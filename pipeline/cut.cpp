@@ -4,10 +4,15 @@
 // shared by both neighbours, so pieces stay welded and both sides of the cut get identical
 // border vertices (no cracks). Hand-written: CGAL's PMP::split drops UVs (see dependencies.md).
 //
-// dividePiece places its c_levelFactor - 1 planes at triangle-count quantiles of the centroids
-// along the longest axis (equal triangle counts, not equal lengths): children then carry about
-// 1/c_levelFactor of the parent's triangles each, which is what the factor recursion of §3.2
-// assumes, and uneven scan density cannot produce empty or overfull pieces.
+// dividePiece places its c_levelFactor - 1 planes along the longest axis to balance triangle
+// counts (plane k near the k/c_levelFactor quantile of the centroids: children then carry about
+// 1/c_levelFactor of the parent's triangles, as the factor recursion of §3.2 assumes, and uneven
+// scan density cannot produce empty or overfull pieces) while crossing few triangles: a plane at
+// the quantile itself often runs inside a dense surface nearly parallel to it (a noisy facade
+// when the piece is deeper than it is wide), slicing every triangle of that surface into three
+// and leaving all the new vertices locked on the border. Each plane minimises
+// 3 x crossing triangles + |triangles below - k/c x triangles| over 63 positions evenly spread
+// across the extent and the quantile itself.
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
@@ -128,25 +133,55 @@ CutResult cutPiece(const Piece& piece, int axis, float position) {
     return {below.finish(ex), above.finish(ex)};
 }
 
+namespace {
+
+constexpr int kCandidates = 64;
+constexpr double kCrossingWeight = 3;  // a crossing triangle becomes three, with two locked vertices
+
+std::vector<float> divisionPlanes(const MeshData& m, int axis, uint32_t count) {
+    const size_t n = m.triangleCount();
+    std::vector<float> lows(n), highs(n), centroids(n);
+    for (size_t t = 0; t < n; ++t) {
+        const float a = m.positions[3 * m.indices[3 * t] + axis], b = m.positions[3 * m.indices[3 * t + 1] + axis],
+                    c = m.positions[3 * m.indices[3 * t + 2] + axis];
+        lows[t] = std::min({a, b, c}), highs[t] = std::max({a, b, c}), centroids[t] = (a + b + c) / 3.0f;
+    }
+    std::sort(lows.begin(), lows.end()), std::sort(highs.begin(), highs.end()), std::sort(centroids.begin(), centroids.end());
+    std::vector<float> coordinates(m.vertexCount());
+    for (size_t i = 0; i < coordinates.size(); ++i) coordinates[i] = m.positions[3 * i + axis];
+    std::sort(coordinates.begin(), coordinates.end());
+    auto below = [](const std::vector<float>& v, float p) { return double(std::upper_bound(v.begin(), v.end(), p) - v.begin()); };
+    auto cost = [&](float p, double wanted) {
+        const double crossing = double(std::lower_bound(lows.begin(), lows.end(), p) - lows.begin()) - below(highs, p);
+        return (kCrossingWeight * crossing + std::abs(below(centroids, p) - wanted)) / double(n);
+    };
+    const float lo = centroids.front(), hi = centroids.back();
+    std::vector<float> planes;
+    for (uint32_t k = 1; k < count && n > 0; ++k) {
+        const double wanted = double(n) * k / count;
+        float best = centroids[static_cast<size_t>(wanted)];
+        double bestCost = cost(best, wanted);
+        for (int i = 1; i < kCandidates; ++i) {  // through a vertex: no sliver beside a vertex on the plane
+            const float even = lo + (hi - lo) * static_cast<float>(i) / kCandidates;
+            const float p = *std::min(std::lower_bound(coordinates.begin(), coordinates.end(), even), coordinates.end() - 1);
+            if (const double c = cost(p, wanted); c < bestCost) best = p, bestCost = c;
+        }
+        planes.push_back(best);
+    }
+    std::sort(planes.begin(), planes.end());
+    planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
+    return planes;
+}
+
+}  // namespace
+
 std::vector<Piece> dividePiece(const Piece& piece, uint32_t count) {
     const Box3f b = pieceBounds(piece.mesh);
     const float extent[3] = {b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z};
     const int axis = static_cast<int>(std::max_element(extent, extent + 3) - extent);
-    const MeshData& m = piece.mesh;
-    std::vector<float> centroids(m.triangleCount());
-    for (size_t t = 0; t < centroids.size(); ++t)
-        centroids[t] = (m.positions[3 * m.indices[3 * t] + axis] + m.positions[3 * m.indices[3 * t + 1] + axis] +
-                        m.positions[3 * m.indices[3 * t + 2] + axis]) / 3.0f;
-    std::vector<float> planes;
-    for (uint32_t k = 1; k < count && !centroids.empty(); ++k) {
-        auto nth = centroids.begin() + static_cast<ptrdiff_t>(centroids.size() * k / count);
-        std::nth_element(centroids.begin(), nth, centroids.end());
-        planes.push_back(*nth);
-    }
-    std::sort(planes.begin(), planes.end());
     std::vector<Piece> pieces;
     Piece rest = piece;
-    for (float plane : planes) {
+    for (float plane : divisionPlanes(piece.mesh, axis, count)) {
         CutResult cut = cutPiece(rest, axis, plane);
         if (cut.below.mesh.triangleCount() > 0) pieces.push_back(std::move(cut.below));
         rest = std::move(cut.above);

@@ -12,10 +12,12 @@
 #include "formats/db.h"
 #include "pipeline/spill_array.h"
 
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -149,14 +151,18 @@ void appendPiece(const std::string& file, const Piece& piece);
 Piece loadPiece(const std::string& file);
 
 // simplify.cpp. Simplifies each material's triangles to about triangleCount / factor with
-// quadric error metrics, keeping every open border (piece cuts, material seams) locked.
+// quadric error metrics, keeping locked the vertices neighbours share: open-border vertices on
+// the piece's bounding-box faces (the cut planes) and material-seam vertices.
 enum class Simplifier { Meshopt, OpenMesh };
 struct SubMesh {
     uint32_t material = 0;
     MeshData mesh;
+    std::vector<uint8_t> locked;  // per vertex, from splitByMaterial (sharedVertices of the piece)
 };
+std::vector<uint8_t> sharedVertices(const Piece& piece);  // per vertex: must stay for crack-free borders
 std::vector<SubMesh> splitByMaterial(const Piece& piece);
-MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier);
+// `locked` per vertex of `mesh`; when empty, sharedVertices of the mesh alone.
+MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier, const std::vector<uint8_t>& locked = {});
 
 // error.cpp: largest distance from points sampled on `simplified` (edge midpoints and
 // centroids) to the surface of `original` (CGAL AABB tree). 0 when either is empty.
@@ -207,6 +213,24 @@ uint64_t currentRss();  // bytes
 uint64_t peakRss();     // bytes
 std::string formatBytes(uint64_t bytes);
 
+// build.cpp: admits blocks into the parallel build while their estimated working sets fit
+// --memory-limit together; a block larger than the limit alone waits until it runs by itself.
+class MemoryGate {
+public:
+    explicit MemoryGate(uint64_t limit) : limit_(limit) {}
+    void acquire(uint64_t bytes);
+    void release(uint64_t bytes);
+    uint64_t inUse() const;
+
+private:
+    uint64_t limit_, used_ = 0;
+    mutable std::mutex mutex_;
+    std::condition_variable freed_;
+};
+// Working set of buildBlock for a block (measured, see build.cpp) plus its source textures.
+uint64_t blockWorkingSet(uint64_t triangles, uint64_t textureTexels);
+uint64_t textureTexels(const std::string& path);  // from the image header alone; 0 when unreadable
+
 // One node of a block, encoded and ready for the writer. parentLocal indexes the block's
 // node list (kNone for the block's hlod0).
 struct NodeRecord {
@@ -223,12 +247,18 @@ struct BlockStats {
 };
 
 // build_tree.cpp: the §3.2 recursion over one block; nodes breadth-first, hlod0 first.
-// `emit` receives each node as soon as it is packed (bounded memory).
+// `emit` receives each node as soon as it is packed (bounded memory). All its nodes are encoded
+// on the position lattice options.draco.positionStep; when 0, the block's own
+// positionLatticeStep (blocks then share borders exactly only if their steps agree).
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
                       const BuildOptions& options, Progress* progress,
                       const std::function<void(NodeRecord&&)>& emit);
 
 // pack.cpp: encodes a node's sub-meshes (Draco) and textures (JPEG) and fills §3.3 attributes.
+// gridPositionStep: the position lattice step for every block of `grid` over `bounds` (from
+// one cell, sizeU x sizeV x the third axis), for BuildOptions::draco.positionStep: one lattice
+// for the whole database, so that neighbouring blocks share their borders exactly.
+double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits);
 NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const Box3f& bounds,
                     uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
                     const BuildOptions& options);

@@ -1,9 +1,13 @@
 // Simplification of thesis §3.2 ("Qslim ... with a metric such that the number of triangles
-// decrease by a factor"): quadric error metrics down to triangleCount / factor, with every open
-// border locked so piece cuts and material seams keep their vertices and neighbouring nodes of
-// any level meet without cracks. Both simplifiers only collapse edges onto existing vertices, so
-// texture coordinates stay exact. meshoptimizer (default, ~1.4 M tri/s) or OpenMesh's Decimater
-// with ModQuadric (~50 k tri/s, selectable with --simplifier openmesh).
+// decrease by a factor"): quadric error metrics down to triangleCount / factor. The vertices a
+// neighbouring node can share are locked, so pieces of any level meet without cracks: open-border
+// vertices on the piece's bounding-box faces (every cut plane, of the block grid or of §3.2's
+// division, is such a face) and vertices on a material seam (materials are simplified apart).
+// Other open borders (scan holes, occlusion gaps, the edge of the scanned area) simplify freely:
+// locking every border, as meshopt_SimplifyLockBorder does, keeps a hole-riddled scan from ever
+// reaching its target. Both simplifiers only collapse edges onto existing vertices, so texture
+// coordinates stay exact. meshoptimizer (default, ~1.4 M tri/s) or OpenMesh's Decimater with
+// ModQuadric (~50 k tri/s, selectable with --simplifier openmesh).
 #include "pipeline/pipeline.h"
 
 #include <meshoptimizer.h>
@@ -13,17 +17,20 @@
 
 #include <cfloat>
 #include <cmath>
+#include <unordered_map>
 
 namespace hlod {
 namespace {
 
-// Keeps only the vertices `indices` use, in first-use order.
-MeshData compact(const MeshData& mesh, const std::vector<uint32_t>& indices) {
+// Keeps only the vertices `indices` use, in first-use order; `kept` (optional) receives, per
+// new vertex, its index in `mesh`.
+MeshData compact(const MeshData& mesh, const std::vector<uint32_t>& indices, std::vector<uint32_t>* kept = nullptr) {
     MeshData out;
     std::vector<uint32_t> remap(mesh.vertexCount(), kNone);
     for (uint32_t i : indices) {
         if (remap[i] == kNone) {
             remap[i] = static_cast<uint32_t>(out.vertexCount());
+            if (kept) kept->push_back(i);
             out.positions.insert(out.positions.end(), mesh.positions.begin() + 3 * i, mesh.positions.begin() + 3 * i + 3);
             if (!mesh.texcoords.empty())
                 out.texcoords.insert(out.texcoords.end(), mesh.texcoords.begin() + 2 * i, mesh.texcoords.begin() + 2 * i + 2);
@@ -37,18 +44,24 @@ MeshData compact(const MeshData& mesh, const std::vector<uint32_t>& indices) {
     return out;
 }
 
-std::vector<uint32_t> simplifyMeshopt(const MeshData& mesh, size_t targetTriangles) {
+// meshoptimizer 0.18 has no per-vertex lock (0.21's vertex_lock). A vertex that shares its
+// position with an unreferenced twin is classified Kind_Locked by its simplifier (a two-way
+// wedge whose twin has no open edge is not a seam), so it is never collapsed; the twins are
+// appended after the real vertices and never appear in the result.
+std::vector<uint32_t> simplifyMeshopt(const MeshData& mesh, size_t targetTriangles, const std::vector<uint8_t>& locked) {
+    std::vector<float> positions = mesh.positions;
+    for (size_t i = 0; i < locked.size(); ++i)
+        if (locked[i]) positions.insert(positions.end(), mesh.positions.begin() + 3 * i, mesh.positions.begin() + 3 * i + 3);
     std::vector<uint32_t> out(mesh.indices.size());
-    const size_t n = meshopt_simplify(out.data(), mesh.indices.data(), mesh.indices.size(), mesh.positions.data(),
-                                      mesh.vertexCount(), 3 * sizeof(float), targetTriangles * 3, FLT_MAX,
-                                      meshopt_SimplifyLockBorder, nullptr);
+    const size_t n = meshopt_simplify(out.data(), mesh.indices.data(), mesh.indices.size(), positions.data(),
+                                      positions.size() / 3, 3 * sizeof(float), targetTriangles * 3, FLT_MAX, 0, nullptr);
     out.resize(n);
     return out;
 }
 
 using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 
-std::vector<uint32_t> simplifyOpenMesh(const MeshData& mesh, size_t targetTriangles) {
+std::vector<uint32_t> simplifyOpenMesh(const MeshData& mesh, size_t targetTriangles, const std::vector<uint8_t>& locked) {
     OMesh om;
     om.request_vertex_status(), om.request_edge_status(), om.request_face_status();
     std::vector<OMesh::VertexHandle> handles(mesh.vertexCount());
@@ -60,8 +73,8 @@ std::vector<uint32_t> simplifyOpenMesh(const MeshData& mesh, size_t targetTriang
         if (!om.add_face(handles[tri[0]], handles[tri[1]], handles[tri[2]]).is_valid())
             out.insert(out.end(), tri, tri + 3);
     }
-    for (auto vh : om.vertices())
-        if (om.is_boundary(vh)) om.status(vh).set_locked(true);
+    for (size_t i = 0; i < locked.size(); ++i)
+        if (locked[i]) om.status(handles[i]).set_locked(true);
     OpenMesh::Decimater::DecimaterT<OMesh> decimater(om);
     OpenMesh::Decimater::ModQuadricT<OMesh>::Handle quadric;
     decimater.add(quadric);
@@ -77,7 +90,36 @@ std::vector<uint32_t> simplifyOpenMesh(const MeshData& mesh, size_t targetTriang
 
 }  // namespace
 
+std::vector<uint8_t> sharedVertices(const Piece& piece) {
+    const MeshData& m = piece.mesh;
+    const size_t vc = m.vertexCount();
+    std::vector<uint32_t> position(vc);  // vertices with equal positions share an id
+    meshopt_generateVertexRemap(position.data(), nullptr, vc, m.positions.data(), vc, 3 * sizeof(float));
+    std::unordered_map<uint64_t, uint32_t> edgeUses;
+    std::vector<uint32_t> material(vc, kNone);
+    std::vector<uint8_t> seam(vc), border(vc);
+    for (size_t t = 0; t < m.triangleCount(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = position[m.indices[3 * t + k]], b = position[m.indices[3 * t + (k + 1) % 3]];
+            ++edgeUses[(uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
+            if (material[a] == kNone) material[a] = piece.materials[t];
+            else if (material[a] != piece.materials[t]) seam[a] = 1;
+        }
+    for (const auto& [edge, uses] : edgeUses)
+        if (uses == 1) border[edge >> 32] = border[edge & 0xFFFFFFFFu] = 1;
+    const Box3f box = pieceBounds(m);
+    const float lo[3] = {box.min.x, box.min.y, box.min.z}, hi[3] = {box.max.x, box.max.y, box.max.z};
+    std::vector<uint8_t> locked(vc);
+    for (size_t i = 0; i < vc; ++i) {
+        const float* p = &m.positions[3 * i];
+        const bool onFace = p[0] == lo[0] || p[0] == hi[0] || p[1] == lo[1] || p[1] == hi[1] || p[2] == lo[2] || p[2] == hi[2];
+        locked[i] = seam[position[i]] || (border[position[i]] && onFace);
+    }
+    return locked;
+}
+
 std::vector<SubMesh> splitByMaterial(const Piece& piece) {
+    const std::vector<uint8_t> locked = sharedVertices(piece);
     std::vector<SubMesh> parts;
     std::vector<uint32_t> slot;
     std::vector<std::vector<uint32_t>> indices;
@@ -88,15 +130,21 @@ std::vector<SubMesh> splitByMaterial(const Piece& piece) {
         auto& list = indices[slot[m]];
         list.insert(list.end(), piece.mesh.indices.begin() + 3 * t, piece.mesh.indices.begin() + 3 * t + 3);
     }
-    for (uint32_t m = 0; m < slot.size(); ++m)
-        if (slot[m] != kNone) parts.push_back({m, compact(piece.mesh, indices[slot[m]])});
+    for (uint32_t m = 0; m < slot.size(); ++m) {
+        if (slot[m] == kNone) continue;
+        std::vector<uint32_t> kept;
+        SubMesh part{m, compact(piece.mesh, indices[slot[m]], &kept), {}};
+        for (uint32_t i : kept) part.locked.push_back(locked[i]);
+        parts.push_back(std::move(part));
+    }
     return parts;
 }
 
-MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier) {
+MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier, const std::vector<uint8_t>& locked) {
     if (factor <= 1 || mesh.triangleCount() < 2) return mesh;
+    const std::vector<uint8_t> lock = locked.size() == mesh.vertexCount() ? locked : sharedVertices({mesh, std::vector<uint32_t>(mesh.triangleCount())});
     const size_t target = std::max<size_t>(1, static_cast<size_t>(std::llround(mesh.triangleCount() / factor)));
-    return compact(mesh, simplifier == Simplifier::Meshopt ? simplifyMeshopt(mesh, target) : simplifyOpenMesh(mesh, target));
+    return compact(mesh, simplifier == Simplifier::Meshopt ? simplifyMeshopt(mesh, target, lock) : simplifyOpenMesh(mesh, target, lock));
 }
 
 }  // namespace hlod

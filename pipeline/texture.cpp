@@ -33,6 +33,12 @@ Image loadTexture(const std::string& path) {
     return image;
 }
 
+uint64_t textureTexels(const std::string& path) {
+    auto input = OIIO::ImageInput::open(path);
+    if (!input) return 0;
+    return static_cast<uint64_t>(std::max(0, input->spec().width)) * static_cast<uint64_t>(std::max(0, input->spec().height));
+}
+
 Image downsampleTexture(const Image& source, double factor) {
     const double scale = factor > 1 ? 1 / std::sqrt(factor) : 1;
     const int w = static_cast<int>(source.width), h = static_cast<int>(source.height), nc = static_cast<int>(source.channels);

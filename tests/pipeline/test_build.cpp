@@ -5,6 +5,10 @@
 
 #include "formats/validate.h"
 
+#include <atomic>
+#include <chrono>
+#include <thread>
+
 #include <sstream>
 
 namespace hlod::test {
@@ -130,6 +134,35 @@ TEST_F(TerrainBuild, ByteIdenticalForAnyJobs) {
     build(file("terrain.ply"), file("j3.hlod"), smallOptions(3));
     EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("j2.hlod")));
     EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("j3.hlod")));
+    BuildOptions tight = smallOptions(2);
+    tight.memoryLimit = 1;  // the gate admits one block at a time; split buffers flush at their minimum
+    build(file("terrain.ply"), file("tight.hlod"), tight);
+    EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("tight.hlod")));
+}
+
+TEST(MemoryGate, AdmitsBlocksWhileTheyFitAndALargeOneAlone) {
+    MemoryGate gate(100);
+    gate.acquire(60);
+    std::atomic<int> stage{0};
+    std::thread second([&] {
+        gate.acquire(60);  // 60 + 60 > 100: waits for the first release
+        stage = 2;
+        gate.release(60);
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    EXPECT_EQ(stage.load(), 0);
+    EXPECT_EQ(gate.inUse(), 60u);
+    gate.acquire(40);  // fits beside the first
+    EXPECT_EQ(gate.inUse(), 100u);
+    gate.release(40);
+    gate.release(60);
+    second.join();
+    EXPECT_EQ(stage.load(), 2);
+    gate.acquire(500);  // larger than the limit: admitted when nothing else runs
+    EXPECT_EQ(gate.inUse(), 500u);
+    gate.release(500);
+    EXPECT_EQ(blockWorkingSet(1000, 0), 1000 * blockWorkingSet(1, 0));
+    EXPECT_GT(blockWorkingSet(0, 1000), 0u);
 }
 
 TEST_F(TerrainBuild, ShardsMergedEqualOneBuild) {

@@ -86,11 +86,11 @@ TEST(Cracks, LargestBorderGapBetweenLevelsIsZero) {
     const float plane = pieceBounds(pieces[0].mesh).max.x;
     const MeshData a = simplifyMesh(pieces[0].mesh, 6, Simplifier::Meshopt);
     std::vector<SubMesh> bChildren;
-    for (Piece& child : dividePiece(pieces[1], 4)) bChildren.push_back({0, simplifyMesh(child.mesh, 1.5, Simplifier::Meshopt)});
+    for (Piece& child : dividePiece(pieces[1], 4)) bChildren.push_back({0, simplifyMesh(child.mesh, 1.5, Simplifier::Meshopt), {}});
     const double gapAtoB = surfaceDistance({pointsOnPlane(a, 0, plane)}, bChildren);
     std::vector<SubMesh> bPoints;
     for (const SubMesh& c : bChildren) bPoints.push_back(pointsOnPlane(c.mesh, 0, plane));
-    const double gapBtoA = surfaceDistance(bPoints, {{0, a}});
+    const double gapBtoA = surfaceDistance(bPoints, {{0, a, {}}});
     EXPECT_GT(pointsOnPlane(a, 0, plane).mesh.vertexCount(), 10u);
     EXPECT_LE(gapAtoB, 1e-5);
     EXPECT_LE(gapBtoA, 1e-5);
