@@ -121,6 +121,12 @@ int runPlay(PlayArgs& a) {
         {"require_loaded_children", a.player.requireLoadedChildren ? "yes" : "no"},
         {"overhead_ms", std::to_string(player.overheadMs())},
         {"initial_v_time", std::to_string(player.vTime())},
+        {"lookahead_s", std::to_string(a.player.lookaheadSeconds)},
+        {"teleport_speed", std::to_string(a.player.teleportSpeed)},
+        {"v_time_gain", std::to_string(a.player.vTimeGain)},
+        {"share_band", std::to_string(a.player.shareLoop.band)},
+        {"share_step", std::to_string(a.player.shareLoop.step)},
+        {"initial_hyst", std::to_string(a.player.initialHystSwitches * c.hystSwitch)},
         {"time", "simulated (camera sampled at the sum of measured frame times)"}};
     for (const auto& [k, v] : info) std::cout << k << ": " << v << '\n';
     StatsFile csv(a.stats);
@@ -178,6 +184,15 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured with drawing off)");
     sub->add_option("--calibration", a->calibration,
                     "render-time model from `hlod calibrate`: sets the initial v_time and the fixed overhead");
+    sub->add_option("--lookahead", a->player.lookaheadSeconds,
+                    "s: distance is also measured from the eye moved ahead by velocity x this (player/SELECTION.md)");
+    sub->add_option("--teleport-speed", a->player.teleportSpeed, "m/s: faster camera moves count as this speed");
+    sub->add_option("--v-time-gain", a->player.vTimeGain, "first feedback loop: fraction of the v_time error corrected per frame");
+    sub->add_option("--share-band", a->player.shareLoop.band,
+                    "second feedback loop: frames outside target x (1 -+ band) move the hlod0 share");
+    sub->add_option("--share-step", a->player.shareLoop.step, "second feedback loop: relative step of the hlod0 share per frame");
+    sub->add_option("--initial-hyst", a->player.initialHystSwitches,
+                    "hysteresis counter of a node evaluated first, in units of c_hystSwitch (default -1)");
     sub->add_option("--frames-dir", a->framesDir, "write PNG frames here (needs --renderer gl)");
     sub->add_option("--every", a->every, "with --frames-dir: every Nth frame");
     sub->add_flag("--color-by-level", a->player.frameOptions.colorByLevel, "shade nodes by level");

@@ -3,7 +3,8 @@
 // chunks, gives way to a more urgent node (the partial read is suspended, resumed later).
 // Draco/JPEG decoding happens here; the render thread only uploads. Memory: a node is loaded
 // only when resident bytes + its expected decoded size fit maxMemory; the render thread
-// evicts the lowest-priority resident nodes to make room (never hlod0, never drawn ones).
+// evicts the lowest-priority resident nodes to make room (never hlod0, never a node on the
+// current front's path: drawn or refined).
 #include "player/loader.h"
 
 #include "formats/db.h"

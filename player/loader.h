@@ -1,7 +1,7 @@
 // The loading thread of thesis §4.3: incremental, preemptible pre-fetching of the
 // highest-priority unloaded node from the priority queue, decoding off the render thread, and
 // the memory budget (eviction of the lowest-priority resident nodes, done by the render thread
-// so that it never evicts what it draws). Also steppable synchronously for exact tests.
+// so that it never evicts the front's path). Also steppable synchronously for exact tests.
 #pragma once
 
 #include "player/node_source.h"

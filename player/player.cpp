@@ -106,7 +106,8 @@ struct Player::Impl {
             vTime0 = std::max(vTime0, 1e-9);
         }
         vTime = vTime0;
-        share = std::max(c.targetTimeMs - overhead, 0.1 * c.targetTimeMs);
+        // The first hlod0 share: the target less the fixed overhead, i.e. the time the nodes may take.
+        share = std::max(c.targetTimeMs - overhead, kMinShare * c.targetTimeMs);
     }
 
     void updateVelocity(const Camera& camera, double t) {
@@ -116,8 +117,10 @@ struct Player::Impl {
                 v[i] = (camera.position[i] - previousPosition[i]) / (t - previousTime);
                 speed += v[i] * v[i];
             }
-            // Teleports are not motion: speeds above 100 m/s are clamped.
-            double scale = std::sqrt(speed) > 100 ? 100 / std::sqrt(speed) : 1;
+            // Teleports are not motion: speeds above teleportSpeed are clamped to it. The estimate
+            // is smoothed: half the previous velocity, half this frame's.
+            double limit = options.teleportSpeed;
+            double scale = std::sqrt(speed) > limit ? limit / std::sqrt(speed) : 1;
             for (int i = 0; i < 3; ++i) velocity[i] = 0.5 * velocity[i] + 0.5 * v[i] * scale;
         }
         havePrevious = true;
@@ -147,8 +150,11 @@ struct Player::Impl {
         std::vector<uint32_t> forget;
         for (uint32_t id : lastVisited)
             if (visitedStamp[id] != stamp && skeleton.nodes[id].level > 0) forget.push_back(id);
+        // Pinned: every node on the front's path (hlod0, the refined ancestors, the drawn nodes).
+        // Evicting a refined node would leave its visible child unloaded next frame and the
+        // front would collapse to the parent.
         auto pinned = [&](uint32_t id) {
-            return skeleton.nodes[id].level == 0 || selection.role(id) == DrawState::Drawn;
+            return skeleton.nodes[id].level == 0 || selection.role(id) != DrawState::None;
         };
         std::vector<uint32_t> evicted = loader.updateAndEvict(updates, forget, pinned);
         for (uint32_t id : evicted) {
@@ -157,16 +163,6 @@ struct Player::Impl {
         }
         lastVisited = sel.visited;
         return uint32_t(evicted.size());
-    }
-
-    // Second feedback loop (§4.2): more time for the hlod0 nodes when loaded nodes were refused
-    // while the frame came in well under target; less when frames run well over. The share is
-    // kept within [0.1, 4] x c_targetTime.
-    void adjustShare(double actualMs, uint32_t refused) {
-        double target = c.targetTimeMs;
-        if (refused > 0 && actualMs < target * (1 - options.shareBand)) share *= 1 + options.shareStep;
-        if (actualMs > target * (1 + options.shareBand)) share *= 1 - options.shareStep;
-        share = std::clamp(share, 0.1 * target, 20 * target);
     }
 
     FrameStats frame(const Camera& camera, double timeSeconds) {
@@ -187,19 +183,17 @@ struct Player::Impl {
             return NodeEval{nodePriority(n, view, c, fv), fv};
         };
         auto t0 = std::chrono::steady_clock::now();
-        Selection sel = selectFront(skeleton, selectionParams(c, share, vTime, options.requireLoadedChildren), evaluate,
-                                    selection, resident);
+        SelectionParams params = selectionParams(c, share, vTime, options.requireLoadedChildren);
+        params.initialHyst = options.initialHystSwitches * c.hystSwitch;
+        Selection sel = selectFront(skeleton, params, evaluate, selection, resident);
         s.selectionMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         s.evictions = updateLoader(sel);
 
         s.actualMs = renderer.drawFrame(camera, sel.drawn, options.frameOptions);
         s.estimateNoFeedbackMs = overhead + vTime0 * sel.drawnCost;
         s.estimateMs = overhead + vTime * sel.drawnCost;
-        if (sel.drawnCost > 0) {  // first feedback loop (§4.2): v_time towards the measured rate
-            double measured = std::max(s.actualMs - overhead, 0.0) / sel.drawnCost;
-            vTime = std::max(vTime + options.vTimeGain * (measured - vTime), 1e-9);
-        }
-        adjustShare(s.actualMs, sel.refused);
+        vTime = nextVTime(vTime, s.actualMs, overhead, sel.drawnCost, options.vTimeGain);
+        share = nextHlod0Share(share, c.targetTimeMs, s.actualMs, sel.refused, options.shareLoop);
 
         s.vTime = vTime;
         s.nodesPerLevel.assign(levels, 0);

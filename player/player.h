@@ -6,6 +6,7 @@
 
 #include "formats/constants.h"
 #include "formats/db.h"
+#include "player/feedback.h"
 #include "player/renderer.h"
 
 #include <cstdint>
@@ -26,9 +27,10 @@ struct PlayerOptions {
     uint64_t maxUploadBytesPerFrame = 32ull << 20;  // ... and by bytes (at least one per frame)
     uint64_t chunkBytes = 64ull << 10;  // incremental load unit; preemption is checked between chunks
     double lookaheadSeconds = 0.5;      // distance is also measured from position + velocity * this
+    double teleportSpeed = 100;         // m/s; faster camera moves are clamped to this (teleports)
     double vTimeGain = 0.2;             // first feedback loop: v_time moves this fraction per frame
-    double shareBand = 0.1;             // second loop: "well under/over" = outside target * (1 -+ band)
-    double shareStep = 0.05;            // second loop: multiplicative step of the hlod0 share per frame
+    ShareLoop shareLoop;                // second feedback loop: band and step (player/feedback.h)
+    double initialHystSwitches = -1;    // hysteresis_n of a node evaluated first = this * c_hystSwitch
     double initialVTime = 0;            // ms per unit of cost; 0: measured at start (all hlod0 drawn)
     double overheadMs = -1;             // fixed overhead; < 0: measured at start with drawing off
     FrameOptions frameOptions;          // passed to Renderer::drawFrame

@@ -28,7 +28,7 @@ SelectionParams selectionParams(const Constants& c, double hlod0Share, double vT
     p.vTime = vTime;
     p.hystSwitch = c.hystSwitch;
     p.hystLimit = c.hystLimit;
-    p.initialHyst = -c.hystLimit;
+    p.initialHyst = -c.hystSwitch;
     p.requireLoadedChildren = requireLoadedChildren;
     return p;
 }

@@ -65,7 +65,12 @@ struct SelectionParams {
     double vTime = 0.001;        // ms per unit of cost (first feedback loop)
     double hystSwitch = 1500;    // c_hystSwitch
     double hystLimit = 4510;     // c_hystLimit
-    double initialHyst = -4510;  // counter of a node evaluated for the first time
+    // hysteresis_n of a node evaluated for the first time (left open by the thesis): -c_hystSwitch,
+    // the switching threshold. A new sibling set then switches on its first frame when every
+    // visible sibling's timeSlice exceeds its timeNeeded (the plain rule of §4.2, unless one
+    // sibling's surplus exceeds c_hystSwitch x timeNeeded), and the counters' hysteresis governs
+    // every later switch (player/SELECTION.md).
+    double initialHyst = -1500;
     bool requireLoadedChildren = false;
 };
 

@@ -53,6 +53,34 @@ std::vector<uint32_t> readyIds(Loader& l) {
 
 const auto kNothingPinned = [](uint32_t) { return false; };
 
+// Cost-model renderer that checks, at each draw, that no node evicted during this frame lies on
+// the front's path: drawn, or an ancestor of a drawn node (refined this frame).
+class FrontPathRenderer final : public Renderer {
+public:
+    FrontPathRenderer(const Skeleton& s, const CostModel& m) : skeleton_(s), inner_(m) {}
+    std::string name() const override { return "front-path"; }
+    void upload(DecodedNode&& node) override { inner_.upload(std::move(node)); }
+    void evict(uint32_t node) override {
+        inner_.evict(node);
+        evicted_.push_back(node);
+        ++evictions;
+    }
+    double drawFrame(const Camera& camera, std::span<const DrawItem> items, const FrameOptions& options) override {
+        std::vector<uint8_t> onPath(skeleton_.nodes.size(), 0);
+        for (const DrawItem& d : items)
+            for (uint32_t id = d.node; id != kNone; id = skeleton_.nodes[id].parent) onPath[id] = 1;
+        for (uint32_t id : evicted_) frontEvictions += onPath[id];
+        evicted_.clear();
+        return inner_.drawFrame(camera, items, options);
+    }
+    uint64_t evictions = 0, frontEvictions = 0;
+
+private:
+    const Skeleton& skeleton_;
+    CostModelRenderer inner_;
+    std::vector<uint32_t> evicted_;
+};
+
 }  // namespace
 
 TEST(Loader, LoadsHighestPriorityFirst) {
@@ -146,6 +174,36 @@ TEST(Loader, PlayerSurfacesLoaderFailureAsFormatError) {
             for (int f = 0; f < 50; ++f) player.frame(sampleCameraPath(path, f * 0.03), f * 0.03);
         },
         FormatError);
+}
+
+// A tight budget (hlod0 + 16 nodes): eviction must spare every node on the front's path, the
+// refined interior nodes as well as the drawn ones; evicting a refined node makes its visible
+// child unloaded next frame, and the front collapses to the parent (flicker).
+TEST(Loader, TightBudgetNeverEvictsTheFrontPath) {
+    Skeleton s = test::gridSkeleton(4, 4, 4, 512, 50);
+    auto src = memorySource(s);
+    CostModel model;
+    model.msPerTexturedTriangle = 1e-3;
+    FrontPathRenderer renderer(s, model);
+    PlayerOptions po;
+    po.threadedLoader = false;
+    po.memoryBudget = src->expectedBytes(0) * (16 + 16);
+    Constants c;
+    Player player(src, c, renderer, po);
+    PathOptions pathOptions;
+    pathOptions.kind = PathKind::Walk;
+    CameraPath path = generatePath(s, pathOptions);
+    ReplayOptions ro;
+    ro.maxFrames = 3000;
+    uint64_t deeper = 0;
+    replayPath(player, path, ro, [&](const FrameStats& f) {
+        ASSERT_LE(f.residentBytes, po.memoryBudget);
+        deeper += f.nodesPerLevel[2] + f.nodesPerLevel[3];
+    });
+    std::cout << "evictions " << renderer.evictions << ", of the front's path " << renderer.frontEvictions << "\n";
+    EXPECT_GT(renderer.evictions, 20u);  // the budget binds
+    EXPECT_GT(deeper, 0u);                // refined interior nodes existed
+    EXPECT_EQ(renderer.frontEvictions, 0u);
 }
 
 // Threaded: the budget holds at every frame under an erratic path, the renderer is never asked

@@ -1,6 +1,7 @@
 // Selection (thesis §4.2) on small hand-built trees: exact fronts for given priorities and
-// budgets, the hysteresis delay predicted by the formula, the cumHyst sign rule, the
-// loaded-children rule (§5.2), hlod0 never skipped, §6.5 toggle counting.
+// budgets, the up- and down-switch delays predicted by the hysteresis formula, the first
+// counter value, the cumHyst sign rule, the loaded-children rule (§5.2), hlod0 never skipped,
+// §6.5 toggle counting.
 #include "player/selection.h"
 #include "trees.h"
 
@@ -53,13 +54,15 @@ struct Tree {
     }
 };
 
-// The first frame f (0-based) at which a set of `siblings` equal counters, starting at
-// `initial` and moving by `delta` per frame, has trunc-sum >= 0.
-int predictedSwitchFrame(double initial, double delta, double limit, double hystSwitch, int siblings) {
+// The first frame f (0-based) at which `siblings` equal counters, starting at `initial` and
+// moving by `delta` per frame (eq. hysteresis, clamped to +-limit), have trunc-sum cumHyst >= 0
+// (up: the children replace the parent) or < 0 (down: the parent replaces the children).
+int predictedSwitchFrame(double initial, double delta, double limit, double hystSwitch, int siblings, bool up = true) {
     double h = initial;
     for (int f = 0; f < 100000; ++f) {
         h = std::clamp(h + delta, -limit, limit);
-        if (siblings * long(std::trunc(h / hystSwitch)) >= 0) return f;
+        long cumHyst = siblings * long(std::trunc(h / hystSwitch));
+        if (up ? cumHyst >= 0 : cumHyst < 0) return f;
     }
     return -1;
 }
@@ -86,6 +89,7 @@ TEST(Hysteresis, CumulativeTruncatesTowardZero) {
 
 TEST(Selection, HysteresisDelaysSwitchByPredictedFrames) {
     Tree t(1, false);  // R with 4 leaves: 25 ms slices, 1 ms needed -> +24 per frame
+    t.params.initialHyst = -4510;  // counters starting at -c_hystLimit
     SelectionState st(t.s);
     int expected = predictedSwitchFrame(t.params.initialHyst, 24, 4510, 1500, 4);
     ASSERT_EQ(expected, 125);  // -4510 + 24 * 126 = -1486 > -1500
@@ -103,28 +107,84 @@ TEST(Selection, HysteresisDelaysSwitchByPredictedFrames) {
     EXPECT_EQ(switched, expected);
 }
 
+// The default first counter, -c_hystSwitch: a new sibling set switches on its first frame when
+// every slice exceeds timeNeeded, and is refused from the first frame when the slices fall short.
+TEST(Selection, FirstCounterAtSwitchThresholdDecidesByPlainRule) {
+    Tree t(1, false);
+    ASSERT_EQ(t.params.initialHyst, -t.params.hystSwitch);
+    SelectionState st(t.s);
+    EXPECT_EQ(t.run(st).drawn.size(), 4u);  // 25 ms slices > 1 ms needed: children at once
+    Tree u(1, false);
+    u.params.hlod0Share = 3.6;  // 0.9 ms slices < 1 ms needed: the parent, frame after frame
+    SelectionState su(u.s);
+    for (int f = 0; f < 100; ++f) {
+        Selection sel = u.run(su);
+        ASSERT_EQ(u.front(sel), std::set<uint32_t>{0}) << f;
+        ASSERT_EQ(sel.refused, 1u);
+    }
+    EXPECT_NEAR(su.nodes[1].hyst, -1500 - 100 * 0.1, 1e-6);  // -0.1 per frame
+}
+
 TEST(Selection, ExactFrontForPrioritiesAndBudget) {
     // Two roots sharing 20 ms: R0 priority 9 -> 18 ms (children 4.5 ms each, +3.5 per frame),
     // R1 priority 1 -> 2 ms (children 0.5 ms each, -0.5 per frame). Leaves under R0's
     // children get 1.125 ms (+0.125 per frame: far too slow to switch within the run).
     Tree t(2, true);
     t.params.hlod0Share = 20;
+    t.params.initialHyst = -4510;
     t.evals[0].priority = 9;
     SelectionState st(t.s);
-    Selection sel;
-    for (int f = 0; f < 1000; ++f) sel = t.run(st);
-    std::set<uint32_t> expected{1, 2, 3, 4, 5};  // R0's children and R1
-    std::set<uint32_t> front = t.front(sel);
-    EXPECT_EQ(front, expected);
     int switchAt = predictedSwitchFrame(-4510, 3.5, 4510, 1500, 4);
-    EXPECT_EQ(switchAt, 860);
-    // A bigger budget lets R1 refine as well (its children then get 4.5 ms as R0's had).
+    ASSERT_EQ(switchAt, 860);
+    Selection sel;
+    int switched = -1;
+    for (int f = 0; f < 1000; ++f) {
+        sel = t.run(st);
+        std::set<uint32_t> front = t.front(sel);
+        if (switched < 0 && front.count(2)) {
+            switched = f;
+            EXPECT_EQ(sel.upToggles, 1u);
+        }
+        if (switched < 0) {
+            ASSERT_EQ(front, (std::set<uint32_t>{0, 1})) << f;  // both roots until then
+        }
+    }
+    EXPECT_EQ(switched, switchAt);
+    std::set<uint32_t> expected{1, 2, 3, 4, 5};  // R1 and R0's children
+    EXPECT_EQ(t.front(sel), expected);
+    // A bigger budget lets R1 refine as well (its children then get 22.5 ms, +21.5 per frame:
+    // frame 140); the leaves below (5.6 ms, +4.6 per frame) are not reached within 200 frames.
     t.params.hlod0Share = 180;
     t.evals[0].priority = 1;
     SelectionState st2(t.s);
     for (int f = 0; f < 200; ++f) sel = t.run(st2);
     EXPECT_EQ(t.front(sel).size(), 8u);
     for (uint32_t id : t.front(sel)) EXPECT_EQ(t.s.nodes[id].level, 1u);
+}
+
+// Children -> parent: the counters fall by at most 1 per frame ((timeSlice - timeNeeded) /
+// timeNeeded >= -1), so from +c_hystLimit a down-switch takes the frames the formula predicts.
+TEST(Selection, DownSwitchDelayedByPredictedFrames) {
+    Tree t(1, false);
+    SelectionState st(t.s);
+    for (int f = 0; f < 300; ++f) t.run(st);  // 25 ms slices: the counters saturate
+    for (uint32_t c = 1; c <= 4; ++c) ASSERT_EQ(st.nodes[c].hyst, 4510);
+    t.params.hlod0Share = 2;  // 0.5 ms slices for 1 ms needed: -0.5 per frame
+    int expected = predictedSwitchFrame(4510, -0.5, 4510, 1500, 4, false);
+    ASSERT_EQ(expected, 12019);  // 4510 - 0.5 * 12020 = -1500: trunc -1 each
+    int switched = -1;
+    for (int f = 0; f < 13000 && switched < 0; ++f) {
+        Selection sel = t.run(st);
+        if (sel.drawn.size() == 1) {
+            switched = f;
+            EXPECT_EQ(sel.drawn[0].node, 0u);
+            EXPECT_EQ(sel.downToggles, 1u);
+        } else {
+            ASSERT_EQ(sel.drawn.size(), 4u) << f;
+            ASSERT_EQ(sel.downToggles, 0u);
+        }
+    }
+    EXPECT_EQ(switched, expected);
 }
 
 TEST(Selection, CumHystSignRuleDecidesParentOrChildren) {
@@ -182,8 +242,10 @@ TEST(Selection, Hlod0NeverSkippedEvenWithTinyBudget) {
 
 TEST(Selection, VisitsChildrenOfDrawnNodesForPrefetch) {
     Tree t(1, true);
+    t.params.hlod0Share = 2;  // 0.5 ms slices for 1 ms needed: the root is drawn
     SelectionState st(t.s);
     Selection sel = t.run(st);
+    EXPECT_EQ(t.front(sel), std::set<uint32_t>{0});
     std::set<uint32_t> visited(sel.visited.begin(), sel.visited.end());
     EXPECT_EQ(visited, (std::set<uint32_t>{0, 1, 2, 3, 4}));  // root drawn, its children evaluated
 }
