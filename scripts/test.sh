@@ -13,6 +13,14 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$jobs"
 ctest --test-dir build --output-on-failure -j "$jobs"
 
+# The README's main command on the embedded sample, end to end (build, validate, stats, replay,
+# plots), with a check that each output it announces exists.
+bash scripts/run-sample.sh > build/run-sample.log 2>&1 || { tail -n 30 build/run-sample.log; echo "run-sample: FAILED"; exit 1; }
+for f in out/city/city.hlod out/city/stats.json out/city/walk.csv out/city/walk-summary.json out/city/plots/fig6_6.png; do
+  [ -s "$f" ] || { echo "run-sample: $f missing"; exit 1; }
+done
+echo "run-sample: main command OK (outputs under out/city/)"
+
 # ThreadSanitizer: the threaded loader and player tests (the render thread, the loading thread
 # and their shared queue), rebuilt with -fsanitize=thread; any reported race fails the script.
 # Only the player test executable is built (about 3 minutes on 2 cores).
