@@ -21,8 +21,17 @@ struct MeshData {
     size_t triangleCount() const { return indices.size() / 3; }
 };
 
+// Positions are quantized on one lattice (FORMAT.md §Geometry blobs): every coordinate is
+// rounded to the nearest multiple of `positionStep` (a power of two, absolute coordinates), so an
+// input float gives the same decoded float in every blob encoded with the same step, whatever the
+// blob's extent: neighbouring nodes keep their shared borders exactly. Each blob then uses the
+// fewest bits that cover its own extent on that lattice (recorded as its positionBits).
+inline constexpr int kMaxPositionBits = 22;  // the coarsest node needs one more, 23 = exact limit
+
 struct DracoOptions {
-    int positionBits = 14;   // see README "Draco defaults" for the measurements behind them
+    int positionBits = 14;     // 1..kMaxPositionBits; see README "Draco defaults" for the measurements
+    double positionStep = 0;   // lattice step, rounded down to a power of two; 0 = positionLatticeStep
+                               // of the blob's own bounds (a blob encoded on its own)
     int texcoordBits = 12;
     int normalBits = 8;
     int colorBits = 8;
@@ -34,6 +43,10 @@ struct Image {
     uint32_t width = 0, height = 0, channels = 0;
     std::vector<uint8_t> pixels;
 };
+
+// The lattice step that gives geometry within `bounds` at least `positionBits` bits over its
+// largest side: the largest power of two <= that side / (2^positionBits - 1).
+double positionLatticeStep(const Box3f& bounds, int positionBits);
 
 // Encode; the returned blob has kind, codec and counts filled in. Throw std::runtime_error.
 EncodedBlob encodeGeometry(const MeshData& mesh, const DracoOptions& options);

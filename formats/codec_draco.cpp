@@ -1,6 +1,8 @@
 // Geometry blobs: one Draco-compressed mesh per sub-mesh (FORMAT.md §Geometry blobs).
-// Positions, texture coordinates, normals and colours with per-attribute quantization; the
-// record's counts come from decoding the encoded bytes, so they match what a reader gets.
+// Positions on one power-of-two lattice (explicit Draco quantization, exact: see Lattice),
+// texture coordinates, normals and colours with per-attribute quantization. The record's
+// counts come from decoding the encoded bytes: Draco splits non-manifold vertices and drops
+// unused vertices and faces with a repeated index, so they can differ from the input's.
 #include "formats/codec.h"
 #include "formats/layout.h"
 
@@ -8,9 +10,83 @@
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+
 namespace hlod {
 
 namespace {
+
+// Above 2^23 steps Draco's quantizer, floor(n + 0.5f) in float, is no longer exact.
+constexpr int kMaxLatticeBits = 23;
+
+double powerOfTwoAtMost(double v) {
+    int exponent = 0;
+    std::frexp(v, &exponent);
+    return std::ldexp(1.0, exponent - 1);
+}
+
+// A blob's positions rounded to multiples of `step` (a power of two), the origin (the smallest
+// multiple per axis) and the fewest bits covering them. Draco quantizes q = floor((x - origin) *
+// (M / range) + 0.5f) and decodes q * (range / M) + origin, M = 2^bits - 1, in float: with
+// range = step * M both factors are exactly step and 1 / step, x - origin is an exact multiple
+// of step below 2^23 steps, so every snapped x decodes to itself, in every blob, bit for bit.
+struct Lattice {
+    std::vector<float> positions;
+    float origin[3] = {0, 0, 0};
+    float range = 1;
+    int bits = 1;
+};
+
+Lattice snapToLattice(const std::vector<float>& positions, double step) {
+    Lattice l;
+    l.positions.resize(positions.size());
+    float top[3] = {0, 0, 0};
+    for (size_t i = 0; i < positions.size(); ++i) {
+        const float x = static_cast<float>(std::round(double(positions[i]) / step) * step);
+        const size_t c = i % 3;
+        l.positions[i] = x;
+        if (i < 3 || x < l.origin[c]) l.origin[c] = x;
+        if (i < 3 || x > top[c]) top[c] = x;
+    }
+    uint64_t steps = 0;
+    for (int c = 0; c < 3; ++c) steps = std::max(steps, static_cast<uint64_t>((double(top[c]) - l.origin[c]) / step));
+    l.bits = std::max(1, static_cast<int>(std::bit_width(steps)));
+    if (l.bits > kMaxLatticeBits)
+        throw std::runtime_error("encodeGeometry: positions span " + std::to_string(steps) + " steps of 2^" +
+                                 std::to_string(std::ilogb(step)) + ", more than 2^23 (position lattice too fine)");
+    l.range = static_cast<float>(step * double((uint64_t(1) << l.bits) - 1));
+    return l;
+}
+
+// Draco keeps option values as text written with std::to_string (6 decimals), which moves a
+// small origin or range off the lattice; hexadecimal floats read back exactly.
+std::string exactFloat(float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%a", double(v));
+    return text;
+}
+
+void setExactQuantization(draco::Encoder& encoder, const Lattice& l) {
+    using GA = draco::GeometryAttribute;
+    encoder.SetAttributeExplicitQuantization(GA::POSITION, l.bits, 3, l.origin, l.range);
+    draco::Options options = *encoder.options().FindAttributeOptions(GA::POSITION);
+    options.SetString("quantization_origin",
+                      exactFloat(l.origin[0]) + " " + exactFloat(l.origin[1]) + " " + exactFloat(l.origin[2]));
+    options.SetString("quantization_range", exactFloat(l.range));
+    encoder.options().SetAttributeOptions(GA::POSITION, options);
+}
+
+Box3f boundsOf(const std::vector<float>& positions) {
+    Box3f b{{positions[0], positions[1], positions[2]}, {positions[0], positions[1], positions[2]}};
+    for (size_t i = 3; i + 2 < positions.size(); i += 3) {
+        b.min = {std::min(b.min.x, positions[i]), std::min(b.min.y, positions[i + 1]), std::min(b.min.z, positions[i + 2])};
+        b.max = {std::max(b.max.x, positions[i]), std::max(b.max.y, positions[i + 1]), std::max(b.max.z, positions[i + 2])};
+    }
+    return b;
+}
 
 template <class T>
 void addAttribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, int components, draco::DataType dataType,
@@ -34,6 +110,8 @@ void checkMesh(const MeshData& m) {
         throw std::runtime_error("encodeGeometry: attribute array sizes do not match the vertex count");
     for (uint32_t i : m.indices)
         if (i >= n) throw std::runtime_error("encodeGeometry: index out of range");
+    for (float x : m.positions)
+        if (!std::isfinite(x)) throw std::runtime_error("encodeGeometry: NaN/Inf position");
 }
 
 // Only the attribute layouts hlod writes are accepted (a corrupt stream may declare others,
@@ -62,12 +140,22 @@ std::vector<T> extract(const draco::Mesh& mesh, const draco::PointAttribute* att
 
 }  // namespace
 
+double positionLatticeStep(const Box3f& b, int positionBits) {
+    const double side = std::max({double(b.max.x) - b.min.x, double(b.max.y) - b.min.y, double(b.max.z) - b.min.z});
+    return powerOfTwoAtMost((side > 0 ? side : 1.0) / double((uint64_t(1) << positionBits) - 1));
+}
+
 EncodedBlob encodeGeometry(const MeshData& m, const DracoOptions& o) {
     checkMesh(m);
+    if (o.positionBits < 1 || o.positionBits > kMaxPositionBits || !(o.positionStep >= 0) || !std::isfinite(o.positionStep))
+        throw std::runtime_error("encodeGeometry: positionBits must be 1.." + std::to_string(kMaxPositionBits) +
+                                 " and positionStep finite and >= 0");
+    const double step = o.positionStep > 0 ? powerOfTwoAtMost(o.positionStep) : positionLatticeStep(boundsOf(m.positions), o.positionBits);
+    const Lattice lattice = snapToLattice(m.positions, step);
     draco::Mesh mesh;
     mesh.set_num_points(uint32_t(m.vertexCount()));
     using GA = draco::GeometryAttribute;
-    addAttribute(mesh, GA::POSITION, 3, draco::DT_FLOAT32, false, m.positions);
+    addAttribute(mesh, GA::POSITION, 3, draco::DT_FLOAT32, false, lattice.positions);
     if (!m.texcoords.empty()) addAttribute(mesh, GA::TEX_COORD, 2, draco::DT_FLOAT32, false, m.texcoords);
     if (!m.normals.empty()) addAttribute(mesh, GA::NORMAL, 3, draco::DT_FLOAT32, false, m.normals);
     if (!m.colors.empty()) addAttribute(mesh, GA::COLOR, 4, draco::DT_UINT8, true, m.colors);
@@ -76,25 +164,29 @@ EncodedBlob encodeGeometry(const MeshData& m, const DracoOptions& o) {
                       draco::PointIndex(m.indices[3 * t + 2])});
 
     draco::Encoder encoder;
-    encoder.SetAttributeQuantization(GA::POSITION, o.positionBits);
+    setExactQuantization(encoder, lattice);
     encoder.SetAttributeQuantization(GA::TEX_COORD, o.texcoordBits);
     encoder.SetAttributeQuantization(GA::NORMAL, o.normalBits);
     encoder.SetSpeedOptions(10 - o.compressionLevel, 10 - o.compressionLevel);
     draco::EncoderBuffer buffer;
     draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
     if (!status.ok()) throw std::runtime_error("encodeGeometry: Draco: " + status.error_msg_string());
+    draco::DecoderBuffer encoded;
+    encoded.Init(buffer.data(), buffer.size());
+    draco::Decoder decoder;
+    auto decoded = decoder.DecodeMeshFromBuffer(&encoded);
+    if (!decoded.ok()) throw std::runtime_error("encodeGeometry: Draco: " + decoded.status().error_msg_string());
 
     EncodedBlob blob;
     blob.bytes.assign(buffer.data(), buffer.data() + buffer.size());
-    MeshData decoded = decodeGeometry(blob.bytes, "encodeGeometry");
     BlobRef& r = blob.info;
     r.kind = BlobKind::Geometry;
     r.codec = Codec::Draco;
-    r.triangles = uint32_t(decoded.triangleCount());
-    r.vertices = uint32_t(decoded.vertexCount());
+    r.triangles = decoded.value()->num_faces();
+    r.vertices = decoded.value()->num_points();
     r.attributes = kAttrPosition | (m.texcoords.empty() ? 0 : kAttrTexcoord) | (m.normals.empty() ? 0 : kAttrNormal) |
                    (m.colors.empty() ? 0 : kAttrColor);
-    r.positionBits = uint8_t(o.positionBits);
+    r.positionBits = uint8_t(lattice.bits);
     r.texcoordBits = m.texcoords.empty() ? 0 : uint8_t(o.texcoordBits);
     r.normalBits = m.normals.empty() ? 0 : uint8_t(o.normalBits);
     r.colorBits = m.colors.empty() ? 0 : 8;

@@ -38,6 +38,7 @@ struct BlockSource {
 struct Inputs {
     std::vector<BlockSource> blocks;
     std::vector<Material> materials;  // of a single-mesh input
+    double positionStep = 0;          // one position lattice for the grid's blocks; 0 = per block
 };
 
 std::string extensionOf(const fs::path& p) {
@@ -95,6 +96,7 @@ Inputs streamBlocks(const std::string& input, const BuildOptions& options, const
         progress.endStage();
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
+        in.positionStep = gridPositionStep(raw.bounds, grid, options.draco.positionBits);
         progress.beginStage("split", raw.triangles.size());
         for (const CellFile& cell : streamSplit(raw, grid, tempDir, options.memoryLimit / 4, input, raw.stats, &progress))
             in.blocks.push_back({cell.file, true, cell.triangles});
@@ -126,6 +128,7 @@ Inputs findBlocks(const std::string& input, const BuildOptions& options, const s
     progress.beginStage("split", source.piece.mesh.triangleCount());
     const GridSpec grid = chooseGrid(pieceBounds(source.piece.mesh), source.piece.mesh.triangleCount(), blockTarget(options),
                                      options.blockSize);
+    in.positionStep = gridPositionStep(pieceBounds(source.piece.mesh), grid, options.draco.positionBits);
     std::vector<Piece> cells = splitByGrid(source.piece, grid);
     source.piece = {};
     for (size_t c = 0; c < cells.size(); ++c) {
@@ -228,6 +231,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     command += " --draco-position-bits " + std::to_string(o.draco.positionBits) + " --draco-texcoord-bits " +
                std::to_string(o.draco.texcoordBits) + " --draco-level " + std::to_string(o.draco.compressionLevel) +
                " --jpeg-quality " + std::to_string(o.jpegQuality);
+    if (o.draco.positionStep > 0) command += " --draco-position-step " + std::to_string(o.draco.positionStep);
     for (const auto& [name, value] : constantsAsPairs(o.constants)) command += " --set " + name + "=" + value;
     meta.emplace_back("command", command);
     for (const auto& pair : constantsAsPairs(o.constants)) meta.push_back(pair);
@@ -238,6 +242,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     meta.emplace_back("draco.texcoordBits", std::to_string(o.draco.texcoordBits));
     meta.emplace_back("draco.colorBits", std::to_string(o.draco.colorBits));
     meta.emplace_back("draco.compressionLevel", std::to_string(o.draco.compressionLevel));
+    meta.emplace_back("draco.positionStep", o.draco.positionStep > 0 ? std::to_string(o.draco.positionStep) : "auto");
     meta.emplace_back("jpeg.quality", std::to_string(o.jpegQuality));
     return meta;
 }
@@ -260,11 +265,13 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const int cores = options.jobs > 0 ? options.jobs : tbb::info::default_concurrency();
     std::vector<BlockStats> stats(blockCount);
     MemoryGate gate(options.memoryLimit);
+    BuildOptions blockOptions = options;  // a grid's blocks share one position lattice: no cracks between them
+    if (blockOptions.draco.positionStep <= 0) blockOptions.draco.positionStep = inputs.positionStep;
     progress.beginStage("build", expectedWork(inputs.blocks, first, last, options.constants));
     tbb::task_arena arena(std::max(1, cores));
     arena.execute([&] {
         tbb::parallel_for(first, last, 1u, [&](uint32_t b) {
-            buildOne(inputs.blocks[b], inputs.materials, b, recordDir, options, gate, progress, stats[b]);
+            buildOne(inputs.blocks[b], inputs.materials, b, recordDir, blockOptions, gate, progress, stats[b]);
         });
     });
     progress.endStage();
@@ -280,7 +287,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
         if (summary.nodesPerLevel.size() < stats[b].nodesPerLevel.size()) summary.nodesPerLevel.resize(stats[b].nodesPerLevel.size());
         for (size_t l = 0; l < stats[b].nodesPerLevel.size(); ++l) summary.nodesPerLevel[l] += stats[b].nodesPerLevel[l];
     }
-    ShardInfo shard{blockCount, {}, buildMeta(request.input, options)};
+    ShardInfo shard{blockCount, {}, buildMeta(request.input, blockOptions)};
     for (uint32_t b = first; b < last; ++b) shard.blocks.push_back(b);
     writeShardInfo(recordDir, shard);
     if (!request.shard) {

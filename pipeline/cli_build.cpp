@@ -130,6 +130,10 @@ void addBuild(CLI::App& app, int& status) {
                     "Draco position bits over the largest block (one lattice for all nodes, FORMAT.md)")
         ->check(CLI::Range(8, kMaxPositionBits));
     sub->add_option("--draco-texcoord-bits", o.draco.texcoordBits, "Draco texture coordinate quantization bits")->check(CLI::Range(6, 30));
+    sub->add_option("--draco-position-step", o.draco.positionStep,
+                    "position lattice step in input units, rounded down to a power of two (default: from the block grid; "
+                    "a folder input gets one per block unless this is given)")
+        ->check(CLI::NonNegativeNumber);
     sub->add_option("--draco-level", o.draco.compressionLevel, "Draco compression level 0..10")->check(CLI::Range(0, 10));
     sub->add_option("--jpeg-quality", o.jpegQuality, "JPEG quality of node textures")->check(CLI::Range(1, 100));
     sub->add_option("--blocks", a->blocks, "build only blocks FIRST:LAST (LAST excluded), for sharding");

@@ -4,11 +4,20 @@
 // area-weighted average normal (formats/metrics.h), measured geometric error. The cost of
 // eq. 3.1 is left to the writer (cost < 0), which computes it from the blobs and c_textured.
 // Normals are not stored: they cost 0.45-0.95 B/tri in Draco and the player recomputes them.
+// Positions go on the lattice of options.draco.positionStep (FORMAT.md §Geometry blobs).
 #include "pipeline/pipeline.h"
 
 #include "formats/metrics.h"
 
 namespace hlod {
+
+double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits) {
+    const auto axis = [](Vec3f& v, int a) -> float& { return a == 0 ? v.x : a == 1 ? v.y : v.z; };
+    Box3f cell = bounds;
+    axis(cell.max, grid.axisU) = axis(cell.min, grid.axisU) + grid.sizeU;
+    axis(cell.max, grid.axisV) = axis(cell.min, grid.axisV) + grid.sizeV;
+    return positionLatticeStep(cell, positionBits);
+}
 
 NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const Box3f& bounds,
                     uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError, const BuildOptions& options) {

@@ -1,15 +1,14 @@
-// glTF 2.0 / GLB input through tinygltf (header-only mode, built with Draco so
-// KHR_draco_mesh_compression primitives decode): the default scene's node tree with its
-// transforms flattened into one mesh; TRIANGLES primitives; POSITION, TEXCOORD_0, NORMAL,
-// COLOR_0; base-colour textures: embedded images decoded by stb_image, external ones by path
-// (resolved inside the input's folder, loaded later through OpenImageIO).
+// glTF 2.0 / GLB input through tinygltf (pipeline/tiny_gltf_config.h; Draco-compressed
+// primitives are decoded by tinygltf): the default scene's node tree with its transforms
+// flattened into one mesh; TRIANGLES primitives; POSITION, TEXCOORD_0, NORMAL (transformed by
+// the inverse transpose, normalised) and COLOR_0 (RGB or RGBA, float or normalised integers, to
+// 8 bits) as the PLY reader reads them: an attribute is kept when every primitive has it.
+// Mirroring transforms reverse the winding back. Base-colour textures: embedded images
+// decoded by stb_image, external ones by path (resolved inside the input's folder, loaded later
+// through OpenImageIO). Every accessor is checked against its buffer view and buffer before it
+// is read: corrupt files give InputError("FILE: problem").
 #define TINYGLTF_IMPLEMENTATION
-#define TINYGLTF_ENABLE_DRACO
-#define TINYGLTF_NO_STB_IMAGE_WRITE
-#define TINYGLTF_NO_EXTERNAL_IMAGE
-#define TINYGLTF_NO_INCLUDE_JSON
-#include <nlohmann/json.hpp>
-#include <tiny_gltf.h>
+#include "pipeline/tiny_gltf_config.h"
 
 #include "pipeline/pipeline.h"
 
@@ -51,62 +50,21 @@ Matrix localMatrix(const tinygltf::Node& node) {
     return m;
 }
 
-// Reads accessor `index` as `width` floats per element (normalized integers mapped to [0,1]).
-std::vector<float> readFloats(const tinygltf::Model& model, int index, int width, const std::string& path) {
-    if (index < 0 || index >= static_cast<int>(model.accessors.size())) throw InputError(path + ": accessor out of range");
-    const tinygltf::Accessor& a = model.accessors[index];
-    const int components = tinygltf::GetNumComponentsInType(a.type);
-    const int bytes = tinygltf::GetComponentSizeInBytes(a.componentType);
-    if (components < width || bytes <= 0 || a.bufferView < 0 || a.bufferView >= static_cast<int>(model.bufferViews.size()))
-        throw InputError(path + ": unsupported or corrupt accessor " + std::to_string(index));
-    const tinygltf::BufferView& view = model.bufferViews[a.bufferView];
-    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size())) throw InputError(path + ": corrupt buffer view");
-    const auto& data = model.buffers[view.buffer].data;
-    const size_t stride = a.ByteStride(view) > 0 ? static_cast<size_t>(a.ByteStride(view)) : static_cast<size_t>(components * bytes);
-    const size_t begin = view.byteOffset + a.byteOffset;
-    if (a.count > 0 && (begin + stride * (a.count - 1) + static_cast<size_t>(components * bytes) > data.size() ||
-                        begin + stride * (a.count - 1) + static_cast<size_t>(components * bytes) > view.byteOffset + view.byteLength))
-        throw InputError(path + ": accessor " + std::to_string(index) + " runs past its buffer (truncated file?)");
-    std::vector<float> out;
-    out.reserve(a.count * width);
-    for (size_t i = 0; i < a.count; ++i)
-        for (int c = 0; c < width; ++c) {
-            const unsigned char* p = data.data() + begin + stride * i + static_cast<size_t>(c * bytes);
-            float v = 0;
-            switch (a.componentType) {
-            case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&v, p, 4); break;
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = p[0] / (a.normalized ? 255.0f : 1.0f); break;
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-                uint16_t u;
-                std::memcpy(&u, p, 2);
-                v = u / (a.normalized ? 65535.0f : 1.0f);
-                break;
-            }
-            default: throw InputError(path + ": unsupported component type in accessor " + std::to_string(index));
-            }
-            out.push_back(v);
+// Cofactors of the upper 3x3 (= determinant x inverse transpose), column-major like m.
+std::array<double, 9> cofactors(const Matrix& m) {
+    const auto e = [&](int row, int col) { return m[col * 4 + row]; };
+    std::array<double, 9> c{};
+    for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) {
+            const int r1 = (row + 1) % 3, r2 = (row + 2) % 3, c1 = (col + 1) % 3, c2 = (col + 2) % 3;
+            c[col * 3 + row] = e(r1, c1) * e(r2, c2) - e(r1, c2) * e(r2, c1);
         }
-    return out;
+    return c;
 }
 
-std::vector<uint32_t> readIndices(const tinygltf::Model& model, int index, const std::string& path) {
-    const tinygltf::Accessor& a = model.accessors.at(static_cast<size_t>(index));
-    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<size_t>(a.bufferView));
-    const auto& data = model.buffers.at(static_cast<size_t>(view.buffer)).data;
-    const int bytes = tinygltf::GetComponentSizeInBytes(a.componentType);
-    const size_t begin = view.byteOffset + a.byteOffset;
-    if (bytes <= 0 || begin + a.count * static_cast<size_t>(bytes) > data.size())
-        throw InputError(path + ": index accessor " + std::to_string(index) + " runs past its buffer (truncated file?)");
-    std::vector<uint32_t> out(a.count);
-    for (size_t i = 0; i < a.count; ++i) {
-        const unsigned char* p = data.data() + begin + i * bytes;
-        uint32_t v = 0;
-        if (bytes == 1) v = p[0];
-        else if (bytes == 2) { uint16_t u; std::memcpy(&u, p, 2); v = u; }
-        else std::memcpy(&v, p, 4);
-        out[i] = v;
-    }
-    return out;
+double determinant(const Matrix& m) {
+    const std::array<double, 9> c = cofactors(m);
+    return m[0] * c[0] + m[4] * c[3] + m[8] * c[6];
 }
 
 struct Context {
@@ -114,32 +72,184 @@ struct Context {
     const std::string& path;
     SourceMesh& out;
     std::vector<uint32_t> materialOfGltf;  // glTF material -> index in out.materials
+    bool allNormals = true, allColors = true;
+    uint32_t skippedPrimitives = 0;
 };
 
+// Accessor `index` located in its buffer: element i's first byte is data + stride * i, and
+// `count` elements of `components` x componentType lie inside both its buffer view and buffer.
+struct Located {
+    const unsigned char* data = nullptr;
+    size_t stride = 0, count = 0;
+    int components = 0, componentType = 0;
+    bool normalized = false;
+};
+
+Located locate(const Context& cx, int index, const std::string& what) {
+    const tinygltf::Model& model = cx.model;
+    const std::string name = cx.path + ": " + what + " accessor " + std::to_string(index);
+    if (index < 0 || static_cast<size_t>(index) >= model.accessors.size()) throw InputError(name + " does not exist");
+    const tinygltf::Accessor& a = model.accessors[static_cast<size_t>(index)];
+    if (a.sparse.isSparse) throw InputError(name + " is sparse (not supported)");
+    if (a.bufferView < 0 || static_cast<size_t>(a.bufferView) >= model.bufferViews.size())
+        throw InputError(name + " has no valid buffer view (corrupt or undecodable)");
+    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(a.bufferView)];
+    if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size())
+        throw InputError(name + ": its buffer view has no valid buffer");
+    const std::vector<unsigned char>& data = model.buffers[static_cast<size_t>(view.buffer)].data;
+    Located l;
+    l.components = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+    l.componentType = a.componentType;
+    l.normalized = a.normalized;
+    const int bytes = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+    const int stride = a.ByteStride(view);
+    if (l.components <= 0 || bytes <= 0 || stride <= 0) throw InputError(name + " has an unknown type or stride");
+    l.stride = static_cast<size_t>(stride);
+    l.count = a.count;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
+        throw InputError(name + ": buffer view " + std::to_string(a.bufferView) + " runs past its buffer (truncated file?)");
+    const size_t element = static_cast<size_t>(l.components) * static_cast<size_t>(bytes);
+    const size_t room = a.byteOffset <= view.byteLength ? view.byteLength - a.byteOffset : 0;  // bytes from the first element
+    if (a.byteOffset > view.byteLength || (l.count > 0 && (element > room || l.count - 1 > (room - element) / l.stride)))
+        throw InputError(name + " runs past its buffer view (truncated file?)");
+    l.data = data.data() + view.byteOffset + a.byteOffset;
+    return l;
+}
+
+// Accessor `index` as floats, `width` = its components (minWidth..maxWidth); normalised
+// integers map to [0, 1] (unsigned) or [-1, 1] (signed).
+std::vector<float> readFloats(const Context& cx, int index, int minWidth, int maxWidth, const std::string& what, int& width) {
+    const Located l = locate(cx, index, what);
+    if (l.components < minWidth || l.components > maxWidth)
+        throw InputError(cx.path + ": " + what + " accessor " + std::to_string(index) + " has " + std::to_string(l.components) +
+                         " components");
+    width = l.components;
+    std::vector<float> out;
+    out.reserve(l.count * static_cast<size_t>(width));
+    for (size_t i = 0; i < l.count; ++i)
+        for (int c = 0; c < width; ++c) {
+            const unsigned char* p = l.data + l.stride * i;
+            float v = 0;
+            switch (l.componentType) {
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&v, p + 4 * c, 4); break;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = p[c] / (l.normalized ? 255.0f : 1.0f); break;
+            case TINYGLTF_COMPONENT_TYPE_BYTE: {
+                const float s = static_cast<float>(static_cast<int8_t>(p[c]));
+                v = l.normalized ? std::max(s / 127.0f, -1.0f) : s;
+                break;
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                uint16_t u;
+                std::memcpy(&u, p + 2 * c, 2);
+                v = u / (l.normalized ? 65535.0f : 1.0f);
+                break;
+            }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                int16_t s;
+                std::memcpy(&s, p + 2 * c, 2);
+                v = l.normalized ? std::max(s / 32767.0f, -1.0f) : static_cast<float>(s);
+                break;
+            }
+            default:
+                throw InputError(cx.path + ": " + what + " accessor " + std::to_string(index) + " has unsupported component type " +
+                                 std::to_string(l.componentType));
+            }
+            out.push_back(v);
+        }
+    return out;
+}
+
+// A per-vertex attribute: `width` components for each of the primitive's `count` vertices.
+std::vector<float> readAttribute(const Context& cx, int index, int width, const std::string& what, size_t count) {
+    int actual = 0;
+    std::vector<float> values = readFloats(cx, index, width, width, what, actual);
+    if (values.size() != count * static_cast<size_t>(width)) throw InputError(cx.path + ": " + what + " count differs from POSITION");
+    return values;
+}
+
+std::vector<uint32_t> readIndices(const Context& cx, int index) {
+    const Located l = locate(cx, index, "index");
+    const int t = l.componentType;
+    if (l.components != 1 || (t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                              t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+        throw InputError(cx.path + ": index accessor " + std::to_string(index) + " is not unsigned integer scalars");
+    std::vector<uint32_t> out(l.count);
+    for (size_t i = 0; i < l.count; ++i) {
+        const unsigned char* p = l.data + l.stride * i;
+        if (t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+            out[i] = p[0];
+        } else if (t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+            uint16_t u;
+            std::memcpy(&u, p, 2);
+            out[i] = u;
+        } else {
+            std::memcpy(&out[i], p, 4);
+        }
+    }
+    return out;
+}
+
+void addNormals(Context& cx, int index, size_t count, const Matrix& m, bool mirrored) {
+    const std::vector<float> n = readAttribute(cx, index, 3, "NORMAL", count);
+    const std::array<double, 9> c = cofactors(m);
+    const double sign = mirrored ? -1 : 1;
+    for (size_t i = 0; i < count; ++i) {
+        double v[3], length = 0;
+        for (int r = 0; r < 3; ++r) {
+            v[r] = sign * (c[r] * n[3 * i] + c[3 + r] * n[3 * i + 1] + c[6 + r] * n[3 * i + 2]);
+            length += v[r] * v[r];
+        }
+        length = std::sqrt(length);
+        for (int r = 0; r < 3; ++r) cx.out.piece.mesh.normals.push_back(static_cast<float>(length > 0 ? v[r] / length : v[r]));
+    }
+}
+
+void addColors(Context& cx, int index, size_t count) {
+    int width = 0;
+    const std::vector<float> c = readFloats(cx, index, 3, 4, "COLOR_0", width);
+    if (c.size() != count * static_cast<size_t>(width)) throw InputError(cx.path + ": COLOR_0 count differs from POSITION");
+    for (size_t i = 0; i < count; ++i)
+        for (int k = 0; k < 4; ++k) {
+            const float v = k < width ? c[i * static_cast<size_t>(width) + static_cast<size_t>(k)] : 1.0f;
+            if (!std::isfinite(v)) throw InputError(cx.path + ": COLOR_0 of vertex " + std::to_string(i) + " is NaN/Inf");
+            cx.out.piece.mesh.colors.push_back(static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)));
+        }
+}
+
 void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m) {
-    if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) return;
+    if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) {
+        ++cx.skippedPrimitives;
+        return;
+    }
     const auto attr = [&](const char* name) { auto it = prim.attributes.find(name); return it == prim.attributes.end() ? -1 : it->second; };
     if (attr("POSITION") < 0) throw InputError(cx.path + ": primitive without POSITION");
-    const std::vector<float> pos = readFloats(cx.model, attr("POSITION"), 3, cx.path);
+    int width = 0;
+    const std::vector<float> pos = readFloats(cx, attr("POSITION"), 3, 3, "POSITION", width);
     const size_t count = pos.size() / 3;
     MeshData& mesh = cx.out.piece.mesh;
     const uint32_t base = static_cast<uint32_t>(mesh.vertexCount());
     for (size_t i = 0; i < count; ++i)
         for (int r = 0; r < 3; ++r)
             mesh.positions.push_back(static_cast<float>(m[r] * pos[3 * i] + m[4 + r] * pos[3 * i + 1] + m[8 + r] * pos[3 * i + 2] + m[12 + r]));
-    std::vector<float> uv = attr("TEXCOORD_0") >= 0 ? readFloats(cx.model, attr("TEXCOORD_0"), 2, cx.path) : std::vector<float>(2 * count, 0.0f);
-    if (uv.size() != 2 * count) throw InputError(cx.path + ": TEXCOORD_0 count differs from POSITION");
+    const std::vector<float> uv =
+        attr("TEXCOORD_0") >= 0 ? readAttribute(cx, attr("TEXCOORD_0"), 2, "TEXCOORD_0", count) : std::vector<float>(2 * count, 0.0f);
     mesh.texcoords.insert(mesh.texcoords.end(), uv.begin(), uv.end());
-    std::vector<uint32_t> indices = prim.indices >= 0 ? readIndices(cx.model, prim.indices, cx.path) : std::vector<uint32_t>(count);
+    const bool mirrored = determinant(m) < 0;
+    if (attr("NORMAL") >= 0) addNormals(cx, attr("NORMAL"), count, m, mirrored);
+    else cx.allNormals = false;
+    if (attr("COLOR_0") >= 0) addColors(cx, attr("COLOR_0"), count);
+    else cx.allColors = false;
+    std::vector<uint32_t> indices = prim.indices >= 0 ? readIndices(cx, prim.indices) : std::vector<uint32_t>(count);
     if (prim.indices < 0)
         for (size_t i = 0; i < count; ++i) indices[i] = static_cast<uint32_t>(i);
     const uint32_t material = prim.material >= 0 && static_cast<size_t>(prim.material) < cx.materialOfGltf.size()
-                                  ? cx.materialOfGltf[prim.material]
+                                  ? cx.materialOfGltf[static_cast<size_t>(prim.material)]
                                   : static_cast<uint32_t>(cx.out.materials.size() - 1);
     for (size_t t = 0; t + 2 < indices.size(); t += 3) {
         for (int k = 0; k < 3; ++k) {
-            if (indices[t + k] >= count) throw InputError(cx.path + ": index " + std::to_string(indices[t + k]) + " out of range");
-            mesh.indices.push_back(base + indices[t + k]);
+            const uint32_t i = indices[t + (mirrored && k > 0 ? 3 - k : k)];
+            if (i >= count) throw InputError(cx.path + ": index " + std::to_string(i) + " out of range (" + std::to_string(count) + " vertices)");
+            mesh.indices.push_back(base + i);
         }
         cx.out.piece.materials.push_back(material);
     }
@@ -148,11 +258,27 @@ void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m)
 void addNode(Context& cx, int index, const Matrix& parent, int depth) {
     if (index < 0 || index >= static_cast<int>(cx.model.nodes.size()) || depth > 64)
         throw InputError(cx.path + ": corrupt node tree");
-    const tinygltf::Node& node = cx.model.nodes[index];
+    const tinygltf::Node& node = cx.model.nodes[static_cast<size_t>(index)];
     const Matrix m = multiply(parent, localMatrix(node));
     if (node.mesh >= 0 && node.mesh < static_cast<int>(cx.model.meshes.size()))
-        for (const auto& prim : cx.model.meshes[node.mesh].primitives) addPrimitive(cx, prim, m);
+        for (const auto& prim : cx.model.meshes[static_cast<size_t>(node.mesh)].primitives) addPrimitive(cx, prim, m);
     for (int child : node.children) addNode(cx, child, m, depth + 1);
+}
+
+// An image stb_image decoded (8 or 16 bits per channel) as 8-bit grey or RGB.
+std::shared_ptr<Image> decodedImage(const Context& cx, const tinygltf::Image& img, size_t index) {
+    const size_t bytes = img.bits == 16 ? 2 : 1;
+    const size_t pixels = static_cast<size_t>(img.width) * static_cast<size_t>(img.height);
+    if (img.image.size() < pixels * static_cast<size_t>(img.component) * bytes)
+        throw InputError(cx.path + ": image " + std::to_string(index) + " is truncated");
+    auto image = std::make_shared<Image>();
+    image->width = static_cast<uint32_t>(img.width), image->height = static_cast<uint32_t>(img.height);
+    image->channels = img.component >= 3 ? 3 : 1;
+    image->pixels.reserve(pixels * image->channels);
+    for (size_t p = 0; p < pixels; ++p)
+        for (uint32_t c = 0; c < image->channels; ++c)  // the high byte of a little-endian 16-bit sample
+            image->pixels.push_back(img.image[(p * static_cast<size_t>(img.component) + c) * bytes + bytes - 1]);
+    return image;
 }
 
 void addMaterials(Context& cx) {
@@ -160,19 +286,13 @@ void addMaterials(Context& cx) {
         Material out{mat.name, "", nullptr};
         const int tex = mat.pbrMetallicRoughness.baseColorTexture.index;
         if (tex >= 0 && tex < static_cast<int>(cx.model.textures.size())) {
-            const int source = cx.model.textures[tex].source;
+            const int source = cx.model.textures[static_cast<size_t>(tex)].source;
             if (source >= 0 && source < static_cast<int>(cx.model.images.size())) {
-                const tinygltf::Image& img = cx.model.images[source];
-                if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0) {
-                    auto image = std::make_shared<Image>();
-                    image->width = static_cast<uint32_t>(img.width), image->height = static_cast<uint32_t>(img.height);
-                    image->channels = img.component >= 3 ? 3 : 1;
-                    for (size_t p = 0; p < static_cast<size_t>(img.width) * img.height; ++p)
-                        for (uint32_t c = 0; c < image->channels; ++c) image->pixels.push_back(img.image[p * img.component + c]);
-                    out.image = image;
-                } else if (!img.uri.empty()) {
+                const tinygltf::Image& img = cx.model.images[static_cast<size_t>(source)];
+                if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0)
+                    out.image = decodedImage(cx, img, static_cast<size_t>(source));
+                else if (!img.uri.empty())
                     out.texturePath = resolveTexturePath(cx.path, img.uri);
-                }
             }
         }
         cx.materialOfGltf.push_back(static_cast<uint32_t>(cx.out.materials.size()));
@@ -187,26 +307,35 @@ SourceMesh readGltf(const std::string& path) {
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
     std::string err, warn;
-    const bool binary = std::filesystem::path(path).extension() == ".glb";
-    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path) : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    std::string extension = std::filesystem::path(path).extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const bool ok = extension == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                                        : loader.LoadASCIIFromFile(&model, &err, &warn, path);
     if (!ok) throw InputError(path + ": corrupt glTF (" + err.substr(0, err.find('\n')) + ")");
     SourceMesh out;
     Context cx{model, path, out, {}};
     addMaterials(cx);
+    const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (scene < static_cast<int>(model.scenes.size())) {
-        for (int node : model.scenes[scene].nodes) addNode(cx, node, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, 0);
+        for (int node : model.scenes[static_cast<size_t>(scene)].nodes) addNode(cx, node, identity, 0);
     } else {
         std::vector<bool> isChild(model.nodes.size());
         for (const auto& node : model.nodes)
             for (int c : node.children)
-                if (c >= 0 && static_cast<size_t>(c) < isChild.size()) isChild[c] = true;
+                if (c >= 0 && static_cast<size_t>(c) < isChild.size()) isChild[static_cast<size_t>(c)] = true;
         for (size_t n = 0; n < model.nodes.size(); ++n)
-            if (!isChild[n]) addNode(cx, static_cast<int>(n), {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, 0);
+            if (!isChild[n]) addNode(cx, static_cast<int>(n), identity, 0);
     }
+    if (cx.skippedPrimitives)
+        out.stats.warnings.push_back(path + ": " + std::to_string(cx.skippedPrimitives) +
+                                     " primitives that are not triangles skipped");
+    MeshData& mesh = out.piece.mesh;
+    if (!cx.allNormals) mesh.normals.clear();
+    if (!cx.allColors) mesh.colors.clear();
     bool textured = false;
     for (const Material& m : out.materials) textured = textured || m.image || !m.texturePath.empty();
-    if (!textured) out.piece.mesh.texcoords.clear();
+    if (!textured) mesh.texcoords.clear();
     sanitize(out, path);
     return out;
 }

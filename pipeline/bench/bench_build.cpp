@@ -1,6 +1,6 @@
 // Benchmark of `hlod build` (issue 3): for a ~1 M triangle real scan (Lucy 100k, midpoint-
-// subdivided twice: 1.6 M) and a ~17 M triangle folder of 17 generated 1 M terrain blocks, runs
-// the build in a child process and prints input triangles per CPU-second, wall time, peak RSS
+// subdivided twice: 1.6 M) and a ~17 M triangle single generated terrain mesh (one PLY, so the
+// out-of-core read and block split are measured too), runs the build in a child process and prints input triangles per CPU-second, wall time, peak RSS
 // (the child's ru_maxrss) and output bytes per input triangle. Reference (nxsbuild, same kind of
 // machine): 58 k tri/CPU-s, 30.5 B/tri, ~430 MB RSS.
 //   hlod_bench_build [--dir DIR] [--sizes 1,17] [--simplifier meshopt|openmesh|both] [-j N]
@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -56,19 +57,29 @@ MeshData subdivide(const MeshData& m) {
     return out;
 }
 
-MeshData terrainBlock(uint32_t n, float x0) {
-    MeshData m;
+// An n x n-quad wavy terrain over 100 n / 707 units, written row by row (never held whole).
+void writeTerrainPly(const std::string& path, uint32_t n) {
+    std::ofstream out(path, std::ios::binary);
+    const uint64_t vertices = uint64_t(n + 1) * (n + 1), triangles = 2ull * n * n;
+    out << "ply\nformat binary_little_endian 1.0\nelement vertex " << vertices
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << triangles
+        << "\nproperty list uchar int vertex_indices\nend_header\n";
+    const float size = 100.0f * n / 707;
     for (uint32_t j = 0; j <= n; ++j)
         for (uint32_t i = 0; i <= n; ++i) {
-            const float x = x0 + 100.0f * i / n, y = 100.0f * j / n;
-            m.positions.insert(m.positions.end(), {x, y, 3 * std::sin(x * 0.13f) * std::cos(y * 0.07f) + 0.2f * std::sin(x * 1.7f + y)});
+            const float x = size * i / n, y = size * j / n;
+            const float p[3] = {x, y, 3 * std::sin(x * 0.13f) * std::cos(y * 0.07f) + 0.2f * std::sin(x * 1.7f + y)};
+            out.write(reinterpret_cast<const char*>(p), sizeof p);
         }
     for (uint32_t j = 0; j < n; ++j)
         for (uint32_t i = 0; i < n; ++i) {
             const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
-            m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+            const unsigned char three = 3;
+            for (const std::array<uint32_t, 3>& tri : {std::array<uint32_t, 3>{a, b, d}, std::array<uint32_t, 3>{a, d, c}}) {
+                out.write(reinterpret_cast<const char*>(&three), 1);
+                out.write(reinterpret_cast<const char*>(tri.data()), 12);
+            }
         }
-    return m;
 }
 
 std::string prepare(const std::string& dir, int size) {
@@ -81,14 +92,9 @@ std::string prepare(const std::string& dir, int size) {
         writePly(path, subdivide(subdivide(m)));
         return path;
     }
-    const std::string folder = dir + "/terrain_" + std::to_string(size) + "m";
-    fs::create_directories(folder);
-    for (int b = 0; b < size; ++b) {
-        char name[32];
-        std::snprintf(name, sizeof name, "/block_%03d.ply", b);
-        if (!fs::exists(folder + name)) writePly(folder + name, terrainBlock(707, 100.0f * b));
-    }
-    return folder;
+    const std::string path = dir + "/terrain_" + std::to_string(size) + "m.ply";
+    if (!fs::exists(path)) writeTerrainPly(path, static_cast<uint32_t>(std::lround(std::sqrt(size * 1e6 / 2))));
+    return path;
 }
 
 struct Result {

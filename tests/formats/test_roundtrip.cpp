@@ -101,7 +101,7 @@ TEST(RoundTrip, EveryFieldAndBlob) {
     EXPECT_EQ(s.blobs[3].texture, 1u);
     EXPECT_EQ(s.blobs[4].texture, kNone);
     EXPECT_EQ(s.blobs[4].attributes, kAttrPosition | kAttrTexcoord | kAttrNormal | kAttrColor);
-    EXPECT_EQ(s.blobs[4].positionBits, 14);
+    EXPECT_EQ(s.blobs[4].positionBits, 15);  // side 1: lattice step 2^-14 <= 1 / (2^14 - 1), 2^14 steps
     EXPECT_EQ(s.blobs[4].normalBits, 8);
     EXPECT_EQ(s.blobs[1].codec, Codec::Png);
     EXPECT_EQ(s.blobs[1].channels, 4);
