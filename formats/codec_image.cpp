@@ -30,7 +30,10 @@ EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality) {
     auto out = OIIO::ImageOutput::create(memoryName(codec));
     if (!out) throw std::runtime_error("encodeTexture: " + OIIO::geterror());
     OIIO::ImageSpec spec(int(image.width), int(image.height), int(image.channels), OIIO::TypeDesc::UINT8);
-    if (codec == Codec::Jpeg) spec.attribute("Compression", "jpeg:" + std::to_string(jpegQuality));
+    if (codec == Codec::Jpeg) {
+        spec.attribute("Compression", "jpeg:" + std::to_string(jpegQuality));
+        spec.attribute("jpeg:subsampling", "4:4:4");  // 8 x 8 chroma blocks: node atlases align charts to them
+    }
     spec.attribute("oiio:UnassociatedAlpha", 1);  // store alpha as given, never premultiplied
     bool ok = out->set_ioproxy(&proxy) && out->open(memoryName(codec), spec) &&
               out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) && out->close();

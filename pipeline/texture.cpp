@@ -4,8 +4,11 @@
 // (an exact average of the covered texels; 8-25x faster than the default lanczos3 here). A node
 // then keeps only the charts its triangles use: each connected set of triangles gets the
 // bounding rectangle of its texels plus one texel of margin (so bilinear filtering at a chart
-// border reads the source's own neighbours, never another chart: no bleeding), and the
-// rectangles are shelf-packed into one atlas. UVs move by one affine map per chart: exact.
+// border reads the source's own neighbours, never another chart), and the rectangles are
+// shelf-packed into one atlas. UVs move by one affine map per chart: exact. JPEG codes 8 x 8
+// blocks (chroma too at 4:4:4, formats/codec_image.cpp), so each chart starts on a multiple of 8
+// and is padded to one with copies of its edge texels: no block mixes two charts, and no
+// chart's colour bleeds into another through the compression.
 #include "pipeline/pipeline.h"
 
 #include <OpenImageIO/imagebuf.h>
@@ -60,9 +63,15 @@ uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
     return i;
 }
 
+constexpr int kBlock = 8;  // JPEG block side
+
+int padded(int size) { return (size + kBlock - 1) / kBlock * kBlock; }
+
 struct Chart {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // texel rectangle in the scaled source, margin included
-    int ox = 0, oy = 0;                  // its place in the atlas
+    int ox = 0, oy = 0;                  // its place in the atlas (multiples of kBlock)
+    int width() const { return padded(x1 - x0); }
+    int height() const { return padded(y1 - y0); }
 };
 
 // Charts = triangles connected through shared (welded, so same-UV) vertices; returns the
@@ -85,28 +94,39 @@ std::vector<uint32_t> chartOfVertex(const MeshData& mesh, uint32_t& count) {
     return chart;
 }
 
-// Shelf packing, tallest first (ties by chart order, so deterministic); returns atlas size.
+// Shelf packing of the padded rectangles, tallest first (ties by chart order, so
+// deterministic); returns the atlas size, a multiple of kBlock.
 std::pair<int, int> packCharts(std::vector<Chart>& charts) {
     std::vector<uint32_t> order(charts.size());
     double area = 0;
-    int widest = 1;
+    int widest = kBlock;
     for (uint32_t i = 0; i < order.size(); ++i) {
         order[i] = i;
-        area += double(charts[i].x1 - charts[i].x0) * (charts[i].y1 - charts[i].y0);
-        widest = std::max(widest, charts[i].x1 - charts[i].x0);
+        area += double(charts[i].width()) * charts[i].height();
+        widest = std::max(widest, charts[i].width());
     }
-    std::stable_sort(order.begin(), order.end(),
-                     [&](uint32_t a, uint32_t b) { return charts[a].y1 - charts[a].y0 > charts[b].y1 - charts[b].y0; });
-    const int width = std::max(widest, static_cast<int>(std::ceil(std::sqrt(area) * 1.1)));
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return charts[a].height() > charts[b].height(); });
+    const int width = std::max(widest, padded(static_cast<int>(std::ceil(std::sqrt(area) * 1.1))));
     int x = 0, y = 0, shelf = 0;
     for (uint32_t i : order) {
         Chart& c = charts[i];
-        if (x + (c.x1 - c.x0) > width) x = 0, y += shelf, shelf = 0;
+        if (x + c.width() > width) x = 0, y += shelf, shelf = 0;
         c.ox = x, c.oy = y;
-        x += c.x1 - c.x0;
-        shelf = std::max(shelf, c.y1 - c.y0);
+        x += c.width();
+        shelf = std::max(shelf, c.height());
     }
-    return {width, std::max(1, y + shelf)};
+    return {width, std::max(kBlock, y + shelf)};
+}
+
+// Copies the chart's rectangle to its place and fills the padding with its edge texels.
+void copyChart(const Image& source, const Chart& c, Image& atlas) {
+    const size_t nc = source.channels;
+    for (int y = 0; y < c.height(); ++y) {
+        const int sy = std::min(c.y0 + y, c.y1 - 1);
+        uint8_t* row = &atlas.pixels[(static_cast<size_t>(c.oy + y) * atlas.width + c.ox) * nc];
+        std::copy_n(&source.pixels[(static_cast<size_t>(sy) * source.width + c.x0) * nc], static_cast<size_t>(c.x1 - c.x0) * nc, row);
+        for (int x = c.x1 - c.x0; x < c.width(); ++x) std::copy_n(row + (c.x1 - c.x0 - 1) * nc, nc, row + x * nc);
+    }
 }
 
 }  // namespace
@@ -135,10 +155,7 @@ Image atlasTexture(const Image& scaled, MeshData& mesh) {
     const uint32_t nc = scaled.channels;
     Image atlas{static_cast<uint32_t>(width), static_cast<uint32_t>(height), nc, {}};
     atlas.pixels.assign(static_cast<size_t>(width) * height * nc, 0);
-    for (const Chart& c : charts)
-        for (int y = c.y0; y < c.y1; ++y)
-            std::copy_n(scaled.pixels.begin() + (static_cast<size_t>(y) * scaled.width + c.x0) * nc, static_cast<size_t>(c.x1 - c.x0) * nc,
-                        atlas.pixels.begin() + (static_cast<size_t>(c.oy + y - c.y0) * width + c.ox) * nc);
+    for (const Chart& c : charts) copyChart(scaled, c, atlas);
     for (size_t v = 0; v < mesh.vertexCount(); ++v) {
         const Chart& c = charts[chart[v]];
         mesh.texcoords[2 * v] = static_cast<float>((mesh.texcoords[2 * v] * size[0] - c.x0 + c.ox) / width);

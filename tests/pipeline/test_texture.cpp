@@ -34,6 +34,31 @@ TEST(Texture, AtlasKeepsOnlyUsedChartsAndMapsUVsExactly) {
     }
 }
 
+// A black chart and a white chart, small enough to share a JPEG block if packed side by side:
+// after JPEG coding each must keep its own colour everywhere under its triangles.
+TEST(Texture, JpegCodingDoesNotBleedBetweenCharts) {
+    Image source{64, 64, 3, {}};
+    for (uint32_t y = 0; y < 64; ++y)
+        for (uint32_t x = 0; x < 64; ++x)
+            for (int c = 0; c < 3; ++c) source.pixels.push_back(x < 32 ? 0 : 255);
+    MeshData mesh = twoCharts();
+    mesh.texcoords = {0.05f, 0.05f, 0.09f, 0.05f, 0.05f, 0.09f, 0.80f, 0.80f, 0.84f, 0.80f, 0.80f, 0.84f};
+    const Image atlas = atlasTexture(source, mesh);
+    EXPECT_EQ(atlas.width % 8, 0u);
+    EXPECT_EQ(atlas.height % 8, 0u);
+    const Image decoded = decodeTexture(encodeTexture(atlas, Codec::Jpeg, 85).bytes, Codec::Jpeg, "atlas");
+    for (int chart = 0; chart < 2; ++chart) {
+        float lo[2] = {1, 1}, hi[2] = {0, 0};
+        for (int v = 3 * chart; v < 3 * chart + 3; ++v)
+            for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], mesh.texcoords[2 * v + a]), hi[a] = std::max(hi[a], mesh.texcoords[2 * v + a]);
+        const int expected = chart == 0 ? 0 : 255;
+        for (uint32_t y = uint32_t(lo[1] * decoded.height); y < uint32_t(std::ceil(hi[1] * decoded.height)); ++y)
+            for (uint32_t x = uint32_t(lo[0] * decoded.width); x < uint32_t(std::ceil(hi[0] * decoded.width)); ++x)
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_NEAR(decoded.pixels[(size_t(y) * decoded.width + x) * 3 + c], expected, 6) << "chart " << chart << " texel " << x << "," << y;
+    }
+}
+
 TEST(Texture, DownsampleDividesTexelsByTheFactor) {
     const Image source = testImage(256, 128);
     const Image half = downsampleTexture(source, 4);
