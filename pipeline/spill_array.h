@@ -5,6 +5,7 @@
 #pragma once
 
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -49,6 +50,14 @@ public:
         void* p = mmap(nullptr, mapBytes_, PROT_READ, MAP_PRIVATE, fileno(file_), 0);
         if (p == MAP_FAILED) throw std::runtime_error(path_ + ": cannot map temporary file (" + std::strerror(errno) + ")");
         map_ = p;
+    }
+
+    // Done with elements [begin, end): their pages leave the process (read again from the
+    // file if touched later). A no-op in memory.
+    void release(size_t begin, size_t end) const {
+        if (!map_) return;
+        const size_t page = static_cast<size_t>(sysconf(_SC_PAGESIZE)), from = (begin * sizeof(T) + page - 1) / page * page, to = end * sizeof(T) / page * page;
+        if (to > from) madvise(static_cast<char*>(map_) + from, to - from, MADV_DONTNEED);
     }
 
     size_t size() const { return size_; }

@@ -72,7 +72,10 @@ std::vector<CellFile> streamSplit(const RawMesh& raw, const GridSpec& grid, cons
     Corner corner[3];
     uint64_t kept = 0;
     for (size_t t = 0; t < raw.triangles.size(); ++t) {
-        if (progress && (t & 0xFFFF) == 0xFFFF) progress->advance(0x10000);
+        if ((t & 0xFFFF) == 0xFFFF) {
+            raw.triangles.release(t - 0xFFFF, t + 1);  // read once, in order: keep them out of the RSS
+            if (progress) progress->advance(0x10000);
+        }
         if (!rawCorners(raw, t, corner, name)) {
             ++stats.degenerateDropped;
             continue;

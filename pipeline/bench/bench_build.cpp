@@ -3,7 +3,7 @@
 // out-of-core read and block split are measured too), runs the build in a child process and prints input triangles per CPU-second, wall time, peak RSS
 // (the child's ru_maxrss) and output bytes per input triangle. Reference (nxsbuild, same kind of
 // machine): 58 k tri/CPU-s, 30.5 B/tri, ~430 MB RSS.
-//   hlod_bench_build [--dir DIR] [--sizes 1,17] [--simplifier meshopt|openmesh|both] [-j N]
+//   hlod_bench_build [--dir DIR] [--sizes 1,17] [--simplifier meshopt|openmesh|both] [-j N] [--memory-limit BYTES]
 #include "pipeline/pipeline.h"
 
 #include <sys/resource.h>
@@ -102,7 +102,7 @@ struct Result {
     uint64_t peakRss = 0, triangles = 0, bytes = 0;
 };
 
-Result runChild(const std::string& input, const std::string& output, Simplifier simplifier, int jobs) {
+Result runChild(const std::string& input, const std::string& output, Simplifier simplifier, int jobs, uint64_t memoryLimit) {
     const auto start = std::chrono::steady_clock::now();
     const pid_t pid = fork();
     if (pid == 0) {
@@ -112,6 +112,7 @@ Result runChild(const std::string& input, const std::string& output, Simplifier 
             BuildRequest r;
             r.input = input, r.output = output;
             r.options.simplifier = simplifier, r.options.jobs = jobs;
+            if (memoryLimit) r.options.memoryLimit = memoryLimit;
             const BuildSummary s = runBuild(r, progress);
             std::ofstream(output + ".tris") << s.inputTriangles;
             _exit(0);
@@ -138,12 +139,14 @@ Result runChild(const std::string& input, const std::string& output, Simplifier 
 int main(int argc, char** argv) {
     std::string dir = (fs::temp_directory_path() / "hlod-bench").string(), sizes = "1,17", which = "both";
     int jobs = 0;
+    uint64_t memoryLimit = 0;  // bytes; 0 = the build's default (1 GiB)
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string a = argv[i];
         if (a == "--dir") dir = argv[i + 1];
         else if (a == "--sizes") sizes = argv[i + 1];
         else if (a == "--simplifier") which = argv[i + 1];
         else if (a == "-j") jobs = std::atoi(argv[i + 1]);
+        else if (a == "--memory-limit") memoryLimit = std::strtoull(argv[i + 1], nullptr, 10);
     }
     std::printf("%-22s %-9s %12s %9s %9s %14s %10s %8s\n", "input", "simplify", "input tris", "wall s", "CPU s",
                 "tri/CPU-s", "peak RSS", "B/tri");
@@ -155,7 +158,7 @@ int main(int argc, char** argv) {
             const bool isMeshopt = s == Simplifier::Meshopt;
             if ((which == "meshopt" && !isMeshopt) || (which == "openmesh" && isMeshopt)) continue;
             if (!isMeshopt && size > 1 && which == "both") continue;  // ~50 k tri/s: 1 M only
-            const Result r = runChild(input, dir + "/out.hlod", s, jobs);
+            const Result r = runChild(input, dir + "/out.hlod", s, jobs, memoryLimit);
             std::printf("%-22s %-9s %12llu %9.1f %9.1f %14.0f %7.0f MB %8.2f\n", fs::path(input).filename().c_str(),
                         isMeshopt ? "meshopt" : "openmesh", static_cast<unsigned long long>(r.triangles), r.wall, r.cpu,
                         r.cpu > 0 ? r.triangles / r.cpu : 0.0, r.peakRss / 1e6, r.triangles ? double(r.bytes) / r.triangles : 0.0);
