@@ -169,7 +169,7 @@ MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier
 double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original);
 
 // texture.cpp. A node's texture for one material: the source atlas downsampled by the node's
-// factor (sqrt(factor) per side, box filter), then the UV charts its triangles use (connected
+// factor (sqrt(factor) per side, stb_image_resize box filter), then the UV charts its triangles use (connected
 // triangles; bounding rectangle + 1 texel margin each) repacked into one atlas; UVs rewritten
 // affinely per chart, exactly.
 Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError

@@ -1,7 +1,8 @@
 // Node textures (thesis §3.2: "the original texture data is down-sampled by this
-// simplification factor as well"). Per material, the source atlas is downsampled once per level
-// so its texel count drops by the factor (sqrt(factor) per side) with OpenImageIO's box filter
-// (an exact average of the covered texels; 8-25x faster than the default lanczos3 here). A node
+// simplification factor as well"). Per material, the source atlas (read by OpenImageIO) is
+// downsampled once per level so its texel count drops by the factor (sqrt(factor) per side)
+// with stb_image_resize's box filter: the average of the covered texels, 86-155 Mpix/s here,
+// 2-3.6x OpenImageIO's box resize (24-79 Mpix/s; its default lanczos3: 4 Mpix/s). A node
 // then keeps only the charts its triangles use: each connected set of triangles gets the
 // bounding rectangle of its texels plus one texel of margin (so bilinear filtering at a chart
 // border reads the source's own neighbours, never another chart), and the rectangles are
@@ -11,9 +12,9 @@
 // chart's colour bleeds into another through the compression.
 #include "pipeline/pipeline.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
+#define STB_IMAGE_RESIZE_IMPLEMENTATION
+#include <stb_image_resize.h>
 
 #include <algorithm>
 #include <cmath>
@@ -47,12 +48,11 @@ Image downsampleTexture(const Image& source, double factor) {
     const int w = static_cast<int>(source.width), h = static_cast<int>(source.height), nc = static_cast<int>(source.channels);
     const int ow = std::max(1, static_cast<int>(std::lround(w * scale))), oh = std::max(1, static_cast<int>(std::lround(h * scale)));
     if (ow == w && oh == h) return source;
-    const OIIO::ImageSpec spec(w, h, nc, OIIO::TypeDesc::UINT8);
-    const OIIO::ImageBuf in(spec, const_cast<uint8_t*>(source.pixels.data()));
-    const OIIO::ImageBuf out = OIIO::ImageBufAlgo::resize(in, "box", 0, OIIO::ROI(0, ow, 0, oh, 0, 1, 0, nc), 1);
     Image image{static_cast<uint32_t>(ow), static_cast<uint32_t>(oh), source.channels, {}};
     image.pixels.resize(static_cast<size_t>(ow) * oh * nc);
-    out.get_pixels(OIIO::ROI(0, ow, 0, oh, 0, 1, 0, nc), OIIO::TypeDesc::UINT8, image.pixels.data());
+    if (!stbir_resize_uint8_generic(source.pixels.data(), w, h, 0, image.pixels.data(), ow, oh, 0, nc, STBIR_ALPHA_CHANNEL_NONE, 0,
+                                    STBIR_EDGE_CLAMP, STBIR_FILTER_BOX, STBIR_COLORSPACE_LINEAR, nullptr))
+        throw std::runtime_error("downsampleTexture: cannot resize " + std::to_string(w) + "x" + std::to_string(h));
     return image;
 }
 
