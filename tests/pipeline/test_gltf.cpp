@@ -63,6 +63,17 @@ MeshData sample() {
 
 // One mesh (POSITION, TEXCOORD_0, NORMAL, COLOR_0 as normalised RGBA bytes, uint32 indices) in
 // the scene's only node; buffer 0 is embedded as a data URI unless `external`.
+// One node instancing one mesh made of `prim`, in the default scene.
+void singleMeshScene(tinygltf::Model& model, const tinygltf::Primitive& prim) {
+    model.meshes.resize(1);
+    model.meshes[0].primitives.push_back(prim);
+    model.nodes.resize(1);
+    model.nodes[0].mesh = 0;
+    model.scenes.resize(1);
+    model.scenes[0].nodes = {0};
+    model.defaultScene = 0;
+}
+
 tinygltf::Model modelOf(const MeshData& m) {
     tinygltf::Model model;
     model.asset.version = "2.0";
@@ -74,13 +85,7 @@ tinygltf::Model modelOf(const MeshData& m) {
     if (!m.normals.empty()) prim.attributes["NORMAL"] = addData(model, m.normals, kFloat, TINYGLTF_TYPE_VEC3, 3);
     if (!m.colors.empty()) prim.attributes["COLOR_0"] = addData(model, m.colors, kUbyte, TINYGLTF_TYPE_VEC4, 4, true);
     prim.indices = addData(model, m.indices, kUint, TINYGLTF_TYPE_SCALAR, 1);
-    model.meshes.resize(1);
-    model.meshes[0].primitives.push_back(prim);
-    model.nodes.resize(1);
-    model.nodes[0].mesh = 0;
-    model.scenes.resize(1);
-    model.scenes[0].nodes = {0};
-    model.defaultScene = 0;
+    singleMeshScene(model, prim);
     return model;
 }
 
@@ -89,18 +94,6 @@ tinygltf::Primitive& primitive(tinygltf::Model& model) { return model.meshes[0].
 void save(const tinygltf::Model& model, const std::string& path, bool binary = false, bool externalBuffer = false) {
     tinygltf::TinyGLTF writer;
     ASSERT_TRUE(writer.WriteGltfSceneToFile(&model, path, false, !externalBuffer, true, binary)) << path;
-}
-
-std::string base64(const std::vector<uint8_t>& in) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (size_t i = 0; i < in.size(); i += 3) {
-        const uint32_t n = (in[i] << 16) | ((i + 1 < in.size() ? in[i + 1] : 0) << 8) | (i + 2 < in.size() ? in[i + 2] : 0);
-        out += table[(n >> 18) & 63], out += table[(n >> 12) & 63];
-        out += i + 1 < in.size() ? table[(n >> 6) & 63] : '=';
-        out += i + 2 < in.size() ? table[n & 63] : '=';
-    }
-    return out;
 }
 
 void addTexturedMaterial(tinygltf::Model& model, const tinygltf::Image& image) {
@@ -247,12 +240,7 @@ TEST(Gltf, DracoCompressedPrimitive) {
     prim.extensions["KHR_draco_mesh_compression"] = tinygltf::Value(tinygltf::Value::Object{
         {"bufferView", tinygltf::Value(view)},
         {"attributes", tinygltf::Value(tinygltf::Value::Object{{"POSITION", tinygltf::Value(id)}})}});
-    model.meshes.resize(1);
-    model.meshes[0].primitives.push_back(prim);
-    model.nodes.resize(1);
-    model.nodes[0].mesh = 0;
-    model.scenes.resize(1);
-    model.scenes[0].nodes = {0};
+    singleMeshScene(model, prim);
     model.extensionsUsed = model.extensionsRequired = {"KHR_draco_mesh_compression"};
     save(model, dir.file("d.glb"), true);
 

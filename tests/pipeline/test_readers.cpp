@@ -76,18 +76,6 @@ TEST(ReadObj, ManyMaterialsAndFlippedV) {
     EXPECT_EQ(s.materials[1].texturePath, std::filesystem::canonical(dir.file("atlas.png")).string());
 }
 
-std::string base64(const std::vector<uint8_t>& in) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (size_t i = 0; i < in.size(); i += 3) {
-        const uint32_t n = (in[i] << 16) | ((i + 1 < in.size() ? in[i + 1] : 0) << 8) | (i + 2 < in.size() ? in[i + 2] : 0);
-        out += table[(n >> 18) & 63], out += table[(n >> 12) & 63];
-        out += i + 1 < in.size() ? table[(n >> 6) & 63] : '=';
-        out += i + 2 < in.size() ? table[n & 63] : '=';
-    }
-    return out;
-}
-
 // One mesh (positions, TEXCOORD_0, uint32 indices in a data-URI buffer) instanced by a node
 // translated by (10, 0, 0) whose child is scaled by 2.
 void writeGltf(const std::string& path, const MeshData& m) {
