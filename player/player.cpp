@@ -204,6 +204,7 @@ struct Player::Impl {
         }
         s.upToggles = sel.upToggles;
         s.downToggles = sel.downToggles;
+        s.reversals = sel.reversals;
         s.misses = sel.misses;
         s.refused = sel.refused;
         s.residentNodes = residentNodes;

@@ -50,6 +50,7 @@ struct FrameStats {
     std::vector<uint64_t> trianglesPerLevel;
     uint32_t upToggles = 0;          // §6.5: a node drawn last frame whose children are drawn now
     uint32_t downToggles = 0;        // §6.5: siblings drawn last frame replaced by their parent
+    uint32_t reversals = 0;          // toggles undoing the same node's toggle of <= 35 frames before
     uint32_t residentNodes = 0;      // uploaded to the renderer
     uint64_t residentBytes = 0;      // real bytes: uploaded + decoded waiting + being loaded
     double memoryEstimateBytes = 0;  // §4.3: c_memory * sum(cost) of resident nodes

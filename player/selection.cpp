@@ -63,8 +63,14 @@ struct Traversal {
     void setRole(uint32_t id, DrawState role) {
         NodeState& s = state.nodes[id];
         DrawState previous = state.role(id);
-        if (previous == DrawState::Drawn && role == DrawState::Refined) ++out.upToggles;
-        if (previous == DrawState::Refined && role == DrawState::Drawn) ++out.downToggles;
+        const bool up = previous == DrawState::Drawn && role == DrawState::Refined;
+        const bool down = previous == DrawState::Refined && role == DrawState::Drawn;
+        out.upToggles += up, out.downToggles += down;
+        if (up || down) {
+            out.reversals += s.toggledTo == previous && state.frame - s.toggleFrame <= kReversalWindow;
+            s.toggledTo = role;
+            s.toggleFrame = state.frame;
+        }
         s.role = role;
         s.roleFrame = state.frame;
     }

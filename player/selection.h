@@ -50,7 +50,14 @@ struct NodeState {
     bool evaluated = false;  // hyst has been initialised
     DrawState role = DrawState::None;  // role in frame `roleFrame`
     uint64_t roleFrame = 0;
+    DrawState toggledTo = DrawState::None;  // role its last toggle switched it to, in frame `toggleFrame`
+    uint64_t toggleFrame = 0;
 };
+
+// A toggle that undoes the same node's previous toggle within this many frames counts as a
+// reversal: the flicker the thesis's hysteresis prevents ("we do not get successive up and
+// down toggles", §6.5; 35 frames is its moving-average window).
+inline constexpr uint64_t kReversalWindow = 35;
 
 struct SelectionState {
     std::vector<NodeState> nodes;  // one per skeleton node
@@ -81,6 +88,7 @@ struct Selection {
     std::vector<uint32_t> visited;   // every node whose priority was computed this frame
     double drawnCost = 0;            // sum of cost_n over drawn nodes
     uint32_t upToggles = 0, downToggles = 0;  // §6.5 counting rule
+    uint32_t reversals = 0;          // toggles undoing the node's previous one within kReversalWindow
     uint32_t misses = 0;             // visible children wanted but not loaded
     uint32_t refused = 0;            // all-loaded sibling sets refused because cumHyst < 0
 };

@@ -34,10 +34,10 @@ void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels) {
     uint64_t tris = 0;
     for (uint32_t n : s.nodesPerLevel) nodes += n;
     for (uint64_t t : s.trianglesPerLevel) tris += t;
-    std::snprintf(buf, sizeof buf, "%llu,%.6f,%.3f,%.4f,%.4f,%.4f,%.6g,%.4f,%u,%llu,%u,%u,%u,%llu,%.0f,%u,%u,%u,%u,%.4f,%.4f",
+    std::snprintf(buf, sizeof buf, "%llu,%.6f,%.3f,%.4f,%.4f,%.4f,%.6g,%.4f,%u,%llu,%u,%u,%u,%u,%llu,%.0f,%u,%u,%u,%u,%.4f,%.4f",
                   (unsigned long long)s.frame, s.timeSeconds, s.targetMs, s.estimateNoFeedbackMs, s.estimateMs,
                   s.actualMs, s.vTime, s.hlod0ShareMs, nodes, (unsigned long long)tris, s.upToggles, s.downToggles,
-                  s.residentNodes, (unsigned long long)s.residentBytes, s.memoryEstimateBytes, s.loads, s.evictions,
+                  s.reversals, s.residentNodes, (unsigned long long)s.residentBytes, s.memoryEstimateBytes, s.loads, s.evictions,
                   s.misses, s.refused, s.stallMs, s.selectionMs);
     os << buf;
     for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.nodesPerLevel.size() ? s.nodesPerLevel[l] : 0);
@@ -82,6 +82,7 @@ StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames
         if (i < s.warmupFrames) continue;
         s.upToggles += f.upToggles;
         s.downToggles += f.downToggles;
+        s.reversals += f.reversals;
         ms.push_back(f.actualMs);
         err.push_back(f.actualMs - f.targetMs);
         if (f.actualMs > 0) {
@@ -105,13 +106,13 @@ void printSummary(std::ostream& os, const StatsSummary& s) {
                   "frame time ms: mean %.3f sd %.3f p99 %.3f max %.3f\n"
                   "error to target ms: mean %.3f sd %.3f p99 %.3f\n"
                   "estimate error %%: with feedback mean %.2f sd %.2f; without mean %.2f sd %.2f\n"
-                  "toggles per frame %.4f (up %llu, down %llu)\n"
+                  "toggles per frame %.4f (up %llu, down %llu; reversals within 35 frames %llu)\n"
                   "peak resident bytes %llu, peak c_memory estimate %.0f\n"
                   "loads %llu, evictions %llu, misses %llu, longest render-thread stall %.3f ms\n",
                   (unsigned long long)s.frames, (unsigned long long)s.warmupFrames, s.frameMs.mean, s.frameMs.sd,
                   s.frameMs.p99, s.frameMs.max, s.errorMs.mean, s.errorMs.sd, s.errorMs.p99, s.estimateErrorPct.mean,
                   s.estimateErrorPct.sd, s.estimateNoFbErrorPct.mean, s.estimateNoFbErrorPct.sd, s.togglesPerFrame,
-                  (unsigned long long)s.upToggles, (unsigned long long)s.downToggles,
+                  (unsigned long long)s.upToggles, (unsigned long long)s.downToggles, (unsigned long long)s.reversals,
                   (unsigned long long)s.peakResidentBytes, s.peakMemoryEstimateBytes, (unsigned long long)s.loads,
                   (unsigned long long)s.evictions, (unsigned long long)s.misses, s.longestStallMs);
     os << buf;
@@ -129,6 +130,7 @@ std::string summaryJson(const StatsSummary& s, const Constants& c) {
                         {"toggles_per_frame", s.togglesPerFrame},
                         {"up_toggles", s.upToggles},
                         {"down_toggles", s.downToggles},
+                        {"reversals", s.reversals},
                         {"peak_resident_bytes", s.peakResidentBytes},
                         {"peak_memory_estimate_bytes", s.peakMemoryEstimateBytes},
                         {"loads", s.loads},

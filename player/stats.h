@@ -17,7 +17,7 @@ namespace hlod {
 // tris_l0..tris_l{L-1}, where L is the database's level count.
 inline constexpr const char* kStatsColumns[] = {
     "frame", "time_s", "target_ms", "est_nofb_ms", "est_ms", "actual_ms", "v_time", "hlod0_share_ms",
-    "nodes_drawn", "tris_drawn", "up_toggles", "down_toggles", "resident_nodes", "resident_bytes",
+    "nodes_drawn", "tris_drawn", "up_toggles", "down_toggles", "reversals", "resident_nodes", "resident_bytes",
     "memory_estimate_bytes", "loads", "evictions", "misses", "refused", "stall_ms", "selection_ms"};
 
 std::vector<std::string> statsHeader(uint32_t levels);
@@ -39,7 +39,7 @@ struct StatsSummary {
     Distribution estimateErrorPct;      // 100 * (est_ms - actual_ms) / actual_ms (Fig. 6.4b)
     Distribution estimateNoFbErrorPct;  // same without feedback (Fig. 6.4a)
     double togglesPerFrame = 0;         // (up + down) / frames (§6.5)
-    uint64_t upToggles = 0, downToggles = 0;
+    uint64_t upToggles = 0, downToggles = 0, reversals = 0;
     uint64_t peakResidentBytes = 0;
     double peakMemoryEstimateBytes = 0;
     uint64_t loads = 0, evictions = 0, misses = 0;

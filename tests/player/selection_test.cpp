@@ -229,6 +229,33 @@ TEST(Selection, VisibleUnloadedSiblingForcesParent) {
     EXPECT_EQ(t.front(sel), std::set<uint32_t>{0});
 }
 
+// An up toggle undone by a down toggle within kReversalWindow frames is a reversal (flicker);
+// the same pair farther apart is not.
+TEST(Selection, ReversalsCountTogglesUndoneWithinTheWindow) {
+    Tree t(1, false);
+    SelectionState st(t.s);
+    for (int k = 0; k < 4; ++k) {
+        st.nodes[1 + k].hyst = 4510;
+        st.nodes[1 + k].evaluated = true;
+    }
+    t.resident[3] = 0;
+    ASSERT_EQ(t.front(t.run(st)), std::set<uint32_t>{0});  // first frame: no previous role, no toggle
+    t.resident[3] = 1;
+    Selection up = t.run(st);
+    ASSERT_EQ(t.front(up), (std::set<uint32_t>{1, 2, 3, 4}));
+    EXPECT_EQ(up.upToggles, 1u);
+    EXPECT_EQ(up.reversals, 0u);  // the node's first toggle
+    t.resident[3] = 0;  // a child goes missing: the parent comes back
+    Selection down = t.run(st);
+    EXPECT_EQ(down.downToggles, 1u);
+    EXPECT_EQ(down.reversals, 1u);
+    for (uint64_t f = 0; f < kReversalWindow; ++f) EXPECT_EQ(t.run(st).downToggles, 0u);
+    t.resident[3] = 1;
+    Selection late = t.run(st);
+    EXPECT_EQ(late.upToggles, 1u);
+    EXPECT_EQ(late.reversals, 0u);  // the down toggle was kReversalWindow + 1 frames before
+}
+
 TEST(Selection, Hlod0NeverSkippedEvenWithTinyBudget) {
     Tree t(6, true);
     t.params.hlod0Share = 1e-6;
