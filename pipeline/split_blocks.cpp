@@ -48,10 +48,11 @@ void weld(Piece& piece) {
     const size_t unique = meshopt_generateVertexRemap(remap.data(), m.indices.data(), m.indices.size(), interleaved.data(),
                                                       vc, floats * sizeof(float));
     meshopt_remapIndexBuffer(m.indices.data(), m.indices.data(), m.indices.size(), remap.data());
-    auto compact = [&](auto& v, size_t n) {
+    auto compact = [&](auto& v, size_t n) {  // an absent attribute stays absent
+        if (v.empty()) return;
         auto out = v;
         out.resize(unique * n);
-        for (size_t i = 0; i < vc && !v.empty(); ++i) std::copy_n(v.begin() + n * i, n, out.begin() + n * remap[i]);
+        for (size_t i = 0; i < vc; ++i) std::copy_n(v.begin() + n * i, n, out.begin() + n * remap[i]);
         v = std::move(out);
     };
     compact(m.positions, 3), compact(m.texcoords, 2), compact(m.normals, 3), compact(m.colors, 4);

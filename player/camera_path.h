@@ -46,6 +46,8 @@ struct PathOptions {
     double keyInterval = 0.5;  // seconds between keys
     uint32_t seed = 1;         // erratic turns and teleports
     int upAxis = 2;            // 2: Z up (default), 1: Y up
+    bool lookAtCenter = false; // walk, drive, erratic: look at the model's centre instead of ahead
+                               // (an object scan walked around, rather than a city walked through)
 };
 
 // The bounds of all hlod0 nodes.

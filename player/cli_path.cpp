@@ -46,6 +46,8 @@ void addPath(CLI::App& app, int& status) {
     sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys");
     sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports");
     sub->add_option("--up", a->up, "up axis of the model: z (default) or y");
+    sub->add_flag("--look-at-center", a->options.lookAtCenter,
+                  "walk, drive, erratic: look at the model's centre, not ahead (walking around an object scan)");
     sub->callback([a, &status] {
         status = runGuarded("path", [&] {
             try {

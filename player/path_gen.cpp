@@ -173,7 +173,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
     auto place = [&](double t, double th, double dir) {
         Vector3d p = route.at(th);
         p[f.up] = ground.at(p[f.a], p[f.b]) + o.eyeHeight;
-        path.keys.push_back(key(t, p, dir * route.tangent(th), up));
+        path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : Vector3d(dir * route.tangent(th)), up));
     };
     for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
         place(t, theta, direction);

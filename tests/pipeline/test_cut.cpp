@@ -94,6 +94,8 @@ TEST(TempBlocks, PieceRoundTripsThroughItsFileAndChunksAreWelded) {
     const Piece back = loadPiece(dir.file("b"));
     EXPECT_EQ(back.mesh.triangleCount(), cut.below.mesh.triangleCount() + cut.above.mesh.triangleCount());
     EXPECT_EQ(back.mesh.vertexCount(), p.mesh.vertexCount());  // the 21 shared plane vertices welded
+    EXPECT_TRUE(back.mesh.normals.empty());  // absent attributes stay absent
+    EXPECT_TRUE(back.mesh.colors.empty());
     EXPECT_THROW(loadPiece(dir.file("missing")), std::runtime_error);
 }
 

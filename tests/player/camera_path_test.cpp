@@ -3,6 +3,7 @@
 #include "player/camera_path.h"
 #include "trees.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -76,6 +77,27 @@ TEST(CameraPath, GeneratedWalkAndDriveHaveTheirSpeeds) {
             double v = dist(p.keys[i].position, p.keys[i - 1].position) / (p.keys[i].time - p.keys[i - 1].time);
             EXPECT_NEAR(v, speed, speed * 0.05) << i;
             EXPECT_NEAR(p.keys[i].position[2], 11.7, 1e-6);  // eye height above the boxes' tops (z = 10)
+        }
+    }
+}
+
+// --look-at-center: walking around an object, the camera (looking down -Z of its orientation)
+// faces the model's centre horizontally at every key; without it, it faces along the route.
+TEST(CameraPath, LookAtCenterFacesTheModel) {
+    Skeleton s = test::gridSkeleton(4, 4, 2, 16, 50);
+    Box3f b = modelBounds(s);
+    const Eigen::Vector3d center(0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y), 0.5 * (b.min.z + b.max.z));
+    for (bool look : {true, false}) {
+        PathOptions o;
+        o.lookAtCenter = look;
+        for (const CameraKey& k : generatePath(s, o).keys) {
+            const Eigen::Quaterniond q(k.orientation[3], k.orientation[0], k.orientation[1], k.orientation[2]);
+            const Eigen::Vector3d forward = q * Eigen::Vector3d(0, 0, -1);
+            Eigen::Vector3d toCenter = center - Eigen::Vector3d(k.position[0], k.position[1], k.position[2]);
+            toCenter.z() = 0;
+            const double cosine = forward.normalized().dot(toCenter.normalized());
+            if (look) EXPECT_GT(cosine, 0.9) << k.time;
+            else EXPECT_LT(std::abs(cosine), 0.5) << k.time;  // along the ellipse, across the line to the centre
         }
     }
 }
