@@ -128,6 +128,7 @@ struct GridSpec {
     uint32_t cellsU = 1, cellsV = 1;
     float minU = 0, minV = 0, sizeU = 1, sizeV = 1;  // cell size
 };
+inline constexpr uint64_t kMaxGridBlocks = 65536;  // chooseGrid refuses finer grids (invalid_argument)
 GridSpec chooseGrid(const Box3f& bounds, uint64_t triangles, uint64_t targetTrianglesPerBlock,
                     double blockSize);
 // Cuts `piece` along the grid lines; returns one piece per cell (row-major in V then U).

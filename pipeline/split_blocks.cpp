@@ -77,6 +77,10 @@ GridSpec chooseGrid(const Box3f& bounds, uint64_t triangles, uint64_t targetTria
         g.cellsU = static_cast<uint32_t>(std::clamp(std::round(std::sqrt(blocks * eu / ev)), 1.0, std::min(blocks, 4096.0)));
         g.cellsV = static_cast<uint32_t>(std::clamp(std::ceil(blocks / g.cellsU), 1.0, 4096.0));
     }
+    if (uint64_t(g.cellsU) * g.cellsV > kMaxGridBlocks)
+        throw std::invalid_argument("a grid of " + std::to_string(g.cellsU) + " x " + std::to_string(g.cellsV) +
+                                    " blocks is too fine (at most " + std::to_string(kMaxGridBlocks) +
+                                    "): raise --block-size, --block-triangles or --memory-limit");
     g.minU = mins[g.axisU], g.minV = mins[g.axisV];
     g.sizeU = static_cast<float>(eu / g.cellsU), g.sizeV = static_cast<float>(ev / g.cellsV);
     return g;

@@ -83,6 +83,7 @@ TEST(Grid, SplitTilesTheInputOverTheTwoLongestAxes) {
     for (const Piece& c : cells) area += meshArea(c.mesh);
     EXPECT_NEAR(area, meshArea(p.mesh), 1e-6 * area);
     EXPECT_EQ(chooseGrid(pieceBounds(p.mesh), 5000, 1, 30).cellsU, 4u);  // --block-size 30 over 100 units
+    EXPECT_THROW(chooseGrid(pieceBounds(p.mesh), 5000, 1, 0.01), std::invalid_argument);  // 4096 x 4096 blocks
 }
 
 TEST(TempBlocks, PieceRoundTripsThroughItsFileAndChunksAreWelded) {
