@@ -11,7 +11,11 @@ trap 'rm -rf "$dir"' EXIT
 
 cat > "$dir/drive.sh" <<EOS
 #!/usr/bin/env bash
-"$hlod" view "$dir/city.hlod" --record "$dir/rec.path" --width 320 --height 200 > "$dir/view.log" 2>&1 &
+# Under the ASan pass, leak checks off for the window only: the GLX/X11 stack under Xvfb leaks
+# 112 bytes at exit, in libraries without frame pointers (hlod's GL code is leak-checked by the
+# headless EGL tests).
+ASAN_OPTIONS="\${ASAN_OPTIONS:+\$ASAN_OPTIONS:}detect_leaks=0" \\
+  "$hlod" view "$dir/city.hlod" --record "$dir/rec.path" --width 320 --height 200 > "$dir/view.log" 2>&1 &
 pid=\$!
 for i in \$(seq 1 120); do
   wid=\$(xdotool search --pid \$pid 2>/dev/null | head -1)
