@@ -208,13 +208,18 @@ TEST(Selection, CumHystSignRuleDecidesParentOrChildren) {
     EXPECT_EQ(sel.downToggles, 1u);
 }
 
-TEST(Selection, VisibleUnloadedSiblingForcesParent) {
-    Tree t(1, false);
-    SelectionState st(t.s);
+// The four children of root 0 with counters at +c_hystLimit: their set switches whenever it may.
+void saturateChildren(SelectionState& st) {
     for (int k = 0; k < 4; ++k) {
         st.nodes[1 + k].hyst = 4510;
         st.nodes[1 + k].evaluated = true;
     }
+}
+
+TEST(Selection, VisibleUnloadedSiblingForcesParent) {
+    Tree t(1, false);
+    SelectionState st(t.s);
+    saturateChildren(st);
     t.resident[3] = 0;
     Selection sel = t.run(st);
     EXPECT_EQ(t.front(sel), std::set<uint32_t>{0});
@@ -234,10 +239,7 @@ TEST(Selection, VisibleUnloadedSiblingForcesParent) {
 TEST(Selection, ReversalsCountTogglesUndoneWithinTheWindow) {
     Tree t(1, false);
     SelectionState st(t.s);
-    for (int k = 0; k < 4; ++k) {
-        st.nodes[1 + k].hyst = 4510;
-        st.nodes[1 + k].evaluated = true;
-    }
+    saturateChildren(st);
     t.resident[3] = 0;
     ASSERT_EQ(t.front(t.run(st)), std::set<uint32_t>{0});  // first frame: no previous role, no toggle
     t.resident[3] = 1;
