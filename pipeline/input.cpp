@@ -23,15 +23,18 @@ void dropIfShort(std::vector<T>& values, size_t perVertex, size_t vertices) {
 }
 
 bool degenerate(const MeshData& m, uint32_t a, uint32_t b, uint32_t c) {
-    if (a == b || b == c || a == c) return true;
     const float* p = m.positions.data();
-    const double u[3] = {p[3 * b] - p[3 * a], p[3 * b + 1] - p[3 * a + 1], p[3 * b + 2] - p[3 * a + 2]};
-    const double v[3] = {p[3 * c] - p[3 * a], p[3 * c + 1] - p[3 * a + 1], p[3 * c + 2] - p[3 * a + 2]};
-    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-    return n[0] == 0 && n[1] == 0 && n[2] == 0;
+    return a == b || b == c || a == c || zeroArea(p + 3 * a, p + 3 * b, p + 3 * c);
 }
 
 }  // namespace
+
+bool zeroArea(const float* a, const float* b, const float* c) {
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return n[0] == 0 && n[1] == 0 && n[2] == 0;
+}
 
 std::string resolveTexturePath(const std::string& meshPath, const std::string& texture) {
     const fs::path folder = fs::weakly_canonical(fs::absolute(fs::path(meshPath)).parent_path());

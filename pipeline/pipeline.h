@@ -106,6 +106,8 @@ SourceMesh readMesh(const std::string& path);  // by extension
 // naming `name`), drops degenerate triangles (counted in stats), turns missing textures into
 // warnings (untextured).
 void sanitize(SourceMesh& source, const std::string& name);
+// The cross product of the edges is exactly zero (the test sanitize() drops triangles by).
+bool zeroArea(const float* a, const float* b, const float* c);
 // Missing texture files, or no texture coordinates: a warning, and the material is untextured.
 void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const std::string& name, ReadStats& stats);
 // Resolves `texture` relative to the folder of `meshPath`; throws InputError when it leaves it.
@@ -131,6 +133,10 @@ struct GridSpec {
 inline constexpr uint64_t kMaxGridBlocks = 65536;  // chooseGrid refuses finer grids (invalid_argument)
 GridSpec chooseGrid(const Box3f& bounds, uint64_t triangles, uint64_t targetTrianglesPerBlock,
                     double blockSize);
+// Grid line k (1 .. cells-1) along U (alongV false) or V: the plane both splits cut at.
+inline float gridPlane(const GridSpec& g, bool alongV, uint32_t k) {
+    return alongV ? g.minV + g.sizeV * static_cast<float>(k) : g.minU + g.sizeU * static_cast<float>(k);
+}
 // Cuts `piece` along the grid lines; returns one piece per cell (row-major in V then U).
 std::vector<Piece> splitByGrid(const Piece& piece, const GridSpec& grid);
 

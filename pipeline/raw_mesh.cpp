@@ -125,14 +125,8 @@ bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& 
         }
         if (colors) std::copy_n(&raw.colors[4 * size_t(p)], 4, out[c].color);
     }
-    if (tri.position[0] == tri.position[1] || tri.position[1] == tri.position[2] || tri.position[0] == tri.position[2])
-        return false;
-    const float* a = out[0].position;
-    const float* b = out[1].position;
-    const float* c = out[2].position;
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};  // as sanitize() computes it
-    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    return u[1] * v[2] - u[2] * v[1] != 0 || u[2] * v[0] - u[0] * v[2] != 0 || u[0] * v[1] - u[1] * v[0] != 0;
+    const uint32_t* p = tri.position;
+    return p[0] != p[1] && p[1] != p[2] && p[0] != p[2] && !zeroArea(out[0].position, out[1].position, out[2].position);
 }
 
 SourceMesh toSourceMesh(const RawMesh& raw, const std::string& name) {

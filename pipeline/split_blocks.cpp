@@ -92,7 +92,7 @@ std::vector<Piece> splitByGrid(const Piece& piece, const GridSpec& grid) {
     for (uint32_t u = 0; u < grid.cellsU; ++u) {
         Piece column;
         if (u + 1 < grid.cellsU) {
-            CutResult cut = cutPiece(rest, grid.axisU, grid.minU + grid.sizeU * static_cast<float>(u + 1));
+            CutResult cut = cutPiece(rest, grid.axisU, gridPlane(grid, false, u + 1));
             column = std::move(cut.below), rest = std::move(cut.above);
         } else {
             column = std::move(rest);
@@ -100,7 +100,7 @@ std::vector<Piece> splitByGrid(const Piece& piece, const GridSpec& grid) {
         for (uint32_t v = 0; v < grid.cellsV; ++v) {
             Piece& cell = cells[static_cast<size_t>(v) * grid.cellsU + u];
             if (v + 1 < grid.cellsV) {
-                CutResult cut = cutPiece(column, grid.axisV, grid.minV + grid.sizeV * static_cast<float>(v + 1));
+                CutResult cut = cutPiece(column, grid.axisV, gridPlane(grid, true, v + 1));
                 cell = std::move(cut.below), column = std::move(cut.above);
             } else {
                 cell = std::move(column);

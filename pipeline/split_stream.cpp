@@ -21,9 +21,9 @@ struct Layout {
     }
 };
 
-std::vector<float> planes(float min, float size, uint32_t cells) {
+std::vector<float> planes(const GridSpec& g, bool alongV) {
     std::vector<float> out;
-    for (uint32_t k = 1; k < cells; ++k) out.push_back(min + size * static_cast<float>(k));  // as splitByGrid
+    for (uint32_t k = 1; k < (alongV ? g.cellsV : g.cellsU); ++k) out.push_back(gridPlane(g, alongV, k));
     return out;
 }
 
@@ -58,7 +58,7 @@ Piece clipToCell(Piece piece, const GridSpec& g, const std::vector<float>& pu, c
 std::vector<CellFile> streamSplit(const RawMesh& raw, const GridSpec& grid, const std::string& dir, uint64_t bufferBytes,
                                   const std::string& name, ReadStats& stats, Progress* progress) {
     const Layout layout{raw.hasTexcoords, raw.hasNormals, raw.colors.size() == 4 * raw.positionCount()};
-    const std::vector<float> pu = planes(grid.minU, grid.sizeU, grid.cellsU), pv = planes(grid.minV, grid.sizeV, grid.cellsV);
+    const std::vector<float> pu = planes(grid, false), pv = planes(grid, true);
     const size_t cells = static_cast<size_t>(grid.cellsU) * grid.cellsV;
     const size_t flushAt = std::max<uint64_t>(bufferBytes / cells, 64 << 10) / layout.bytesPerTriangle() + 1;
     auto soupFile = [&](size_t c) { return (fs::path(dir) / ("cell_" + std::to_string(c) + ".soup")).string(); };
