@@ -2,6 +2,8 @@
 // "name=value" and config files, and printing, so every run can be reproduced.
 #include "formats/constants.h"
 
+#include "formats/errors.h"
+
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -29,28 +31,34 @@ std::string format(double v) {
 
 const std::vector<ConstantInfo>& constantTable() {
     static const std::vector<ConstantInfo> table = {
-        {"c_desiredTris", &Constants::desiredTris, "desired triangles per HLOD node (§3.2)"},
-        {"c_levelFactor", &Constants::levelFactor, "triangle/texture ratio between levels = children per node (§3.2)"},
-        {"c_textured", &Constants::textured, "weight of textured vs untextured triangles (eq. 3.1)"},
-        {"c_vis", &Constants::vis, "importance of visibility in the priority (§4.2)"},
-        {"c_fore", &Constants::fore, "importance of foreshortening in the priority (§4.2)"},
-        {"c_targetTime", &Constants::targetTimeMs, "target frame time in milliseconds (§4.2)"},
-        {"c_hystSwitch", &Constants::hystSwitch, "hysteresis threshold for switching a node (§4.2)"},
-        {"c_hystLimit", &Constants::hystLimit, "range of the hysteresis counter (§4.2)"},
-        {"c_memory", &Constants::memory, "bytes per unit of cost (§4.3)"},
+        {"c_desiredTris", &Constants::desiredTris, "desired triangles per HLOD node (§3.2)", kUsedByBuild},
+        {"c_levelFactor", &Constants::levelFactor, "triangle/texture ratio between levels = children per node (§3.2)",
+         kUsedByBuild},
+        {"c_textured", &Constants::textured, "weight of textured vs untextured triangles (eq. 3.1)", kUsedByBuild},
+        {"c_vis", &Constants::vis, "importance of visibility in the priority (§4.2)", kUsedByPlayer},
+        {"c_fore", &Constants::fore, "importance of foreshortening in the priority (§4.2)", kUsedByPlayer},
+        {"c_targetTime", &Constants::targetTimeMs, "target frame time in milliseconds (§4.2)", kUsedByPlayer},
+        {"c_hystSwitch", &Constants::hystSwitch, "hysteresis threshold for switching a node (§4.2)", kUsedByPlayer},
+        {"c_hystLimit", &Constants::hystLimit, "range of the hysteresis counter (§4.2)", kUsedByPlayer},
+        {"c_memory", &Constants::memory, "bytes per unit of cost (§4.3)", kUsedByPlayer},
     };
     return table;
 }
 
+const ConstantInfo* findConstant(const std::string& name) {
+    for (const ConstantInfo& info : constantTable())
+        if (name == info.name) return &info;
+    return nullptr;
+}
+
 void setConstant(Constants& c, const std::string& name, const std::string& value) {
-    for (const ConstantInfo& info : constantTable()) {
-        if (name != info.name) continue;
+    if (const ConstantInfo* info = findConstant(name)) {
         const std::string v = trim(value);
         double parsed = 0;
         auto r = std::from_chars(v.data(), v.data() + v.size(), parsed);
         if (v.empty() || r.ec != std::errc() || r.ptr != v.data() + v.size() || !std::isfinite(parsed))
             throw std::invalid_argument("constant " + name + ": '" + value + "' is not a finite number");
-        c.*info.field = parsed;
+        c.*info->field = parsed;
         return;
     }
     std::string known;
@@ -65,30 +73,40 @@ void setConstantAssignment(Constants& c, const std::string& assignment) {
     setConstant(c, trim(assignment.substr(0, eq)), assignment.substr(eq + 1));
 }
 
-void loadConstantsFile(Constants& c, const std::string& path) {
+std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path, ConstantUse use) {
     std::ifstream in(path);
-    if (!in) throw std::runtime_error(path + ": cannot read constants file");
+    if (!in) throw InputError(path + ": cannot read constants file");
+    std::vector<std::string> skipped;
     std::string line;
     for (int number = 1; std::getline(in, line); ++number) {
         line = trim(line.substr(0, line.find('#')));
         if (line.empty()) continue;
         try {
+            const size_t eq = line.find('=');
+            const ConstantInfo* info = eq == std::string::npos ? nullptr : findConstant(trim(line.substr(0, eq)));
+            if (info && !(info->use & use)) {
+                skipped.push_back(info->name);
+                continue;
+            }
             setConstantAssignment(c, line);
         } catch (const std::invalid_argument& e) {
-            throw std::runtime_error(path + ":" + std::to_string(number) + ": " + e.what());
+            throw InputError(path + ":" + std::to_string(number) + ": " + e.what());
         }
     }
+    if (in.bad()) throw InputError(path + ": read error");
+    return skipped;
 }
 
-std::vector<std::pair<std::string, std::string>> constantsAsPairs(const Constants& c) {
+std::vector<std::pair<std::string, std::string>> constantsAsPairs(const Constants& c, ConstantUse use) {
     std::vector<std::pair<std::string, std::string>> out;
-    for (const ConstantInfo& info : constantTable()) out.emplace_back(info.name, format(c.*info.field));
+    for (const ConstantInfo& info : constantTable())
+        if (info.use & use) out.emplace_back(info.name, format(c.*info.field));
     return out;
 }
 
-void printConstants(std::ostream& os, const Constants& c) {
+void printConstants(std::ostream& os, const Constants& c, ConstantUse use) {
     os << "constants:";
-    for (const auto& [name, value] : constantsAsPairs(c)) os << ' ' << name << '=' << value;
+    for (const auto& [name, value] : constantsAsPairs(c, use)) os << ' ' << name << '=' << value;
     os << '\n';
 }
 

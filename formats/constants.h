@@ -1,8 +1,10 @@
-// Constants of thesis Table 6.1 (plus the build constants of §3.2), defaults in ONE place.
-// Every run prints them (printConstants) so results can be reproduced; every value can be
-// overridden from the command line (--set name=value) or a config file (name = value lines).
+// Constants of thesis Table 6.1 (plus the build constants of §3.2), defaults in ONE place: no
+// other file spells their values. Every run prints the ones it uses (printConstants) so results
+// can be reproduced; each can be overridden from the command line (--set name=value) or a
+// constants file (name = value lines) of a subcommand that uses it.
 #pragma once
 
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -25,10 +27,15 @@ struct Constants {
     double memory = 935;          // c_memory: bytes per unit of cost
 };
 
+// Which stage reads a constant: the build (thesis §3: `hlod build`) or the player (§4: `hlod
+// play`, `hlod view`). A bit mask, so a set of uses can be asked for.
+enum ConstantUse : uint8_t { kUsedByBuild = 1, kUsedByPlayer = 2, kUsedByAny = kUsedByBuild | kUsedByPlayer };
+
 struct ConstantInfo {
     const char* name;        // as written in the thesis, e.g. "c_targetTime"
     double Constants::*field;
     const char* meaning;
+    ConstantUse use;
 };
 
 // All constants with their thesis names, in Table 6.1 order.
@@ -41,14 +48,20 @@ void setConstant(Constants& c, const std::string& name, const std::string& value
 // Parses "name=value".
 void setConstantAssignment(Constants& c, const std::string& assignment);
 
-// Reads a config file of "name = value" lines ('#' starts a comment); throws
-// std::runtime_error "FILE:LINE: problem" on a bad line or unreadable file.
-void loadConstantsFile(Constants& c, const std::string& path);
+// Reads a constants file of "name = value" lines ('#' starts a comment) into the constants
+// `use` reads; returns the names it holds of constants `use` does not read (left unchanged), so
+// one file can serve a whole experiment. Throws InputError "FILE:LINE: problem" on a bad line or
+// an unreadable file.
+std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path, ConstantUse use = kUsedByAny);
 
-// "name=value" pairs, in table order, exactly round-trippable through setConstant.
-std::vector<std::pair<std::string, std::string>> constantsAsPairs(const Constants& c);
+// The table entry of a constant, or nullptr for an unknown name.
+const ConstantInfo* findConstant(const std::string& name);
 
-// One line: "constants: c_desiredTris=900 c_levelFactor=4 ...".
-void printConstants(std::ostream& os, const Constants& c);
+// "name=value" pairs of the constants `use` reads, in table order, exactly round-trippable
+// through setConstant.
+std::vector<std::pair<std::string, std::string>> constantsAsPairs(const Constants& c, ConstantUse use = kUsedByAny);
+
+// One line: "constants: c_desiredTris=900 c_levelFactor=4 ..." (the constants `use` reads).
+void printConstants(std::ostream& os, const Constants& c, ConstantUse use);
 
 }  // namespace hlod

@@ -40,7 +40,8 @@ Database::Database(Database&&) noexcept = default;
 Database& Database::operator=(Database&&) noexcept = default;
 Database::~Database() = default;
 
-Database Database::open(const std::string& path) {
+// Every failure to open is UnreadableDatabase: the file is not a database this reader can use.
+Database Database::open(const std::string& path) try {
     Database db;
     Impl& d = *db.impl_;
     d.path = path;
@@ -63,6 +64,8 @@ Database Database::open(const std::string& path) {
     preadAll(d.fd, h.skeletonOffset, skel, path);
     d.skeleton = parseDatabase(header, skel, d.fileSize, path);
     return db;
+} catch (const FormatError& e) {
+    throw UnreadableDatabase(e.what());
 }
 
 const std::string& Database::path() const { return impl_->path; }

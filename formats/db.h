@@ -2,6 +2,9 @@
 // Byte layout and rules: formats/FORMAT.md. Node attributes follow thesis §3.3.
 #pragma once
 
+#include "formats/constants.h"
+#include "formats/errors.h"
+
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -15,11 +18,6 @@ namespace hlod {
 inline constexpr uint16_t kFormatMajor = 1;
 inline constexpr uint16_t kFormatMinor = 0;
 inline constexpr uint32_t kNone = 0xFFFFFFFFu;  // "no node" / "no blob"
-
-// Every error found in a database file. what() is one line: "PATH: problem".
-struct FormatError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 struct Vec3f {
     float x = 0, y = 0, z = 0;
@@ -104,7 +102,7 @@ float nodeCost(uint32_t texturedTriangles, uint32_t untexturedTriangles, double 
 // read on demand with one positioned read each and checked against their checksum.
 class Database {
 public:
-    static Database open(const std::string& path);  // throws FormatError
+    static Database open(const std::string& path);  // throws UnreadableDatabase
     Database(Database&&) noexcept;
     Database& operator=(Database&&) noexcept;
     ~Database();
@@ -155,7 +153,7 @@ struct NodeInput {
 // failed writer never leaves a file that opens as a database at PATH.
 class Writer {
 public:
-    explicit Writer(const std::string& path, double cTextured = 0.127);  // throws std::runtime_error
+    explicit Writer(const std::string& path, double cTextured = Constants{}.textured);  // throws std::runtime_error
     Writer(Writer&&) noexcept;
     ~Writer();
 

@@ -77,27 +77,27 @@ nlohmann::json toJson(const DatabaseSummary& s) {
     for (const LevelSummary& L : s.levels)
         levels.push_back({{"level", L.level},
                           {"nodes", L.nodes},
-                          {"texturedTriangles", L.texturedTriangles},
-                          {"untexturedTriangles", L.untexturedTriangles},
+                          {"textured_triangles", L.texturedTriangles},
+                          {"untextured_triangles", L.untexturedTriangles},
                           {"vertices", L.vertices},
                           {"texels", L.texels},
-                          {"geometryBytes", L.geometryBytes},
-                          {"textureBytes", L.textureBytes},
+                          {"geometry_bytes", L.geometryBytes},
+                          {"texture_bytes", L.textureBytes},
                           {"blobs", L.blobs},
                           {"cost", L.cost},
-                          {"geometricError", {L.minGeometricError, L.maxGeometricError}}});
+                          {"geometric_error", {L.minGeometricError, L.maxGeometricError}}});
     nlohmann::json constants = nlohmann::json::object(), provenance = nlohmann::json::object();
     for (const auto& [k, v] : s.constants) constants[k] = v;
     for (const auto& [k, v] : s.provenance) provenance[k] = v;
     return {{"path", s.path},
             {"version", std::to_string(s.major) + "." + std::to_string(s.minor)},
-            {"fileSize", s.fileSize},
+            {"file_size", s.fileSize},
             {"nodes", s.nodes},
             {"blobs", s.blobs},
             {"blocks", s.blocks},
             {"levels", s.levels.size()},
             {"depth", s.depth},
-            {"perLevel", levels},
+            {"per_level", levels},
             {"constants", constants},
             {"provenance", provenance}};
 }
@@ -119,7 +119,7 @@ nlohmann::json nodeJson(const Skeleton& s, uint32_t id) {
                                       {"texcoord", bool(b.attributes & kAttrTexcoord)},
                                       {"normal", bool(b.attributes & kAttrNormal)},
                                       {"color", bool(b.attributes & kAttrColor)}}},
-                      {"quantizationBits", {{"position", b.positionBits}, {"texcoord", b.texcoordBits},
+                      {"quantization_bits", {{"position", b.positionBits}, {"texcoord", b.texcoordBits},
                                             {"normal", b.normalBits}, {"color", b.colorBits}}}});
         } else {
             j.update({{"width", b.width}, {"height", b.height}, {"channels", b.channels}});
@@ -128,22 +128,22 @@ nlohmann::json nodeJson(const Skeleton& s, uint32_t id) {
     }
     return {{"id", n.id},
             {"parent", link(n.parent)},
-            {"firstChild", link(n.firstChild)},
-            {"nextSibling", link(n.nextSibling)},
+            {"first_child", link(n.firstChild)},
+            {"next_sibling", link(n.nextSibling)},
             {"children", s.children(id)},
             {"level", n.level},
             {"block", n.block},
             {"bounds", {{"min", vec(n.bounds.min)}, {"max", vec(n.bounds.max)}}},
             {"cost", n.cost},
-            {"staticBenefit", n.staticBenefit},
-            {"avgNormal", vec(n.avgNormal)},
-            {"geometricError", n.geometricError},
-            {"texturedTriangles", n.texturedTriangles},
-            {"untexturedTriangles", n.untexturedTriangles},
-            {"vertexCount", n.vertexCount},
-            {"texelCount", n.texelCount},
-            {"dataOffset", n.dataOffset},
-            {"dataSize", n.dataSize},
+            {"static_benefit", n.staticBenefit},
+            {"avg_normal", vec(n.avgNormal)},
+            {"geometric_error", n.geometricError},
+            {"textured_triangles", n.texturedTriangles},
+            {"untextured_triangles", n.untexturedTriangles},
+            {"vertex_count", n.vertexCount},
+            {"texel_count", n.texelCount},
+            {"data_offset", n.dataOffset},
+            {"data_size", n.dataSize},
             {"blobs", blobs}};
 }
 

@@ -186,7 +186,7 @@ std::vector<Violation> validate(const Database& db, const ValidateOptions& o) {
     double cTextured = o.cTextured;
     if (cTextured < 0) {
         const std::string* meta = s.findMeta("c_textured");
-        cTextured = 0.127;
+        cTextured = Constants{}.textured;
         if (meta) {
             try {
                 cTextured = std::stod(*meta);

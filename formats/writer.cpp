@@ -39,7 +39,7 @@ std::string directoryOf(const std::string& path) {
 struct Writer::Impl {
     std::string path, tmpPath;
     int fd = -1;
-    double cTextured = 0.127;
+    double cTextured = Constants{}.textured;
     Skeleton skeleton;
     std::vector<uint32_t> lastChild;
     uint32_t lastRoot = kNone;

@@ -1,4 +1,4 @@
-// The whole build (issue 3): find the blocks (a folder: one block per mesh file, by name; one
+// The whole build (thesis §3.2): find the blocks (a folder: one block per mesh file, by name; one
 // mesh: read, split on a grid into per-block temporary files), build the selected blocks in
 // parallel (TBB, at most as many at once as --memory-limit allows), each into its own record
 // file, then merge the records into the database in block order. The result does not depend on
@@ -66,9 +66,12 @@ struct TempDir {
     }
 };
 
-uint64_t blockTarget(const BuildOptions& o) {
-    return o.blockTriangles ? o.blockTriangles : std::max<uint64_t>(o.memoryLimit / (4 * kBytesPerBlockTriangle), 16384);
-}
+// The automatic block size does not depend on --memory-limit, so the database does not either:
+// the triangles whose working set fills a quarter of the default 1 GiB limit (671,088). A
+// smaller limit only admits fewer blocks at once (MemoryGate).
+constexpr uint64_t kAutoBlockTriangles = (uint64_t{1} << 30) / (4 * kBytesPerBlockTriangle);
+
+uint64_t blockTarget(const BuildOptions& o) { return o.blockTriangles ? o.blockTriangles : kAutoBlockTriangles; }
 
 bool isStreamable(const std::string& input) {
     const std::string ext = extensionOf(input);
@@ -232,9 +235,9 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
                std::to_string(o.draco.texcoordBits) + " --draco-level " + std::to_string(o.draco.compressionLevel) +
                " --jpeg-quality " + std::to_string(o.jpegQuality);
     if (o.draco.positionStep > 0) command += " --draco-position-step " + std::to_string(o.draco.positionStep);
-    for (const auto& [name, value] : constantsAsPairs(o.constants)) command += " --set " + name + "=" + value;
+    for (const auto& [name, value] : constantsAsPairs(o.constants, kUsedByBuild)) command += " --set " + name + "=" + value;
     meta.emplace_back("command", command);
-    for (const auto& pair : constantsAsPairs(o.constants)) meta.push_back(pair);
+    for (const auto& pair : constantsAsPairs(o.constants, kUsedByBuild)) meta.push_back(pair);
     meta.emplace_back("simplifier", simplifier);
     meta.emplace_back("blocks.triangles", o.blockSize > 0 ? "" : std::to_string(blockTarget(o)));
     meta.emplace_back("blocks.size", o.blockSize > 0 ? std::to_string(o.blockSize) : "");

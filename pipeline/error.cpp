@@ -1,4 +1,4 @@
-// Measured geometric error of a node (issue 3, "geometric error MEASURED"): the one-sided
+// Measured geometric error of a node (thesis §3.3 node attribute): the one-sided
 // Hausdorff distance from the simplified surface to the node's original triangles, sampled at
 // edge midpoints and centroids (the vertices are original vertices: distance 0), each point
 // queried against a CGAL AABB tree of the original piece.

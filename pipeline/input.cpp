@@ -1,4 +1,4 @@
-// Input checks shared by every reader (issue 3 "Bad input"): non-finite attributes and
+// Input checks shared by every reader: non-finite attributes and
 // out-of-range indices are errors, degenerate triangles are dropped and counted, texture paths
 // may not leave the input's folder, missing textures are warnings. readMesh picks the reader.
 #include "pipeline/pipeline.h"

@@ -134,7 +134,7 @@ void writeShardInfo(const std::string& dir, const ShardInfo& info) {
 ShardInfo readShardInfo(const std::string& dir) {
     const std::string file = (std::filesystem::path(dir) / "shard.json").string();
     std::ifstream in(file);
-    if (!in) throw std::runtime_error(file + ": cannot read (not a shard folder?)");
+    if (!in) throw InputError(file + ": cannot read (not a shard folder?)");
     try {
         const nlohmann::json j = nlohmann::json::parse(in);
         if (j.at("format") != "hlod-shard-1") throw std::runtime_error("unknown format");
@@ -144,26 +144,26 @@ ShardInfo readShardInfo(const std::string& dir) {
         info.meta = j.at("meta").get<std::vector<std::pair<std::string, std::string>>>();
         return info;
     } catch (const std::exception& e) {
-        throw std::runtime_error(file + ": corrupt shard description (" + e.what() + ")");
+        throw InputError(file + ": corrupt shard description (" + e.what() + ")");
     }
 }
 
 void mergeShards(const std::vector<std::string>& shardDirs, const std::string& output, double cTextured) {
-    if (shardDirs.empty()) throw std::runtime_error("merge: no shards given");
+    if (shardDirs.empty()) throw InputError("merge: no shards given");
     const ShardInfo first = readShardInfo(shardDirs[0]);
     std::vector<std::string> owner(first.blockCount);
     for (const std::string& dir : shardDirs) {
         const ShardInfo info = readShardInfo(dir);
         if (info.meta != first.meta || info.blockCount != first.blockCount)
-            throw std::runtime_error(dir + ": shard built from a different input or options than " + shardDirs[0]);
+            throw InputError(dir + ": shard built from a different input or options than " + shardDirs[0]);
         for (uint32_t b : info.blocks) {
-            if (b >= owner.size()) throw std::runtime_error(dir + ": block " + std::to_string(b) + " out of range");
-            if (!owner[b].empty()) throw std::runtime_error(dir + ": block " + std::to_string(b) + " also in " + owner[b]);
+            if (b >= owner.size()) throw InputError(dir + ": block " + std::to_string(b) + " out of range");
+            if (!owner[b].empty()) throw InputError(dir + ": block " + std::to_string(b) + " also in " + owner[b]);
             owner[b] = dir;
         }
     }
     for (uint32_t b = 0; b < owner.size(); ++b)
-        if (owner[b].empty()) throw std::runtime_error("merge: block " + std::to_string(b) + " is in none of the shards");
+        if (owner[b].empty()) throw InputError("merge: block " + std::to_string(b) + " is in none of the shards");
     Writer writer(output, cTextured);
     std::vector<uint32_t> roots(owner.size());
     for (uint32_t b = 0; b < owner.size(); ++b) {

@@ -1,12 +1,13 @@
 // `hlod build`: raw scan -> HLOD database (thesis §3.2 HLOD generation, §3.3 node attributes).
 // Plain structs and one free function per stage, one stage per .cpp:
-//   read_ply / read_obj / read_gltf  -> SourceMesh            (sanitize.cpp checks every input)
+//   read_ply / read_obj / read_gltf  -> SourceMesh            (input.cpp checks every input)
 //   split_blocks                     -> per-block temporary files (grid over the horizontal axes)
 //   build_tree (§3.2 recursion)      -> cut.cpp (Fig. 3.2), simplify.cpp, texture.cpp, error.cpp
 //   pack                             -> Draco/JPEG blobs in a per-block record file
 //   merge                            -> the database, block records written in block order
 #pragma once
 
+#include "formats/build_report.h"
 #include "formats/codec.h"
 #include "formats/constants.h"
 #include "formats/db.h"
@@ -23,11 +24,6 @@
 #include <vector>
 
 namespace hlod {
-
-// A bad input file. what() is one line: "FILE: problem".
-struct InputError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 struct Material {
     std::string name;
@@ -56,7 +52,7 @@ struct SourceMesh {
 class Progress;
 
 // raw_mesh.cpp: a PLY or OBJ mesh as parsed, before welding. The arrays live in memory (a block
-// file) or spill to disk (a single large input, issue 3 "never hold the whole mesh"), from
+// file) or spill to disk (a single large input is never held whole), from
 // where split_stream.cpp routes the triangles to per-block files in one pass. Adding an
 // attribute checks it is finite (InputError naming the vertex).
 struct RawTriangle {
@@ -120,7 +116,8 @@ struct CutResult {
 };
 CutResult cutPiece(const Piece& piece, int axis, float position);
 // §3.2 division into `count` pieces by count-1 planes perpendicular to the longest bounding-box
-// dimension, placed at triangle-count quantiles (equal triangle counts, see cut.cpp).
+// dimension; each plane minimises 3 x crossing triangles + the triangle-count imbalance over 64
+// candidate positions through existing vertices (cut.cpp says why).
 std::vector<Piece> dividePiece(const Piece& piece, uint32_t count);
 Box3f pieceBounds(const MeshData& mesh);
 
@@ -188,7 +185,7 @@ struct BuildOptions {
     Simplifier simplifier = Simplifier::Meshopt;
     DracoOptions draco;
     int jpegQuality = 85;
-    uint64_t blockTriangles = 0;   // target triangles per block of a single-mesh input; 0 = auto
+    uint64_t blockTriangles = 0;   // target triangles per block of a single-mesh input; 0 = auto (671,088)
     double blockSize = 0;          // block side in input units; overrides blockTriangles when > 0
     uint64_t memoryLimit = 1ull << 30;
     int jobs = 0;                  // 0 = all cores
@@ -197,11 +194,6 @@ struct BuildOptions {
 
 // progress.cpp: per-stage figures and, on a terminal, a live line (stage, percent, items/s,
 // ETA, current and peak RSS); otherwise one summary line per stage. Thread-safe.
-struct StageFigures {
-    std::string name;
-    double seconds = 0;
-    uint64_t items = 0;
-};
 class Progress {
 public:
     Progress(std::ostream& out, bool live);
@@ -210,7 +202,7 @@ public:
     void advance(uint64_t items);
     void endStage();
     void message(const std::string& line);  // a warning or note, on its own line
-    std::vector<StageFigures> stages() const;
+    std::vector<BuildStage> stages() const;
 
 private:
     struct Impl;
@@ -301,7 +293,7 @@ std::string blockRecordPath(const std::string& dir, uint32_t block);
 void mergeShards(const std::vector<std::string>& shardDirs, const std::string& output, double cTextured);
 
 // build.cpp: the whole build. `blocks` selects a subset [first, last) for sharding; output is a
-// database, or a shard folder when `shardOut` is set.
+// database, or a shard folder when `shard` is set.
 struct BuildRequest {
     std::string input;          // a mesh file, or a folder of meshes (one block each, by name)
     std::string output;         // database path (or shard folder when shard is true)

@@ -1,6 +1,6 @@
-// Live progress of a build (issue 3 "Progress"): on a terminal a line redrawn four times a
+// Live progress of a build: on a terminal a line redrawn four times a
 // second with stage, percent, items/s, ETA, current and peak RSS; otherwise one summary line
-// per stage. Figures per stage are kept for the final summary and the <db>.build.json sidecar.
+// per stage. Figures per stage are kept for the final summary and the build report (formats/build_report.h).
 #include "pipeline/pipeline.h"
 
 #include <sys/resource.h>
@@ -51,7 +51,7 @@ struct Progress::Impl {
     std::atomic<uint64_t> done{0};
     Clock::time_point start;
     bool active = false;
-    std::vector<StageFigures> figures;
+    std::vector<BuildStage> figures;
     std::thread ticker;
 
     std::string line() const {  // caller holds mutex
@@ -123,7 +123,7 @@ void Progress::message(const std::string& line) {
     impl_->out << (impl_->live ? "\r\x1b[K" : "") << line << "\n" << std::flush;
 }
 
-std::vector<StageFigures> Progress::stages() const {
+std::vector<BuildStage> Progress::stages() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->figures;
 }

@@ -1,4 +1,4 @@
-// The parsed-but-not-welded mesh shared by the PLY and OBJ readers (issue 3 "Input"): attributes
+// The parsed-but-not-welded mesh shared by the PLY and OBJ readers: attributes
 // are checked as they arrive, triangles keep their per-corner attribute indices, and the whole
 // thing either becomes an indexed SourceMesh (a block file) or is streamed to the block grid
 // straight from its spill files (split_stream.cpp), so a large input is never held whole.

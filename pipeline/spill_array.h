@@ -1,5 +1,5 @@
-// An append-only array that lives in memory, or, given a file, on disk (issue 3: "the input may
-// be larger than memory"): appends are buffered and written out a chunk at a time; seal() then
+// An append-only array that lives in memory, or, given a file, on disk (for inputs larger than
+// memory): appends are buffered and written out a chunk at a time; seal() then
 // maps the file read-only, so random reads are served by the page cache and the kernel may drop
 // pages under pressure instead of the process holding the whole array.
 #pragma once

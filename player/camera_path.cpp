@@ -2,6 +2,8 @@
 // and sampling (linear position and field of view, slerp orientation).
 #include "player/camera_path.h"
 
+#include "formats/errors.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -20,7 +22,7 @@ namespace {
 constexpr const char* kMagic = "hlod-camera-path";
 
 [[noreturn]] void fail(const std::string& name, size_t line, const std::string& what) {
-    throw std::runtime_error(name + ":" + std::to_string(line) + ": " + what);
+    throw InputError(name + ":" + std::to_string(line) + ": " + what);
 }
 
 std::vector<std::string> fields(const std::string& line) {
@@ -76,15 +78,15 @@ CameraPath parseCameraPath(std::istream& in, const std::string& name) {
         if (!path.keys.empty() && !(k.time > path.keys.back().time)) fail(name, lineNo, "times must increase strictly");
         path.keys.push_back(k);
     }
-    if (in.bad()) throw std::runtime_error(name + ": read error");
-    if (!header) throw std::runtime_error(name + ": empty file (expected 'hlod-camera-path 1')");
-    if (path.keys.empty()) throw std::runtime_error(name + ": camera path has no keys");
+    if (in.bad()) throw InputError(name + ": read error");
+    if (!header) throw InputError(name + ": empty file (expected 'hlod-camera-path 1')");
+    if (path.keys.empty()) throw InputError(name + ": camera path has no keys");
     return path;
 }
 
 CameraPath readCameraPath(const std::string& path) {
     std::ifstream in(path);
-    if (!in) throw std::runtime_error(path + ": cannot open camera path");
+    if (!in) throw InputError(path + ": cannot open camera path");
     return parseCameraPath(in, path);
 }
 

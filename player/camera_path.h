@@ -25,7 +25,7 @@ struct CameraPath {
     double duration() const { return keys.empty() ? 0 : keys.back().time; }
 };
 
-// Throws std::runtime_error "NAME:LINE: problem" (bad header, field count, number, time order,
+// Throws InputError "NAME:LINE: problem" (bad header, field count, number, time order,
 // quaternion, field of view) or "NAME: ..." for an unreadable or empty file.
 CameraPath parseCameraPath(std::istream& in, const std::string& name);
 CameraPath readCameraPath(const std::string& path);

@@ -8,7 +8,7 @@ namespace hlod {
 
 // First loop: timeNeeded_n = v_time * cost_n. v_time moves `gain` of the way towards the rate
 // measured this frame, (actual - fixed overhead) / sum of cost_n over the drawn nodes; unchanged
-// when nothing was drawn. Kept above 1e-9 ms per unit of cost (timeNeeded divides eq. hysteresis).
+// when nothing was drawn. Kept above 1e-9 ms per unit of cost (timeNeeded divides the §4.2 hysteresis update).
 double nextVTime(double vTime, double actualMs, double overheadMs, double drawnCost, double gain);
 
 // Second loop: shareTime of the hlod0 nodes (the time eq. 4.1 splits among the visible roots).

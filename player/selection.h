@@ -68,16 +68,16 @@ struct SelectionState {
 };
 
 struct SelectionParams {
-    double hlod0Share = 30;      // shareTime of the hlod0 nodes, ms (second feedback loop)
+    double hlod0Share = Constants{}.targetTimeMs;  // shareTime of the hlod0 nodes, ms (second feedback loop)
     double vTime = 0.001;        // ms per unit of cost (first feedback loop)
-    double hystSwitch = 1500;    // c_hystSwitch
-    double hystLimit = 4510;     // c_hystLimit
+    double hystSwitch = Constants{}.hystSwitch;
+    double hystLimit = Constants{}.hystLimit;
     // hysteresis_n of a node evaluated for the first time (left open by the thesis): -c_hystSwitch,
     // the switching threshold. A new sibling set then switches on its first frame when every
     // visible sibling's timeSlice exceeds its timeNeeded (the plain rule of §4.2, unless one
     // sibling's surplus exceeds c_hystSwitch x timeNeeded), and the counters' hysteresis governs
     // every later switch (player/SELECTION.md).
-    double initialHyst = -1500;
+    double initialHyst = -Constants{}.hystSwitch;
     bool requireLoadedChildren = false;
 };
 

@@ -21,7 +21,7 @@ std::vector<std::string> statsHeader(uint32_t levels) {
 void writeStatsPreamble(std::ostream& os, const Constants& c,
                         std::span<const std::pair<std::string, std::string>> extra, uint32_t levels) {
     os << "# ";
-    printConstants(os, c);
+    printConstants(os, c, kUsedByPlayer);
     for (const auto& [k, v] : extra) os << "# " << k << ": " << v << "\n";
     auto header = statsHeader(levels);
     for (size_t i = 0; i < header.size(); ++i) os << (i ? "," : "") << header[i];
@@ -120,7 +120,7 @@ void printSummary(std::ostream& os, const StatsSummary& s) {
 
 std::string summaryJson(const StatsSummary& s, const Constants& c) {
     nlohmann::json constants = nlohmann::json::object();
-    for (const auto& [k, v] : constantsAsPairs(c)) constants[k] = v;
+    for (const auto& [k, v] : constantsAsPairs(c, kUsedByPlayer)) constants[k] = v;
     nlohmann::json j = {{"frames", s.frames},
                         {"warmup_frames", s.warmupFrames},
                         {"frame_ms", toJson(s.frameMs)},

@@ -80,7 +80,7 @@ nlohmann::json toJson(const Stats& s) {
         nlohmann::json stages = nlohmann::json::array();
         for (const BuildStage& st : s.build->stages)
             stages.push_back({{"name", st.name}, {"seconds", st.seconds}, {"items", st.items}});
-        j["build"] = {{"sidecar", s.build->path}, {"stages", stages}, {"wall_seconds", s.build->wallSeconds},
+        j["build"] = {{"sidecar", buildReportPath(s.summary.path)}, {"stages", stages}, {"wall_seconds", s.build->wallSeconds},
                       {"cpu_seconds", s.build->cpuSeconds}, {"peak_rss_bytes", s.build->peakRssBytes}};
     }
     if (s.city)
@@ -120,13 +120,13 @@ void printStats(std::ostream& os, const Stats& s) {
            << " triangles, " << h0->texels << " texels, " << mib(h0->geometryBytes + h0->textureBytes)
            << " on disk, " << mib(h0->texels * 3) << " decoded RGB\n";
     if (s.build) {
-        os << "build time per stage (" << s.build->path << "):\n";
+        os << "build time per stage (" << buildReportPath(s.summary.path) << "):\n";
         for (const BuildStage& st : s.build->stages)
             os << fmt("  %-20s %10.2f s %12llu items\n", st.name.c_str(), st.seconds, (unsigned long long)st.items);
         os << fmt("  wall %.2f s, cpu %.2f s, peak RSS %s\n", s.build->wallSeconds, s.build->cpuSeconds,
                   mib(s.build->peakRssBytes).c_str());
     } else {
-        os << "build time per stage: no " << s.summary.path << ".build.json\n";
+        os << "build time per stage: no " << buildReportPath(s.summary.path) << "\n";
     }
     if (s.city)
         os << "input: synthetic city " << s.city->path << " (scale " << s.city->scale << ", seed " << s.city->seed

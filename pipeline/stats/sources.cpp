@@ -1,5 +1,5 @@
-// Side inputs of `hlod stats`: the pipeline's "<DB>.build.json" (time per stage, peak memory) and
-// the synthetic city's city.json, found through the database's "input" metadata. The thesis's
+// Side input of `hlod stats` (besides the build report, formats/build_report.h): the synthetic
+// city's city.json, found through the database's "input" metadata. The thesis's
 // figures (§1.1, §3.2) are put beside ours only when that manifest says the input is the city at
 // scale 1: the rule rests on what the generator recorded, not on guessing from counts.
 #include "pipeline/stats/stats.h"
@@ -50,28 +50,6 @@ std::optional<CityManifest> readManifest(const fs::path& path) {
 }
 
 }  // namespace
-
-std::optional<BuildReport> readBuildReport(const std::string& path) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) return std::nullopt;
-    nlohmann::json j = readJson(path);
-    if (!j.is_object()) throw std::runtime_error(path + ": not a build report (expected a JSON object)");
-    BuildReport r;
-    r.path = path;
-    auto stages = field<nlohmann::json>(j, "stages", path);
-    if (!stages.is_array()) throw std::runtime_error(path + ": \"stages\" is not an array");
-    for (const auto& s : stages) {
-        if (!s.is_object()) throw std::runtime_error(path + ": a stage is not an object");
-        r.stages.push_back({field<std::string>(s, "name", path), field<double>(s, "seconds", path),
-                            field<uint64_t>(s, "items", path)});
-    }
-    r.peakRssBytes = field<uint64_t>(j, "peak_rss_bytes", path);
-    r.inputTriangles = field<uint64_t>(j, "input_triangles", path);
-    r.outputBytes = field<uint64_t>(j, "output_bytes", path);
-    r.wallSeconds = field<double>(j, "wall_seconds", path);
-    r.cpuSeconds = field<double>(j, "cpu_seconds", path);
-    return r;
-}
 
 std::optional<CityManifest> findCityManifest(const std::string& dbPath, const Skeleton& skeleton) {
     const std::string* input = skeleton.findMeta("input");

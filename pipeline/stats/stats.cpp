@@ -32,7 +32,7 @@ Stats computeStats(const Database& db, bool forceThesis) {
         }
         s.desiredTris = c.desiredTris;
     }
-    s.build = readBuildReport(db.path() + ".build.json");
+    s.build = readBuildReport(buildReportPath(db.path()));
     s.city = findCityManifest(db.path(), sk);
     s.thesis = forceThesis || isThesisScale(s.city);
     return s;

@@ -6,6 +6,7 @@
 // 937 M texels). Per-level figures come from formats/inspect.h (the same numbers as inspect).
 #pragma once
 
+#include "formats/build_report.h"
 #include "formats/inspect.h"
 
 #include <nlohmann/json.hpp>
@@ -27,24 +28,6 @@ struct ThesisFigures {
     uint64_t texels = 937'000'000;
     uint64_t uncompressedTextureMiB = 2680;
 };
-
-struct BuildStage {
-    std::string name;
-    double seconds = 0;
-    uint64_t items = 0;
-};
-
-// The pipeline's "<DB>.build.json" sidecar.
-struct BuildReport {
-    std::string path;
-    std::vector<BuildStage> stages;
-    uint64_t peakRssBytes = 0, inputTriangles = 0, outputBytes = 0;
-    double wallSeconds = 0, cpuSeconds = 0;
-};
-
-// Reads the sidecar; std::nullopt when there is none. Throws std::runtime_error "PATH: problem"
-// when it exists but is not a valid report.
-std::optional<BuildReport> readBuildReport(const std::string& path);
 
 // The synthetic city manifest (city.json of `hlod synth city`) an input path points at.
 struct CityManifest {

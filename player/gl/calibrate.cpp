@@ -136,31 +136,4 @@ Calibration calibrate(Renderer& renderer, double aspect, const CalibrationOption
     return result;
 }
 
-void writeCalibration(const Calibration& c, const std::string& path) {
-    const std::string temporary = path + ".tmp";
-    {
-        std::ofstream out(temporary);
-        if (!out) throw std::runtime_error(path + ": cannot be written");
-        out << std::setprecision(6);
-        out << "# hlod calibrate: render-time model measured on " << c.renderer << "\n"
-            << "# time_ms = overhead + perTri * triangles; eq. 3.1 weights in the ratio of perTri:\n"
-            << "# c_textured = perTexturedTri / (perTexturedTri + perUntexturedTri)\n"
-            << "c_textured = " << c.cTextured << "\n"
-            << "# calibrate.msPerCost = " << c.msPerCost << "\n"
-            << "# calibrate.fixedOverheadMs = " << c.fixedOverheadMs << "\n"
-            << "# calibrate.perTexturedTriMs = " << c.textured.slope << "\n"
-            << "# calibrate.perUntexturedTriMs = " << c.untextured.slope << "\n"
-            << "# calibrate.texturedInterceptMs = " << c.textured.intercept << "\n"
-            << "# calibrate.untexturedInterceptMs = " << c.untextured.intercept << "\n";
-        for (const CalibrationSample& s : c.samples)
-            out << "# sample " << (s.textured ? "textured" : "untextured") << " triangles=" << s.triangles
-                << " ms=" << s.ms << "\n";
-        if (!out.flush()) throw std::runtime_error(path + ": write failed");
-    }
-    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-        std::remove(temporary.c_str());
-        throw std::runtime_error(path + ": cannot be written");
-    }
-}
-
 }  // namespace hlod

@@ -3,6 +3,7 @@
 // c_textured; FS93 §4) and 6-DOF navigation for `hlod view` (thesis Ch. 6).
 #pragma once
 
+#include "formats/calibration.h"
 #include "player/renderer.h"
 
 #include <cstdint>
@@ -32,36 +33,12 @@ GLFWwindow* glfwWindowOf(Renderer& renderer);
 // level lighter, 8 distinct greys repeating (as the grey-level LOD figures of the thesis/FS93).
 float levelGrey(uint32_t level);
 
-// --- Calibration (`hlod calibrate`) -------------------------------------------------------
-// Frame time is modelled as time = overhead + perTri * N for N triangles of one kind. Eq. 3.1
-// weighs textured triangles by c and untextured by (1 - c), so the weights are in the ratio of
-// the per-triangle times: c / (1 - c) = perTexturedTri / perUntexturedTri, i.e.
-// c_textured = perTexturedTri / (perTexturedTri + perUntexturedTri). Then a node of cost
-// (eq. 3.1) renders in cost * msPerCost with msPerCost = perTexturedTri + perUntexturedTri.
+// --- Calibration (`hlod calibrate`): the model and its file are in formats/calibration.h ----
 
 struct CalibrationOptions {
     std::vector<uint32_t> triangleCounts = {2000, 25000, 50000, 100000, 150000};
     int warmupFrames = 2;
     int frames = 7;  // the median of these is kept per batch
-};
-
-struct CalibrationSample {
-    uint32_t triangles = 0;
-    bool textured = false;
-    double ms = 0;   // median frame time
-};
-
-struct LinearFit {
-    double intercept = 0, slope = 0;
-};
-
-struct Calibration {
-    std::string renderer;             // Renderer::name()
-    double fixedOverheadMs = 0;       // empty frame (thesis §4.2 footnote: rendering disabled)
-    LinearFit textured, untextured;   // ms = intercept + slope * triangles
-    double cTextured = 0;             // eq. 3.1 weight
-    double msPerCost = 0;             // ms per unit of eq. 3.1 cost
-    std::vector<CalibrationSample> samples;
 };
 
 // Least squares line through (x, y); throws std::invalid_argument for fewer than two
@@ -80,10 +57,6 @@ Camera calibrationCamera(double aspect);
 // Draws the batches on `renderer` (any Renderer) and fits the model. Throws
 // std::runtime_error when the measurements give no usable (positive) per-triangle cost.
 Calibration calibrate(Renderer& renderer, double aspect, const CalibrationOptions& options);
-
-// Writes a constants file readable by loadConstantsFile ("c_textured = ...") with the other
-// figures as "# calibrate.KEY = VALUE" comment lines. Throws std::runtime_error "PATH: problem".
-void writeCalibration(const Calibration& calibration, const std::string& path);
 
 // --- Navigation (`hlod view`) --------------------------------------------------------------
 // One step of free 6-DOF flight in the camera's own frame: no up-vector constraint, any speed,

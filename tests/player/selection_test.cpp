@@ -55,7 +55,7 @@ struct Tree {
 };
 
 // The first frame f (0-based) at which `siblings` equal counters, starting at `initial` and
-// moving by `delta` per frame (eq. hysteresis, clamped to +-limit), have trunc-sum cumHyst >= 0
+// moving by `delta` per frame (the §4.2 hysteresis update, clamped to +-limit), have trunc-sum cumHyst >= 0
 // (up: the children replace the parent) or < 0 (down: the parent replaces the children).
 int predictedSwitchFrame(double initial, double delta, double limit, double hystSwitch, int siblings, bool up = true) {
     double h = initial;

@@ -1,9 +1,8 @@
 // `hlod path DB --kind walk|drive|fly|erratic -o FILE`: camera paths of thesis Chapter 6 (walk,
 // 10x faster drive, fly-over) and Funkhouser's erratic viewpoint path, in the format of
 // player/CAMERA_PATH.md.
-#include "player/cli.h"
+#include "player/cli/subcommands.h"
 
-#include "formats/cli.h"
 #include "formats/db.h"
 #include "player/camera_path.h"
 
@@ -36,7 +35,7 @@ int runPath(PathArgs& a) {
 void addPath(CLI::App& app, int& status) {
     auto a = std::make_shared<PathArgs>();
     CLI::App* sub = app.add_subcommand("path", "generate a camera path (walk, drive, fly, erratic) from a database's bounds");
-    sub->add_option("DB", a->db, "database file (.hlod)")->required();
+    addDatabaseArgument(*sub, a->db);
     sub->add_option("-o,--output", a->output, "camera path file to write")->required();
     sub->add_option("--kind", a->kind, "walk (1.5 m/s), drive (15 m/s), fly (whole model in view), erratic")
         ->check(CLI::IsMember({"walk", "drive", "fly", "erratic"}));
@@ -48,16 +47,7 @@ void addPath(CLI::App& app, int& status) {
     sub->add_option("--up", a->up, "up axis of the model: z (default) or y");
     sub->add_flag("--look-at-center", a->options.lookAtCenter,
                   "walk, drive, erratic: look at the model's centre, not ahead (walking around an object scan)");
-    sub->callback([a, &status] {
-        status = runGuarded("path", [&] {
-            try {
-                return runPath(*a);
-            } catch (const FormatError& e) {  // invalid data: status 1
-                std::cerr << "hlod path: " << e.what() << '\n';
-                return 1;
-            }
-        });
-    });
+    sub->callback([a, &status] { status = runGuarded("path", [&] { return runPath(*a); }); });
 }
 
 }  // namespace hlod::cli

@@ -1,7 +1,9 @@
 // `hlod calibrate`: measures on this machine what thesis Table 6.1 says c_textured is set from
 // ("measured render time", §3.3) plus the per-triangle cost and fixed overhead the feedback
-// loop of §4.2 starts from, and writes them as a constants file that `play --config` loads.
-#include "player/gl/cli.h"
+// loop of §4.2 starts from, and writes them to a calibration file (formats/calibration.h) that
+// `hlod build --calibration` and `hlod play --calibration` read.
+#include "player/cli/subcommands.h"
+
 #include "player/gl/gl_renderer.h"
 
 #include <CLI/CLI.hpp>
@@ -32,29 +34,24 @@ void printCalibration(std::ostream& os, const Calibration& c) {
 }
 
 int runCalibrate(const CalibrateArgs& args) {
-    try {
-        if (!std::ofstream(args.output + ".tmp")) throw std::runtime_error(args.output + ": cannot be written");
-        std::remove((args.output + ".tmp").c_str());
-        std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
-        const double aspect = static_cast<double>(args.gl.width) / args.gl.height;
-        const Calibration calibration = calibrate(*renderer, aspect, args.calibration);
-        printCalibration(std::cout, calibration);
-        writeCalibration(calibration, args.output);
-        std::cout << "wrote " << args.output << "\n";
-        return 0;
-    } catch (const std::exception& e) {
-        std::cerr << "hlod calibrate: " << e.what() << "\n";
-        return 1;
-    }
+    if (!std::ofstream(args.output + ".tmp")) throw std::runtime_error(args.output + ": cannot be written");
+    std::remove((args.output + ".tmp").c_str());
+    std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
+    const double aspect = static_cast<double>(args.gl.width) / args.gl.height;
+    const Calibration calibration = calibrate(*renderer, aspect, args.calibration);
+    printCalibration(std::cout, calibration);
+    writeCalibration(calibration, args.output);
+    std::cout << "wrote " << args.output << "\n";
+    return kExitOk;
 }
 
 }  // namespace
 
 void addCalibrate(CLI::App& app, int& status) {
     auto args = std::make_shared<CalibrateArgs>();
-    CLI::App* sub = app.add_subcommand("calibrate", "Measure textured/untextured triangle costs and the fixed overhead "
-                                                    "with OpenGL; write c_textured to a constants file");
-    sub->add_option("-o,--output", args->output, "constants file to write")->capture_default_str();
+    CLI::App* sub = app.add_subcommand("calibrate", "measure textured/untextured triangle costs and the fixed overhead "
+                                                    "with OpenGL; write them to a calibration file");
+    sub->add_option("-o,--output", args->output, "calibration file to write (formats/calibration.h)")->capture_default_str();
     sub->add_option("--width", args->gl.width, "frame width")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_option("--height", args->gl.height, "frame height")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_flag("--timer-queries", args->gl.timerQueries, "time frames with GL_TIME_ELAPSED instead of glFinish");
@@ -64,7 +61,7 @@ void addCalibrate(CLI::App& app, int& status) {
     sub->add_option("--triangles", args->calibration.triangleCounts, "triangle counts of the batches")
         ->check(CLI::Range(1u, 20000000u))
         ->expected(2, 64);
-    sub->callback([args, &status] { status = runCalibrate(*args); });
+    sub->callback([args, &status] { status = runGuarded("calibrate", [&] { return runCalibrate(*args); }); });
 }
 
 }  // namespace hlod::cli

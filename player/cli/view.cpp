@@ -2,10 +2,10 @@
 // navigation at any speed (standing still allowed), the Player of Ch. 4 choosing the nodes
 // every frame, and optional recording of the flight to a camera path file
 // (player/CAMERA_PATH.md) that `hlod play --path` replays.
-#include "formats/cli.h"
+#include "player/cli/subcommands.h"
+
 #include "formats/constants.h"
 #include "player/camera_path.h"
-#include "player/gl/cli.h"
 #include "player/gl/gl_renderer.h"
 #include "player/player.h"
 
@@ -26,7 +26,7 @@ struct ViewArgs {
     std::string database;
     std::string record;
     GlOptions gl{1280, 720, true, false, "hlod view"};
-    ConstantOptions constants;
+    ConstantOptions constants{"view", kUsedByPlayer};
     uint64_t memoryBudget = 0;
     bool colorByLevel = false;
     double speed = 0;        // m/s; 0: a twentieth of the model's diagonal per second
@@ -126,53 +126,49 @@ void showStatus(GLFWwindow* w, const FrameStats& s, double speed) {
 }
 
 int runView(const ViewArgs& args) {
-    try {
-        Constants constants;
-        applyConstantOptions(args.constants, constants);
-        const Database db = Database::open(args.database);
-        std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
-        GLFWwindow* window = glfwWindowOf(*renderer);
-        PlayerOptions options;
-        options.memoryBudget = args.memoryBudget;
-        options.frameOptions.colorByLevel = args.colorByLevel;
-        Player player(db, constants, *renderer, options);
-        const Box3f bounds = modelBounds(db.skeleton());
-        Camera camera = startCamera(bounds, args.up == "y" ? 1 : 2, static_cast<double>(args.gl.width) / args.gl.height);
-        InputState input;
-        input.speed = args.speed > 0 ? args.speed : std::max(0.1, diagonalOf(bounds) / 20);
-        glfwSetWindowUserPointer(window, &input);
-        glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
-            static_cast<InputState*>(glfwGetWindowUserPointer(w))->scroll += dy;
-        });
-        // Escape as an event, not a polled state: a quick tap between two slow frames still quits.
-        glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
-            if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
-        });
-        CameraPath recorded;
-        const double start = glfwGetTime();
-        double last = start, lastTitle = start;
-        while (!glfwWindowShouldClose(window)) {
-            glfwPollEvents();
-            const double now = glfwGetTime();
-            navigate(camera, readInput(window, input, now - last));
-            last = now;
-            const FrameStats stats = player.frame(camera, now - start);
-            if (!args.record.empty()) appendKey(recorded, camera, now - start);
-            if (now - lastTitle > 0.5) {
-                showStatus(window, stats, input.speed);
-                lastTitle = now;
-            }
+    Constants constants;
+    applyConstantOptions(args.constants, constants, std::cout);
+    printConstants(std::cout, constants, kUsedByPlayer);
+    const Database db = Database::open(args.database);
+    std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
+    GLFWwindow* window = glfwWindowOf(*renderer);
+    PlayerOptions options;
+    options.memoryBudget = args.memoryBudget;
+    options.frameOptions.colorByLevel = args.colorByLevel;
+    Player player(db, constants, *renderer, options);
+    const Box3f bounds = modelBounds(db.skeleton());
+    Camera camera = startCamera(bounds, args.up == "y" ? 1 : 2, static_cast<double>(args.gl.width) / args.gl.height);
+    InputState input;
+    input.speed = args.speed > 0 ? args.speed : std::max(0.1, diagonalOf(bounds) / 20);
+    glfwSetWindowUserPointer(window, &input);
+    glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
+        static_cast<InputState*>(glfwGetWindowUserPointer(w))->scroll += dy;
+    });
+    // Escape as an event, not a polled state: a quick tap between two slow frames still quits.
+    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
+        if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
+    });
+    CameraPath recorded;
+    const double start = glfwGetTime();
+    double last = start, lastTitle = start;
+    while (!glfwWindowShouldClose(window)) {
+        glfwPollEvents();
+        const double now = glfwGetTime();
+        navigate(camera, readInput(window, input, now - last));
+        last = now;
+        const FrameStats stats = player.frame(camera, now - start);
+        if (!args.record.empty()) appendKey(recorded, camera, now - start);
+        if (now - lastTitle > 0.5) {
+            showStatus(window, stats, input.speed);
+            lastTitle = now;
         }
-        if (!args.record.empty()) {
-            if (recorded.keys.size() < 2) throw std::runtime_error(args.record + ": fewer than two frames to record");
-            writeCameraPathFile(args.record, recorded);
-            std::cout << "recorded " << recorded.keys.size() << " keys, " << recorded.duration() << " s to " << args.record << "\n";
-        }
-        return 0;
-    } catch (const std::exception& e) {
-        std::cerr << "hlod view: " << e.what() << "\n";
-        return 1;
     }
+    if (!args.record.empty()) {
+        if (recorded.keys.size() < 2) throw std::runtime_error(args.record + ": fewer than two frames to record");
+        writeCameraPathFile(args.record, recorded);
+        std::cout << "recorded " << recorded.keys.size() << " keys, " << recorded.duration() << " s to " << args.record << "\n";
+    }
+    return kExitOk;
 }
 
 }  // namespace
@@ -180,9 +176,9 @@ int runView(const ViewArgs& args) {
 void addView(CLI::App& app, int& status) {
     auto args = std::make_shared<ViewArgs>();
     CLI::App* sub = app.add_subcommand(
-        "view", "Fly through a database in a window (WASD move, R/F rise/sink, Q/E roll, arrows or left-drag look, "
+        "view", "fly through a database in a window (WASD move, R/F rise/sink, Q/E roll, arrows or left-drag look, "
                 "scroll or +/- speed, Esc quit)");
-    sub->add_option("database", args->database, "HLOD database")->required();
+    addDatabaseArgument(*sub, args->database);
     sub->add_option("--record", args->record, "write the flight to this camera path file on exit");
     sub->add_option("--width", args->gl.width, "window width")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_option("--height", args->gl.height, "window height")->capture_default_str()->check(CLI::Range(1, 16384));
@@ -191,7 +187,7 @@ void addView(CLI::App& app, int& status) {
     sub->add_option("--speed", args->speed, "initial speed in m/s (default: model diagonal / 20)")->check(CLI::NonNegativeNumber);
     sub->add_option("--up", args->up, "up axis of the model")->check(CLI::IsMember({"y", "z"}))->capture_default_str();
     addConstantOptions(*sub, args->constants);
-    sub->callback([args, &status] { status = runView(*args); });
+    sub->callback([args, &status] { status = runGuarded("view", [&] { return runView(*args); }); });
 }
 
 }  // namespace hlod::cli

@@ -1,20 +1,18 @@
-// `hlod build INPUT -o DB` and `hlod merge SHARD... -o DB`: the pipeline's subcommands. Prints
-// the constants first, progress while it runs, a final summary (nodes per level, time per stage,
-// bytes per input triangle) and writes the run's figures to DB.build.json (the database itself
-// holds nothing that varies run to run).
-#include "pipeline/cli.h"
+// `hlod build INPUT -o DB`: prints the constants it uses first, progress while it runs, a final
+// summary (nodes per level, time per stage, bytes per input triangle) and writes the run's
+// figures to the build report DB.build.json (formats/build_report.h; the database itself holds
+// nothing that varies run to run).
+#include "pipeline/cli/subcommands.h"
 
-#include "formats/cli.h"
+#include "formats/calibration.h"
 #include "pipeline/pipeline.h"
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 
 namespace hlod::cli {
@@ -22,7 +20,8 @@ namespace {
 
 struct BuildArgs {
     BuildRequest request;
-    ConstantOptions constants;
+    ConstantOptions constants{"build", kUsedByBuild};
+    std::string calibration;
     std::string simplifier = "meshopt";
     std::string blocks;  // "A:B" shard selection
 };
@@ -44,19 +43,18 @@ void parseBlockRange(const std::string& text, BuildRequest& r) {
     }
 }
 
-void writeSidecar(const std::string& db, const std::vector<StageFigures>& stages, const BuildSummary& summary, double wall,
-                  double cpu, uint64_t memoryLimit) {
-    nlohmann::json j;
-    j["stages"] = nlohmann::json::array();
-    for (const StageFigures& s : stages) j["stages"].push_back({{"name", s.name}, {"seconds", s.seconds}, {"items", s.items}});
-    j["peak_rss_bytes"] = peakRss();
-    j["memory_limit_bytes"] = memoryLimit;
-    j["input_triangles"] = summary.inputTriangles;
-    j["wall_seconds"] = wall;
-    j["cpu_seconds"] = cpu;
-    j["output_bytes"] = std::filesystem::file_size(db);
-    j["nodes_per_level"] = summary.nodesPerLevel;
-    std::ofstream(db + ".build.json") << j.dump(2) << "\n";
+void writeReport(const std::string& db, const std::vector<BuildStage>& stages, const BuildSummary& summary, double wall,
+                 double cpu, uint64_t memoryLimit) {
+    BuildReport r;
+    r.stages = stages;
+    r.peakRssBytes = peakRss();
+    r.memoryLimitBytes = memoryLimit;
+    r.inputTriangles = summary.inputTriangles;
+    r.wallSeconds = wall;
+    r.cpuSeconds = cpu;
+    r.outputBytes = std::filesystem::file_size(db);
+    r.nodesPerLevel = summary.nodesPerLevel;
+    writeBuildReport(buildReportPath(db), r);
 }
 
 void printSummary(const std::string& db, const BuildSummary& s, double wall, double cpu, uint64_t memoryLimit) {
@@ -76,13 +74,14 @@ void printSummary(const std::string& db, const BuildSummary& s, double wall, dou
 int runBuildCommand(BuildArgs& a) {
     const auto start = std::chrono::steady_clock::now();
     BuildOptions& o = a.request.options;
-    applyConstantOptions(a.constants, o.constants);
+    applyConstantOptions(a.constants, o.constants, std::cout);
+    if (!a.calibration.empty()) o.constants.textured = readCalibration(a.calibration).cTextured;
     o.simplifier = a.simplifier == "openmesh" ? Simplifier::OpenMesh : Simplifier::Meshopt;
     if (!a.blocks.empty()) parseBlockRange(a.blocks, a.request);
-    printConstants(std::cout, o.constants);
+    printConstants(std::cout, o.constants, kUsedByBuild);
     std::cout << std::flush;
     BuildSummary summary;
-    std::vector<StageFigures> stages;
+    std::vector<BuildStage> stages;
     {
         Progress progress(std::cout, isatty(STDOUT_FILENO) != 0);
         summary = runBuild(a.request, progress);
@@ -95,20 +94,8 @@ int runBuildCommand(BuildArgs& a) {
         return 0;
     }
     printSummary(a.request.output, summary, wall, cpuSeconds(), o.memoryLimit);
-    writeSidecar(a.request.output, stages, summary, wall, cpuSeconds(), o.memoryLimit);
+    writeReport(a.request.output, stages, summary, wall, cpuSeconds(), o.memoryLimit);
     return 0;
-}
-
-int guarded(const char* command, const std::function<int()>& body) {
-    try {
-        return body();
-    } catch (const InputError& e) {
-        std::cerr << "hlod " << command << ": " << e.what() << '\n';
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "hlod " << command << ": " << e.what() << '\n';
-        return 1;
-    }
 }
 
 }  // namespace
@@ -122,7 +109,7 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_option("-j,--jobs", o.jobs, "blocks built in parallel (default: all cores)");
     sub->add_option("--simplifier", a->simplifier, "meshopt (fast, default) or openmesh (Decimater, ModQuadric)")
         ->check(CLI::IsMember({"meshopt", "openmesh"}));
-    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default: memory limit / 1600 B)");
+    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088, whatever the memory limit)");
     sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)");
     sub->add_option("--memory-limit", o.memoryLimit, "working-set bound, e.g. 512M, 2G (default 1G)")
         ->transform(CLI::AsSizeValue(false));
@@ -139,25 +126,9 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_option("--blocks", a->blocks, "build only blocks FIRST:LAST (LAST excluded), for sharding");
     sub->add_flag("--shard", a->request.shard, "write a shard folder (merge shards with `hlod merge`)");
     sub->add_option("--temp-dir", o.tempDir, "folder for temporary files (default: next to the output)");
+    sub->add_option("--calibration", a->calibration, "calibration file of `hlod calibrate`: sets c_textured (eq. 3.1)");
     addConstantOptions(*sub, a->constants);
-    sub->callback([a, &status] { status = guarded("build", [&] { return runBuildCommand(*a); }); });
-
-    auto shards = std::make_shared<std::vector<std::string>>();
-    auto output = std::make_shared<std::string>();
-    CLI::App* merge = app.add_subcommand("merge", "merge shard folders written by `hlod build --shard` into one database");
-    merge->add_option("SHARDS", *shards, "shard folders")->required();
-    merge->add_option("-o,--output", *output, "database to write")->required();
-    merge->callback([shards, output, &status] {
-        status = guarded("merge", [&] {
-            const ShardInfo info = readShardInfo(shards->front());
-            Constants c;
-            for (const auto& [key, value] : info.meta)
-                if (key == "c_textured") setConstant(c, key, value);
-            mergeShards(*shards, *output, c.textured);
-            std::cout << *output << ": merged " << shards->size() << " shard(s), " << info.blockCount << " blocks\n";
-            return 0;
-        });
-    });
+    sub->callback([a, &status] { status = runGuarded("build", [&] { return runBuildCommand(*a); }); });
 }
 
 }  // namespace hlod::cli

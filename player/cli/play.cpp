@@ -1,9 +1,9 @@
 // `hlod play DB --path FILE`: replays a camera path against a database with the engine of
 // thesis Chapter 4 (selection §4.2, loading thread §4.3), in simulated time, and writes the
 // per-frame statistics of Chapter 6 (player/STATS.md) plus a summary (text and --json).
-#include "player/cli.h"
+#include "player/cli/subcommands.h"
 
-#include "formats/cli.h"
+#include "formats/calibration.h"
 #include "formats/constants.h"
 #include "formats/db.h"
 #include "player/cost_model_renderer.h"
@@ -34,28 +34,9 @@ struct PlayArgs {
     int width = 1280, height = 720;
     PlayerOptions player;
     CostModel model;
-    ConstantOptions constants;
+    ConstantOptions constants{"play", kUsedByPlayer};
     std::string calibration;
 };
-
-// Reads the render-time model written by `hlod calibrate` ("# calibrate.msPerCost = X" and
-// "# calibrate.fixedOverheadMs = Y" lines) into the initial v_time and the fixed overhead.
-void applyCalibration(const std::string& file, PlayerOptions& options) {
-    std::ifstream in(file);
-    if (!in) throw std::runtime_error(file + ": cannot read calibration file");
-    bool vTime = false, overhead = false;
-    std::string line;
-    while (std::getline(in, line)) {
-        char key[64];
-        double value = 0;
-        if (std::sscanf(line.c_str(), "# calibrate.%63[A-Za-z] = %lf", key, &value) != 2) continue;
-        if (!std::isfinite(value) || value < 0) throw std::runtime_error(file + ": bad value for calibrate." + key);
-        if (std::string(key) == "msPerCost") options.initialVTime = value, vTime = true;
-        if (std::string(key) == "fixedOverheadMs") options.overheadMs = value, overhead = true;
-    }
-    if (!vTime || !overhead)
-        throw std::runtime_error(file + ": not a calibration file (no calibrate.msPerCost / calibrate.fixedOverheadMs)");
-}
 
 void writePng(const std::string& file, const Image& image) {
     auto out = OIIO::ImageOutput::create(file);
@@ -99,8 +80,12 @@ std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
 
 int runPlay(PlayArgs& a) {
     Constants c;
-    applyConstantOptions(a.constants, c);
-    if (!a.calibration.empty()) applyCalibration(a.calibration, a.player);
+    applyConstantOptions(a.constants, c, std::cout);
+    if (!a.calibration.empty()) {
+        const Calibration calibration = readCalibration(a.calibration);
+        a.player.initialVTime = calibration.msPerCost;
+        a.player.overheadMs = calibration.fixedOverheadMs;
+    }
     if (!a.framesDir.empty() && a.renderer != "gl") throw std::invalid_argument("--frames-dir needs --renderer gl");
     if (a.every == 0) throw std::invalid_argument("--every must be at least 1");
     CameraPath path = readCameraPath(a.path);
@@ -111,7 +96,7 @@ int runPlay(PlayArgs& a) {
     Player player(db, c, *renderer, a.player);
     if (!a.framesDir.empty()) std::filesystem::create_directories(a.framesDir);
 
-    printConstants(std::cout, c);
+    printConstants(std::cout, c, kUsedByPlayer);
     std::vector<std::pair<std::string, std::string>> info = {
         {"database", a.db},
         {"path", a.path},
@@ -163,7 +148,7 @@ int runPlay(PlayArgs& a) {
 void addPlay(CLI::App& app, int& status) {
     auto a = std::make_shared<PlayArgs>();
     CLI::App* sub = app.add_subcommand("play", "replay a camera path through the HLOD engine (thesis Chapter 4)");
-    sub->add_option("DB", a->db, "database file (.hlod)")->required();
+    addDatabaseArgument(*sub, a->db);
     sub->add_option("--path", a->path, "camera path file (player/CAMERA_PATH.md; see `hlod path`)")->required();
     sub->add_option("--renderer", a->renderer, "model (cost model, draws nothing; default) or gl (OpenGL, EGL offscreen)")
         ->check(CLI::IsMember({"model", "gl"}));
@@ -183,7 +168,7 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)");
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured with drawing off)");
     sub->add_option("--calibration", a->calibration,
-                    "render-time model from `hlod calibrate`: sets the initial v_time and the fixed overhead");
+                    "calibration file of `hlod calibrate`: sets the initial v_time and the fixed overhead");
     sub->add_option("--lookahead", a->player.lookaheadSeconds,
                     "s: distance is also measured from the eye moved ahead by velocity x this (player/SELECTION.md)");
     sub->add_option("--teleport-speed", a->player.teleportSpeed, "m/s: faster camera moves count as this speed");
@@ -205,16 +190,7 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--model-node-error", a->model.nodeError, "cost model: per-node cost error in [-e, e]");
     sub->add_option("--seed", a->model.seed, "cost model: noise and error seed");
     addConstantOptions(*sub, a->constants);
-    sub->callback([a, &status] {
-        status = runGuarded("play", [&] {
-            try {
-                return runPlay(*a);
-            } catch (const FormatError& e) {  // invalid data: status 1
-                std::cerr << "hlod play: " << e.what() << '\n';
-                return 1;
-            }
-        });
-    });
+    sub->callback([a, &status] { status = runGuarded("play", [&] { return runPlay(*a); }); });
 }
 
 }  // namespace hlod::cli

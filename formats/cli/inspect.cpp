@@ -1,7 +1,7 @@
 // `hlod inspect DB [--tree [--depth N]] [--node ID] [--json]`: the per-level summary (nodes,
 // triangles, texels, bytes, constants, provenance), the node tree, or one node in full
 // (thesis §3.3 attributes + FORMAT.md extensions).
-#include "formats/cli.h"
+#include "formats/cli/subcommands.h"
 
 #include "formats/inspect.h"
 
@@ -84,7 +84,7 @@ int runInspect(const InspectArgs& a) {
 void addInspect(CLI::App& app, int& status) {
     auto args = std::make_shared<InspectArgs>();
     CLI::App* sub = app.add_subcommand("inspect", "summarise an HLOD database, its tree or one node");
-    sub->add_option("DB", args->path, "database file (.hlod)")->required();
+    addDatabaseArgument(*sub, args->path);
     auto* tree = sub->add_flag("--tree", args->tree, "print the node tree");
     sub->add_option("--depth", args->depth, "with --tree: levels to print (0 = all)")->needs(tree);
     sub->add_option("--node", args->node, "print one node in full")->excludes(tree);

@@ -1,7 +1,7 @@
 // `hlod validate DB [--quick] [--json]`: reports every violated invariant of FORMAT.md
-// §Invariants, one line each; exit 0 only when there is none (1 when there are, 2 when the
-// file cannot be opened as a database at all).
-#include "formats/cli.h"
+// §Invariants, one line each; exit 0 only when there is none, 1 when there are, 2 when the
+// file cannot be opened as a database at all (formats/cli/command.h).
+#include "formats/cli/subcommands.h"
 
 #include "formats/validate.h"
 
@@ -45,7 +45,7 @@ int runValidate(const ValidateArgs& a) {
         else
             std::cout << a.path << ": " << violations.size() << " violation(s)\n";
     }
-    return violations.empty() ? 0 : 1;
+    return violations.empty() ? kExitOk : kExitInvalid;
 }
 
 }  // namespace
@@ -53,7 +53,7 @@ int runValidate(const ValidateArgs& a) {
 void addValidate(CLI::App& app, int& status) {
     auto args = std::make_shared<ValidateArgs>();
     CLI::App* sub = app.add_subcommand("validate", "check every invariant of an HLOD database");
-    sub->add_option("DB", args->path, "database file (.hlod)")->required();
+    addDatabaseArgument(*sub, args->path);
     sub->add_flag("--quick", args->quick, "skip reading and decoding blobs");
     sub->add_flag("--json", args->json, "machine-readable JSON output");
     sub->add_option("--bounds-tolerance", args->boundsTolerance,

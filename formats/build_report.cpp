@@ -1,0 +1,72 @@
+// Reader and writer of the build report (formats/build_report.h), one schema for both.
+#include "formats/build_report.h"
+
+#include "formats/errors.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+namespace hlod {
+
+namespace {
+
+template <class T>
+T field(const nlohmann::json& j, const char* key, const std::string& path) {
+    if (!j.is_object() || !j.contains(key)) throw InputError(path + ": missing \"" + key + "\"");
+    try {
+        return j.at(key).get<T>();
+    } catch (const nlohmann::json::exception&) {
+        throw InputError(path + ": \"" + key + "\" has the wrong type");
+    }
+}
+
+}  // namespace
+
+std::string buildReportPath(const std::string& database) { return database + ".build.json"; }
+
+void writeBuildReport(const std::string& path, const BuildReport& r) {
+    nlohmann::json j;
+    j["stages"] = nlohmann::json::array();
+    for (const BuildStage& s : r.stages) j["stages"].push_back({{"name", s.name}, {"seconds", s.seconds}, {"items", s.items}});
+    j["peak_rss_bytes"] = r.peakRssBytes;
+    j["memory_limit_bytes"] = r.memoryLimitBytes;
+    j["input_triangles"] = r.inputTriangles;
+    j["wall_seconds"] = r.wallSeconds;
+    j["cpu_seconds"] = r.cpuSeconds;
+    j["output_bytes"] = r.outputBytes;
+    j["nodes_per_level"] = r.nodesPerLevel;
+    std::ofstream out(path);
+    if (!(out << j.dump(2) << "\n")) throw std::runtime_error(path + ": cannot write build report");
+}
+
+std::optional<BuildReport> readBuildReport(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return std::nullopt;
+    std::ifstream in(path);
+    if (!in) throw InputError(path + ": cannot read");
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception&) {
+        throw InputError(path + ": not valid JSON");
+    }
+    if (!j.is_object()) throw InputError(path + ": not a build report (expected a JSON object)");
+    BuildReport r;
+    const auto stages = field<nlohmann::json>(j, "stages", path);
+    if (!stages.is_array()) throw InputError(path + ": \"stages\" is not an array");
+    for (const auto& s : stages)
+        r.stages.push_back({field<std::string>(s, "name", path), field<double>(s, "seconds", path),
+                            field<uint64_t>(s, "items", path)});
+    r.peakRssBytes = field<uint64_t>(j, "peak_rss_bytes", path);
+    r.inputTriangles = field<uint64_t>(j, "input_triangles", path);
+    r.outputBytes = field<uint64_t>(j, "output_bytes", path);
+    r.wallSeconds = field<double>(j, "wall_seconds", path);
+    r.cpuSeconds = field<double>(j, "cpu_seconds", path);
+    if (j.contains("memory_limit_bytes")) r.memoryLimitBytes = field<uint64_t>(j, "memory_limit_bytes", path);
+    if (j.contains("nodes_per_level")) r.nodesPerLevel = field<std::vector<uint64_t>>(j, "nodes_per_level", path);
+    return r;
+}
+
+}  // namespace hlod

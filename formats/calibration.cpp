@@ -1,0 +1,103 @@
+// Reader and writer of the calibration file (formats/calibration.h).
+#include "formats/calibration.h"
+
+#include "formats/errors.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <map>
+
+namespace hlod {
+
+namespace {
+
+std::string trim(const std::string& s) {
+    const size_t b = s.find_first_not_of(" \t\r");
+    if (b == std::string::npos) return "";
+    return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+// The numeric figures of the file, by name, as members of Calibration.
+const std::map<std::string, double Calibration::*>& numericFields() {
+    static const std::map<std::string, double Calibration::*> fields = {
+        {"c_textured", &Calibration::cTextured}, {"ms_per_cost", &Calibration::msPerCost},
+        {"fixed_overhead_ms", &Calibration::fixedOverheadMs}};
+    return fields;
+}
+
+double* fitField(Calibration& c, const std::string& name) {
+    if (name == "textured_ms_per_tri") return &c.textured.slope;
+    if (name == "untextured_ms_per_tri") return &c.untextured.slope;
+    if (name == "textured_intercept_ms") return &c.textured.intercept;
+    if (name == "untextured_intercept_ms") return &c.untextured.intercept;
+    return nullptr;
+}
+
+}  // namespace
+
+void writeCalibration(const Calibration& c, const std::string& path) {
+    const std::string temporary = path + ".tmp";
+    {
+        std::ofstream out(temporary);
+        if (!out) throw std::runtime_error(path + ": cannot be written");
+        out << std::setprecision(8);
+        out << "# hlod calibrate: render-time model (formats/calibration.h)\n"
+            << "# time_ms = overhead + perTri * triangles; c_textured = perTexturedTri / (perTexturedTri + perUntexturedTri)\n"
+            << "renderer = " << c.renderer << "\n"
+            << "c_textured = " << c.cTextured << "\n"
+            << "ms_per_cost = " << c.msPerCost << "\n"
+            << "fixed_overhead_ms = " << c.fixedOverheadMs << "\n"
+            << "textured_ms_per_tri = " << c.textured.slope << "\n"
+            << "untextured_ms_per_tri = " << c.untextured.slope << "\n"
+            << "textured_intercept_ms = " << c.textured.intercept << "\n"
+            << "untextured_intercept_ms = " << c.untextured.intercept << "\n";
+        for (const CalibrationSample& s : c.samples)
+            out << "# sample " << (s.textured ? "textured" : "untextured") << " triangles=" << s.triangles
+                << " ms=" << s.ms << "\n";
+        if (!out.flush()) throw std::runtime_error(path + ": write failed");
+    }
+    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+        std::remove(temporary.c_str());
+        throw std::runtime_error(path + ": cannot be written");
+    }
+}
+
+Calibration readCalibration(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path + ": cannot read calibration file");
+    Calibration c;
+    size_t seen = 0;
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        line = trim(line.substr(0, line.find('#')));
+        if (line.empty()) continue;
+        const std::string at = path + ":" + std::to_string(number) + ": ";
+        const size_t eq = line.find('=');
+        if (eq == std::string::npos) throw InputError(at + "expected 'name = value'");
+        const std::string name = trim(line.substr(0, eq)), text = trim(line.substr(eq + 1));
+        if (name == "renderer") {
+            c.renderer = text;
+            continue;
+        }
+        auto field = numericFields().find(name);
+        double* target = field != numericFields().end() ? &(c.*field->second) : fitField(c, name);
+        if (!target) throw InputError(at + "unknown name '" + name + "'");
+        double value = 0;
+        const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(value) ||
+            value < 0)
+            throw InputError(at + name + " '" + text + "' is not a finite non-negative number");
+        *target = value;
+        seen += field != numericFields().end();
+    }
+    if (in.bad()) throw InputError(path + ": read error");
+    if (seen < numericFields().size())
+        throw InputError(path + ": not a calibration file (needs c_textured, ms_per_cost and fixed_overhead_ms)");
+    if (!(c.cTextured > 0 && c.cTextured <= 1)) throw InputError(path + ": c_textured must lie in (0, 1]");
+    return c;
+}
+
+}  // namespace hlod

@@ -1,0 +1,88 @@
+// The conventions of formats/cli/command.h: the error guard with its exit statuses, the DB
+// argument, and the constant options (--config, --set) restricted to the constants a
+// subcommand uses.
+#include "formats/cli/command.h"
+
+#include "formats/errors.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+namespace hlod::cli {
+
+namespace {
+
+// The subcommands that read the constants of `use`.
+std::string subcommandsUsing(ConstantUse use) {
+    std::string out;
+    if (use & kUsedByBuild) out += "build";
+    if (use & kUsedByPlayer) out += std::string(out.empty() ? "" : ", ") + "play, view";
+    return out;
+}
+
+// The constant a "name=value" assignment sets, checked against what `options.use` reads.
+void checkUsed(const ConstantOptions& options, const std::string& assignment) {
+    const size_t eq = assignment.find('=');
+    std::string name = assignment.substr(0, eq);
+    name.erase(0, name.find_first_not_of(" \t"));
+    name.erase(name.find_last_not_of(" \t") + 1);
+    const ConstantInfo* info = findConstant(name);
+    if (info && !(info->use & options.use))
+        throw std::invalid_argument("--set " + name + ": `hlod " + options.command + "` does not use " + name +
+                                    " (used by: " + subcommandsUsing(info->use) + ")");
+}
+
+}  // namespace
+
+int runGuarded(const std::string& command, const std::function<int()>& body) {
+    auto fail = [&](const std::exception& e, int status) {
+        std::cerr << "hlod " << command << ": " << e.what() << '\n';
+        return status;
+    };
+    try {
+        return body();
+    } catch (const UnreadableDatabase& e) {
+        return fail(e, kExitUsage);
+    } catch (const FormatError& e) {
+        return fail(e, kExitInvalid);
+    } catch (const InputError& e) {
+        return fail(e, kExitUsage);
+    } catch (const std::invalid_argument& e) {
+        return fail(e, kExitUsage);
+    } catch (const std::exception& e) {
+        return fail(e, kExitInvalid);
+    }
+}
+
+void addDatabaseArgument(CLI::App& sub, std::string& path) {
+    sub.add_option("DB", path, "database file (.hlod)")->required();
+}
+
+void addConstantOptions(CLI::App& sub, ConstantOptions& options) {
+    std::string names;
+    for (const ConstantInfo& info : constantTable())
+        if (info.use & options.use) names += std::string(names.empty() ? "" : ", ") + info.name;
+    sub.add_option("--config", options.configFile,
+                   "constants file of 'c_name = value' lines ('#' comments); this subcommand uses " + names);
+    sub.add_option("--set", options.sets, "override a constant it uses (" + names + "), e.g. --set " +
+                                              names.substr(0, names.find(',')) + "=VALUE (repeatable)")
+        ->type_name("NAME=VALUE");
+}
+
+void applyConstantOptions(const ConstantOptions& options, Constants& c, std::ostream& out) {
+    if (!options.configFile.empty()) {
+        const std::vector<std::string> skipped = loadConstantsFile(c, options.configFile, options.use);
+        if (!skipped.empty()) {
+            out << "note: " << options.configFile << ": not used by `hlod " << options.command << "`:";
+            for (const std::string& name : skipped) out << ' ' << name;
+            out << '\n';
+        }
+    }
+    for (const std::string& s : options.sets) {
+        checkUsed(options, s);
+        setConstantAssignment(c, s);
+    }
+}
+
+}  // namespace hlod::cli

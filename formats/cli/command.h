@@ -1,0 +1,53 @@
+// The conventions every `hlod` subcommand follows, written once (README "Command line"):
+// - exit status 0 on success, 1 when the data is invalid or the work fails (violations, a
+//   corrupt blob, a failed write), 2 on a usage error or an input that cannot be read;
+// - one error guard: an exception becomes ONE line "hlod SUBCOMMAND: FILE: problem" on stderr;
+// - help texts start in lower case; a database argument is named DB; JSON keys are snake_case;
+// - --set / --config accept exactly the thesis constants the subcommand uses (formats/constants.h).
+#pragma once
+
+#include "formats/constants.h"
+
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace hlod::cli {
+
+enum ExitStatus : int { kExitOk = 0, kExitInvalid = 1, kExitUsage = 2 };
+
+// A subcommand adds itself to `app`; its callback stores its exit status in `status`.
+using AddSubcommand = void (*)(CLI::App& app, int& status);
+
+// Runs a subcommand body: returns its status, or prints one line "hlod COMMAND: what()" to
+// stderr and returns the status of the exception (formats/errors.h): InputError,
+// UnreadableDatabase and std::invalid_argument (usage) give 2; FormatError and any other
+// failure give 1.
+int runGuarded(const std::string& command, const std::function<int()>& body);
+
+// The positional database argument, named DB in every subcommand.
+void addDatabaseArgument(CLI::App& sub, std::string& path);
+
+// --config FILE and --set NAME=VALUE (repeatable) for the constants `use` reads. A --set of a
+// constant this subcommand does not use is a usage error naming the subcommands that do; a
+// constants file may hold any constant (one file per experiment), and those this subcommand
+// does not use are listed on one note line instead of being applied.
+struct ConstantOptions {
+    ConstantOptions(std::string commandName, ConstantUse used) : command(std::move(commandName)), use(used) {}
+    std::string command;  // "build", "play", ...
+    ConstantUse use;
+    std::string configFile;
+    std::vector<std::string> sets;
+};
+void addConstantOptions(CLI::App& sub, ConstantOptions& options);
+// Folds the options into `c`; notes go to `out`. Throws std::invalid_argument (usage) or
+// InputError (the constants file).
+void applyConstantOptions(const ConstantOptions& options, Constants& c, std::ostream& out);
+
+}  // namespace hlod::cli

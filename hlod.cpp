@@ -1,0 +1,43 @@
+// hlod: the entry point of the one command-line tool and its table of subcommands, in the
+// manner of git's git.c. Each library's subcommands are a target of their own, in the library's
+// cli/ folder, which the library itself does not depend on:
+//   formats/cli/   inspect, validate   (command.h: exit statuses, error guard, constant options)
+//   pipeline/cli/  build, merge, stats, synth
+//   player/cli/    play, path, view, calibrate
+#include "formats/cli/subcommands.h"
+#include "pipeline/cli/subcommands.h"
+#include "player/cli/subcommands.h"
+
+#include <CLI/CLI.hpp>
+
+#ifndef HLOD_VERSION
+#define HLOD_VERSION "0.0.0"
+#endif
+
+namespace {
+
+// In the order `hlod --help` lists them: build, look at, play back, make data.
+constexpr hlod::cli::AddSubcommand kSubcommands[] = {
+    hlod::cli::addBuild,    hlod::cli::addMerge, hlod::cli::addInspect, hlod::cli::addValidate,
+    hlod::cli::addStats,    hlod::cli::addPlay,  hlod::cli::addPath,    hlod::cli::addView,
+    hlod::cli::addCalibrate, hlod::cli::addSynth,
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"hlod: out-of-core HLOD databases for huge scanned 3D models (build, inspect, play)"};
+    app.set_version_flag("--version", std::string("hlod ") + HLOD_VERSION);
+    app.require_subcommand(1);
+    app.failure_message([](const CLI::App*, const CLI::Error& e) {  // one line, like every other error
+        return std::string("hlod: ") + e.what() + " (see --help)\n";
+    });
+    int status = hlod::cli::kExitOk;
+    for (hlod::cli::AddSubcommand add : kSubcommands) add(app, status);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {  // --help and --version exit 0, every usage error 2
+        return app.exit(e) == 0 ? hlod::cli::kExitOk : hlod::cli::kExitUsage;
+    }
+    return status;
+}

@@ -1,0 +1,17 @@
+// The subcommands of pipeline/ (registered by the table in hlod.cpp).
+#pragma once
+
+#include "formats/cli/command.h"
+
+namespace hlod::cli {
+
+// `hlod build INPUT -o DB`: a mesh or a folder of block meshes into a database (thesis §3).
+void addBuild(CLI::App& app, int& status);
+// `hlod merge SHARD... -o DB`: shard folders of `hlod build --shard` into one database.
+void addMerge(CLI::App& app, int& status);
+// `hlod stats DB`: the preprocessing statistics of thesis §3.2, with the build's times.
+void addStats(CLI::App& app, int& status);
+// `hlod synth city -o DIR`: the synthetic thesis-like city (pipeline/synth/synth.h).
+void addSynth(CLI::App& app, int& status);
+
+}  // namespace hlod::cli
