@@ -4,9 +4,9 @@
 // in isolation and through the Player.
 #include "player/cost_model_renderer.h"
 #include "player/feedback.h"
-#include "player/node_source.h"
 #include "player/player.h"
-#include "trees.h"
+#include "tests/support/memory_source.h"
+#include "tests/support/trees.h"
 
 #include <gtest/gtest.h>
 

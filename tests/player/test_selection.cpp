@@ -3,7 +3,7 @@
 // counter value, the cumHyst sign rule, the loaded-children rule (§5.2), hlod0 never skipped,
 // §6.5 toggle counting.
 #include "player/selection.h"
-#include "trees.h"
+#include "tests/support/trees.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Hand-built in-memory HLOD skeletons for the player tests and benchmarks.
+// Test fixture: hand-built in-memory HLOD skeletons for the player tests and benchmarks.
 #pragma once
 
 #include "formats/db.h"

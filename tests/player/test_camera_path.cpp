@@ -1,7 +1,7 @@
 // Camera path format (player/CAMERA_PATH.md): round trip, sampling, one-line errors for each
 // class of bad input, and the generated paths' speeds and shapes.
 #include "player/camera_path.h"
-#include "trees.h"
+#include "tests/support/trees.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

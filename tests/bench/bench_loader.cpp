@@ -2,8 +2,8 @@
 // loading thread's path (chunked positioned reads, XXH3 check, Draco + JPEG decode) on a
 // synthetic database. Prints figures; not run by ctest.
 //   bench_loader [blocks] [trianglesPerNode] [textureSize]
-#include "formats/synthetic.h"
 #include "player/loader.h"
+#include "tests/support/synthetic.h"
 
 #include <chrono>
 #include <cstdio>

@@ -2,14 +2,11 @@
 // thesis Figures 6.1-6.6, and refuses bad logs with one line and a non-zero exit.
 // Skips when gnuplot is not installed.
 #include "player/stats.h"
+#include "tests/support/run_hlod.h"
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -17,30 +14,17 @@
 namespace hlod {
 namespace {
 
+using test::RunResult;
+using test::runProcess;
+
 namespace fs = std::filesystem;
-
-struct Result {
-    int status = -1;
-    std::string output;
-};
-
-Result run(const std::string& command) {
-    Result r;
-    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 512> buffer{};
-    while (fgets(buffer.data(), buffer.size(), pipe)) r.output += buffer.data();
-    const int status = pclose(pipe);
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
 
 std::string script() { return std::string(HLOD_SOURCE_DIR) + "/scripts/plot_figures.sh"; }
 
 class PlotFigures : public ::testing::Test {
 protected:
     void SetUp() override {
-        if (run("command -v gnuplot").status != 0) GTEST_SKIP() << "gnuplot is not installed (gnuplot-nox)";
+        if (runProcess({"sh", "-c", "command -v gnuplot"}).exitCode != 0) GTEST_SKIP() << "gnuplot is not installed (gnuplot-nox)";
         dir_ = fs::temp_directory_path() / ("hlod_plot_test_" + std::to_string(::getpid()) + "_" +
                                             ::testing::UnitTest::GetInstance()->current_test_info()->name());
         fs::remove_all(dir_);
@@ -90,8 +74,8 @@ std::pair<uint32_t, uint32_t> pngSize(const fs::path& path) {
 
 TEST_F(PlotFigures, WritesSixNonTrivialPngs) {
     const fs::path log = writeLog("run.csv", 120);
-    const Result r = run("bash " + script() + " " + log.string() + " " + (dir_ / "figs").string());
-    ASSERT_EQ(r.status, 0) << r.output;
+    const RunResult r = runProcess({"bash", script(), log.string(), (dir_ / "figs").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
     for (int n = 1; n <= 6; ++n) {
         const fs::path png = dir_ / "figs" / ("fig6_" + std::to_string(n) + ".png");
         ASSERT_TRUE(fs::exists(png)) << png;
@@ -104,56 +88,57 @@ TEST_F(PlotFigures, WritesSixNonTrivialPngs) {
 
 TEST_F(PlotFigures, TakesASecondRunForTheTwoRunFigures) {
     const fs::path walk = writeLog("walk.csv", 60, 2), fly = writeLog("fly.csv", 90, 4);
-    const Result r = run("bash " + script() + " " + walk.string() + " " + (dir_ / "figs").string() + " " + fly.string());
-    ASSERT_EQ(r.status, 0) << r.output;
+    const RunResult r = runProcess({"bash", script(), walk.string(), (dir_ / "figs").string(), fly.string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
     for (int n = 1; n <= 6; ++n) EXPECT_GT(pngSize(dir_ / "figs" / ("fig6_" + std::to_string(n) + ".png")).first, 0u);
 }
 
-void expectOneLineFailure(const Result& r, const std::string& mention) {
-    EXPECT_EQ(r.status, 2) << r.output;
-    EXPECT_NE(r.output.find(mention), std::string::npos) << r.output;
-    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+void expectOneLineFailure(const RunResult& r, const std::string& mention) {
+    const std::string output = r.outAndErr();
+    EXPECT_EQ(r.exitCode, 2) << output;
+    EXPECT_NE(output.find(mention), std::string::npos) << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
 }
 
 TEST_F(PlotFigures, MissingLogFails) {
     const std::string missing = (dir_ / "missing.csv").string();
-    expectOneLineFailure(run("bash " + script() + " " + missing + " " + (dir_ / "figs").string()), missing);
+    expectOneLineFailure(runProcess({"bash", script(), missing, (dir_ / "figs").string()}), missing);
     EXPECT_FALSE(fs::exists(dir_ / "figs")) << "nothing written for a bad log";
 }
 
 TEST_F(PlotFigures, LogWithoutStatisticsColumnsFails) {
     const fs::path log = dir_ / "other.csv";
     std::ofstream(log) << "a,b,c\n1,2,3\n4,5,6\n";
-    expectOneLineFailure(run("bash " + script() + " " + log.string() + " " + (dir_ / "figs").string()), "no column 'frame'");
+    expectOneLineFailure(runProcess({"bash", script(), log.string(), (dir_ / "figs").string()}), "no column 'frame'");
     EXPECT_FALSE(fs::exists(dir_ / "figs"));
 }
 
 TEST_F(PlotFigures, TruncatedLogFails) {
     const fs::path log = writeLog("run.csv", 40);
     fs::resize_file(log, fs::file_size(log) - 7);  // last row loses its last fields
-    expectOneLineFailure(run("bash " + script() + " " + log.string() + " " + (dir_ / "figs").string()), "fields");
+    expectOneLineFailure(runProcess({"bash", script(), log.string(), (dir_ / "figs").string()}), "fields");
 }
 
 TEST_F(PlotFigures, CorruptFieldFails) {
     const fs::path log = writeLog("run.csv", 10);
     std::ofstream(log, std::ios::app) << std::string(30, 'x') << std::string(200, ',') << "\n";
-    const Result r = run("bash " + script() + " " + log.string() + " " + (dir_ / "figs").string());
-    EXPECT_EQ(r.status, 2) << r.output;
-    EXPECT_NE(r.output.find(log.string()), std::string::npos) << r.output;
+    const RunResult r = runProcess({"bash", script(), log.string(), (dir_ / "figs").string()});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_NE(r.outAndErr().find(log.string()), std::string::npos) << r.outAndErr();
 }
 
 TEST_F(PlotFigures, EmptyOrOneFrameLogFails) {
     const fs::path empty = dir_ / "empty.csv";
     std::ofstream(empty).flush();
-    expectOneLineFailure(run("bash " + script() + " " + empty.string() + " " + (dir_ / "figs").string()), "empty");
+    expectOneLineFailure(runProcess({"bash", script(), empty.string(), (dir_ / "figs").string()}), "empty");
     const fs::path one = writeLog("one.csv", 1);
-    expectOneLineFailure(run("bash " + script() + " " + one.string() + " " + (dir_ / "figs").string()), "two frames");
+    expectOneLineFailure(runProcess({"bash", script(), one.string(), (dir_ / "figs").string()}), "two frames");
 }
 
 TEST_F(PlotFigures, BadUsageFails) {
-    const Result r = run("bash " + script());
-    EXPECT_EQ(r.status, 2);
-    EXPECT_NE(r.output.find("usage"), std::string::npos);
+    const RunResult r = runProcess({"bash", script()});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.outAndErr().find("usage"), std::string::npos);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // Speed of the database layer (not run by ctest): writing the synthetic database, opening a
 // skeleton, reading + verifying blobs, Draco and JPEG encode/decode.
 #include "formats/codec.h"
-#include "formats/synthetic.h"
+#include "tests/support/synthetic.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,7 @@
 // The priority queue of thesis §4.3 (linked list + hash + cached highest unloaded node) and the
 // heap alternative, checked against a brute-force reference under random update streams.
 #include "player/priority_queue.h"
+#include "tests/support/heap_queue.h"
 
 #include <gtest/gtest.h>
 

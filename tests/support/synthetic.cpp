@@ -1,9 +1,9 @@
-// A small procedural HLOD database: a grid of blocks over a wavy terrain; in each block level
-// L has levelFactor^L grid patches that tile their parent (cut along the longest axis, as
-// thesis §3.2). Cost/benefit/normal come from metrics.h and eq. 3.1 (the Writer), bounds
-// enclose the subtree, and the geometric error is the linear-interpolation bound h^2/8 * |f''|
-// (capped by the terrain's height range).
-#include "formats/synthetic.h"
+// Test fixture (synthetic.h): a grid of blocks over a wavy terrain; in each block level L has
+// levelFactor^L grid patches that tile their parent (cut along the longest axis, as thesis
+// §3.2). Cost/benefit/normal come from metrics.h and eq. 3.1 (the Writer), bounds enclose the
+// subtree, and the geometric error is the linear-interpolation bound h^2/8 * |f''| (capped by
+// the terrain's height range).
+#include "tests/support/synthetic.h"
 
 #include "formats/codec.h"
 #include "formats/constants.h"

@@ -1,14 +1,14 @@
 // End to end with the cost-model renderer (thesis Chapter 6 conditions): frame time held near
 // c_targetTime after warm-up, memory within budget, few toggles per frame (§6.5), exact
 // repeatability with the synchronous loader; and the engine on a real database (Draco + JPEG).
-#include "formats/synthetic.h"
 #include "player/camera_path.h"
 #include "player/cost_model_renderer.h"
-#include "player/node_source.h"
 #include "player/player.h"
 #include "player/replay.h"
 #include "player/stats.h"
-#include "trees.h"
+#include "tests/support/memory_source.h"
+#include "tests/support/synthetic.h"
+#include "tests/support/trees.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // synthetic databases, textured and untextured) and DIR/blob/ (each of their blobs, prefixed
 // with the selector byte fuzz_blob expects: 0 Draco, 1 JPEG, 2 PNG).
 #include "formats/codec.h"
-#include "formats/synthetic.h"
+#include "tests/support/synthetic.h"
 
 #include <filesystem>
 #include <fstream>

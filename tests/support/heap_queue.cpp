@@ -1,7 +1,5 @@
-// The conventional alternative to thesis §4.3's list: two indexed binary heaps (unloaded nodes
-// by decreasing priority, loaded nodes by increasing priority), O(log n) per operation. Used
-// by the benchmark that replays real frame-to-frame update streams into both queues.
-#include "player/priority_queue.h"
+// Benchmark baseline (heap_queue.h): two indexed binary heaps, O(log n) per operation.
+#include "tests/support/heap_queue.h"
 
 #include <utility>
 

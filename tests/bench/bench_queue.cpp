@@ -4,7 +4,8 @@
 #include "player/camera_path.h"
 #include "player/priority_queue.h"
 #include "player/selection.h"
-#include "tests/player/trees.h"
+#include "tests/support/heap_queue.h"
+#include "tests/support/trees.h"
 
 #include <benchmark/benchmark.h>
 

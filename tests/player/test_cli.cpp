@@ -1,28 +1,24 @@
 // `hlod path` and `hlod play` as a user runs them: outputs (CSV with the documented header,
 // JSON summary, path file) and, for each class of bad input, one line naming the file,
 // a non-zero status and no half-written output.
-#include "formats/synthetic.h"
 #include "player/stats.h"
+#include "tests/support/run_hlod.h"
+#include "tests/support/synthetic.h"
 
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <sys/wait.h>
 
 namespace fs = std::filesystem;
 using namespace hlod;
+using hlod::test::RunResult;
+using hlod::test::runHlod;
 
 namespace {
-
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
 
 std::string slurp(const fs::path& p) {
     std::ifstream in(p);
@@ -47,21 +43,10 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir); }
 
-    Result run(const std::string& args) {
-        std::string cmd = std::string(HLOD_BIN) + " " + args + " >" + (dir / "out.txt").string() + " 2>" +
-                          (dir / "err.txt").string();
-        Result r;
-        int raw = std::system(cmd.c_str());
-        r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-        r.out = slurp(dir / "out.txt");
-        r.err = slurp(dir / "err.txt");
-        return r;
-    }
-
     std::string walk() {
         std::string path = (dir / "walk.path").string();
-        Result r = run("path " + db + " --kind walk --duration 5 -o " + path);
-        EXPECT_EQ(r.status, 0) << r.err;
+        RunResult r = runHlod({"path", db, "--kind", "walk", "--duration", "5", "-o", path});
+        EXPECT_EQ(r.exitCode, 0) << r.err;
         return path;
     }
 };
@@ -73,9 +58,8 @@ int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n'
 TEST_F(Cli, PlayWritesCsvAndJsonSummary) {
     std::string path = walk();
     std::string csv = (dir / "walk.csv").string(), json = (dir / "walk.json").string();
-    Result r = run("play " + db + " --path " + path + " --stats " + csv + " --json " + json +
-                   " --frames 100 --sync-loader --set c_targetTime=20");
-    ASSERT_EQ(r.status, 0) << r.err;
+    RunResult r = runHlod({"play", db, "--path", path, "--stats", csv, "--json", json, "--frames", "100", "--sync-loader", "--set", "c_targetTime=20"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("constants: "), std::string::npos);
     EXPECT_NE(r.out.find("c_targetTime=20"), std::string::npos);
     std::istringstream in(slurp(csv));
@@ -99,8 +83,8 @@ TEST_F(Cli, PlayWritesCsvAndJsonSummary) {
 
 TEST_F(Cli, MissingDatabaseIsOneLine) {
     std::string path = walk();
-    Result r = run("play " + (dir / "absent.hlod").string() + " --path " + path);
-    EXPECT_NE(r.status, 0);
+    RunResult r = runHlod({"play", (dir / "absent.hlod").string(), "--path", path});
+    EXPECT_NE(r.exitCode, 0);
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_NE(r.err.find("absent.hlod"), std::string::npos) << r.err;
 }
@@ -111,8 +95,8 @@ TEST_F(Cli, TruncatedDatabaseIsOneLineStatus1AndNoCsv) {
     fs::copy_file(db, cut);
     fs::resize_file(cut, fs::file_size(cut) / 2);
     std::string csv = (dir / "cut.csv").string();
-    Result r = run("play " + cut + " --path " + path + " --stats " + csv);
-    EXPECT_EQ(r.status, 1);
+    RunResult r = runHlod({"play", cut, "--path", path, "--stats", csv});
+    EXPECT_EQ(r.exitCode, 1);
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_NE(r.err.find("cut.hlod"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(csv));
@@ -121,33 +105,33 @@ TEST_F(Cli, TruncatedDatabaseIsOneLineStatus1AndNoCsv) {
 TEST_F(Cli, BadPathFileIsOneLineWithLineNumber) {
     std::string bad = (dir / "bad.path").string();
     std::ofstream(bad) << "hlod-camera-path 1\n0 0 0 1.7 0 0 0 1 60\n1 0 0 1.7 0 0 0 1\n";
-    Result r = run("play " + db + " --path " + bad);
-    EXPECT_EQ(r.status, 2);
+    RunResult r = runHlod({"play", db, "--path", bad});
+    EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_NE(r.err.find("bad.path:3:"), std::string::npos) << r.err;
 }
 
 TEST_F(Cli, FramesDirNeedsGlAndBadConstantIsRejected) {
     std::string path = walk();
-    Result r = run("play " + db + " --path " + path + " --frames-dir " + (dir / "png").string());
-    EXPECT_EQ(r.status, 2);
+    RunResult r = runHlod({"play", db, "--path", path, "--frames-dir", (dir / "png").string()});
+    EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lines(r.err), 1) << r.err;
-    r = run("play " + db + " --path " + path + " --set c_vis=abc");
-    EXPECT_EQ(r.status, 2);
+    r = runHlod({"play", db, "--path", path, "--set", "c_vis=abc"});
+    EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lines(r.err), 1) << r.err;
 }
 
 TEST_F(Cli, PathKindsAndBadDatabase) {
     for (const char* kind : {"walk", "drive", "fly", "erratic"}) {
         std::string out = (dir / (std::string(kind) + ".path")).string();
-        Result r = run(std::string("path ") + db + " --kind " + kind + " -o " + out);
-        EXPECT_EQ(r.status, 0) << kind << r.err;
+        RunResult r = runHlod({"path", db, "--kind", kind, "-o", out});
+        EXPECT_EQ(r.exitCode, 0) << kind << r.err;
         EXPECT_TRUE(slurp(out).starts_with("hlod-camera-path 1\n"));
     }
     std::string junk = (dir / "junk.hlod").string();
     std::ofstream(junk) << "not a database at all";
-    Result r = run("path " + junk + " -o " + (dir / "x.path").string());
-    EXPECT_EQ(r.status, 1);
+    RunResult r = runHlod({"path", junk, "-o", (dir / "x.path").string()});
+    EXPECT_EQ(r.exitCode, 1);
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_FALSE(fs::exists(dir / "x.path"));
 }
@@ -157,16 +141,16 @@ TEST_F(Cli, CalibrationFileSetsInitialVTimeAndOverhead) {
     std::string cal = (dir / "cal.conf").string();
     std::ofstream(cal) << "c_textured = 0.5\n# calibrate.msPerCost = 0.0123\n# calibrate.fixedOverheadMs = 4.5\n";
     std::string csv = (dir / "cal.csv").string();
-    Result r = run("play " + db + " --path " + path + " --sync-loader --frames 5 --calibration " + cal + " --stats " + csv);
-    ASSERT_EQ(r.status, 0) << r.err;
+    RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--frames", "5", "--calibration", cal, "--stats", csv});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
     std::string text = slurp(csv);
     EXPECT_NE(text.find("# overhead_ms: 4.500000"), std::string::npos) << text.substr(0, 600);
     EXPECT_NE(text.find("# initial_v_time: 0.012300"), std::string::npos) << text.substr(0, 600);
 
     std::string notCal = (dir / "notcal.conf").string();
     std::ofstream(notCal) << "c_textured = 0.5\n";
-    r = run("play " + db + " --path " + path + " --calibration " + notCal);
-    EXPECT_EQ(r.status, 2);
+    r = runHlod({"play", db, "--path", path, "--calibration", notCal});
+    EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_NE(r.err.find("notcal.conf: not a calibration file"), std::string::npos) << r.err;
 }

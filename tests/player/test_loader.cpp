@@ -6,7 +6,8 @@
 #include "player/loader.h"
 #include "player/player.h"
 #include "player/replay.h"
-#include "trees.h"
+#include "tests/support/memory_source.h"
+#include "tests/support/trees.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // to about 1 M, with a walking camera and every node resident.
 #include "player/camera_path.h"
 #include "player/selection.h"
-#include "tests/player/trees.h"
+#include "tests/support/trees.h"
 
 #include <benchmark/benchmark.h>
 

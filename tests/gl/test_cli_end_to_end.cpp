@@ -2,15 +2,12 @@
 // writes PNG frames shaded by level and a statistics log, scripts/plot_figures.sh turns the
 // log into Figures 6.1-6.6; `calibrate` and `view` fail with one line on bad input.
 // Skips the GL parts when no EGL context exists.
-#include "formats/synthetic.h"
 #include "player/gl/gl_renderer.h"
+#include "tests/support/run_hlod.h"
+#include "tests/support/synthetic.h"
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -18,23 +15,11 @@
 namespace hlod {
 namespace {
 
+using test::RunResult;
+using test::runHlod;
+using test::runProcess;
+
 namespace fs = std::filesystem;
-
-struct Result {
-    int status = -1;
-    std::string output;
-};
-
-Result run(const std::string& command) {
-    Result r;
-    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 512> buffer{};
-    while (fgets(buffer.data(), buffer.size(), pipe)) r.output += buffer.data();
-    const int status = pclose(pipe);
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
 
 bool haveEgl() {
     try {
@@ -54,7 +39,6 @@ protected:
         fs::create_directories(dir_);
     }
     void TearDown() override { fs::remove_all(dir_); }
-    std::string hlod() const { return HLOD_EXE; }
     fs::path dir_;
 };
 
@@ -64,28 +48,27 @@ TEST_F(HlodTool, PlayWithGlWritesLevelShadedFramesAndTheLogPlots) {
     SyntheticOptions synthetic;
     synthetic.levels = 3;
     synthetic.trianglesPerNode = 256;
-    synthetic.textureSize = 0;  // textured drawing is covered by gl_renderer_test
+    synthetic.textureSize = 0;  // textured drawing is covered by test_gl_renderer.cpp
     writeSyntheticDatabase(db.string(), synthetic);
     const fs::path path = dir_ / "fly.path", log = dir_ / "run.csv", frames = dir_ / "frames";
-    Result r = run(hlod() + " path " + db.string() + " --kind fly --duration 4 -o " + path.string());
-    ASSERT_EQ(r.status, 0) << r.output;
-    r = run(hlod() + " play " + db.string() + " --path " + path.string() + " --renderer gl --width 320 --height 180" +
-            " --sync-loader --stats " + log.string() + " --frames-dir " + frames.string() + " --every 20 --color-by-level");
-    ASSERT_EQ(r.status, 0) << r.output;
+    RunResult r = runHlod({"path", db.string(), "--kind", "fly", "--duration", "4", "-o", path.string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    r = runHlod({"play", db.string(), "--path", path.string(), "--renderer", "gl", "--width", "320", "--height", "180", "--sync-loader", "--stats", log.string(), "--frames-dir", frames.string(), "--every", "20", "--color-by-level"});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
     size_t pngs = 0;
     for (const auto& entry : fs::directory_iterator(frames)) pngs += entry.path().extension() == ".png";
     EXPECT_GT(pngs, 0u);
-    if (run("command -v gnuplot").status != 0) GTEST_SKIP() << "gnuplot is not installed";
-    r = run("bash " + std::string(HLOD_SOURCE_DIR) + "/scripts/plot_figures.sh " + log.string() + " " + (dir_ / "figs").string());
-    ASSERT_EQ(r.status, 0) << r.output;
+    if (runProcess({"sh", "-c", "command -v gnuplot"}).exitCode != 0) GTEST_SKIP() << "gnuplot is not installed";
+    r = runProcess({"bash", std::string(HLOD_SOURCE_DIR) + "/scripts/plot_figures.sh", log.string(), (dir_ / "figs").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
     for (int n = 1; n <= 6; ++n) EXPECT_GT(fs::file_size(dir_ / "figs" / ("fig6_" + std::to_string(n) + ".png")), 10000u);
 }
 
 TEST_F(HlodTool, CalibrateWritesAConstantsFile) {
     if (!haveEgl()) GTEST_SKIP() << "no EGL OpenGL context";
     const fs::path out = dir_ / "calibration.conf";
-    const Result r = run(hlod() + " calibrate --width 320 --height 180 --frames 3 --triangles 1000 80000 -o " + out.string());
-    ASSERT_EQ(r.status, 0) << r.output;
+    const RunResult r = runHlod({"calibrate", "--width", "320", "--height", "180", "--frames", "3", "--triangles", "1000", "80000", "-o", out.string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
     std::ifstream in(out);
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     EXPECT_NE(text.find("\nc_textured = 0."), std::string::npos) << text;
@@ -94,17 +77,18 @@ TEST_F(HlodTool, CalibrateWritesAConstantsFile) {
 
 TEST_F(HlodTool, CalibrateToAnUnwritablePathFailsBeforeMeasuring) {
     const std::string out = (dir_ / "missing-dir" / "c.conf").string();
-    const Result r = run(hlod() + " calibrate -o " + out);
-    EXPECT_EQ(r.status, 1);
-    EXPECT_EQ(r.output, "hlod calibrate: " + out + ": cannot be written\n");
+    const RunResult r = runHlod({"calibrate", "-o", out});
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.outAndErr(), "hlod calibrate: " + out + ": cannot be written\n");
 }
 
 TEST_F(HlodTool, ViewOfAMissingDatabaseFailsWithOneLine) {
     const std::string db = (dir_ / "missing.hlod").string();
-    const Result r = run(hlod() + " view " + db);
-    EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.output.find(db), std::string::npos) << r.output;
-    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    const RunResult r = runHlod({"view", db});
+    EXPECT_EQ(r.exitCode, 1);
+    const std::string output = r.outAndErr();
+    EXPECT_NE(output.find(db), std::string::npos) << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
 }
 
 TEST_F(HlodTool, ViewWithoutADisplayFailsWithOneLine) {
@@ -112,19 +96,21 @@ TEST_F(HlodTool, ViewWithoutADisplayFailsWithOneLine) {
     SyntheticOptions synthetic;
     synthetic.levels = 2;
     writeSyntheticDatabase(db.string(), synthetic);
-    const Result r = run("env -u DISPLAY -u WAYLAND_DISPLAY " + hlod() + " view " + db.string());
-    EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.output.find("hlod view: GLFW"), std::string::npos) << r.output;
-    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    const RunResult r = runHlod({"view", db.string()}, {.unsetEnv = {"DISPLAY", "WAYLAND_DISPLAY"}});
+    EXPECT_EQ(r.exitCode, 1);
+    const std::string output = r.outAndErr();
+    EXPECT_NE(output.find("hlod view: GLFW"), std::string::npos) << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
 }
 
 TEST_F(HlodTool, ViewOfACorruptDatabaseFailsWithOneLine) {
     const fs::path db = dir_ / "corrupt.hlod";
     std::ofstream(db) << std::string(4096, 'x');
-    const Result r = run(hlod() + " view " + db.string());
-    EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.output.find(db.string()), std::string::npos) << r.output;
-    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    const RunResult r = runHlod({"view", db.string()});
+    EXPECT_EQ(r.exitCode, 1);
+    const std::string output = r.outAndErr();
+    EXPECT_NE(output.find(db.string()), std::string::npos) << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
-// A small procedural HLOD database written through the Writer API: a grid of blocks over a
-// wavy textured terrain, each block a full c_levelFactor-ary tree whose level L has
-// levelFactor^L pieces (cut along the longest axis, as thesis §3.2). For tests, examples,
-// and the README's demo; not a substitute for the pipeline.
+// Test fixture: a small procedural HLOD database written through the Writer API: a grid of
+// blocks over a wavy textured terrain, each block a full c_levelFactor-ary tree whose level L
+// has levelFactor^L pieces (cut along the longest axis, as thesis §3.2). Used by the tests, the
+// benchmarks and the fuzz seed corpus; not a substitute for the pipeline.
 #pragma once
 
 #include <cstdint>
