@@ -103,7 +103,7 @@ nlohmann::json toJson(const DatabaseSummary& s) {
 }
 
 nlohmann::json nodeJson(const Skeleton& s, uint32_t id) {
-    if (id >= s.nodes.size()) throw std::out_of_range("node " + std::to_string(id) + " does not exist (the database has " +
+    if (id >= s.nodes.size()) throw std::invalid_argument("node " + std::to_string(id) + " does not exist (the database has " +
                                                       std::to_string(s.nodes.size()) + " nodes)");
     const Node& n = s.nodes[id];
     auto link = [](uint32_t v) { return v == kNone ? nlohmann::json(nullptr) : nlohmann::json(v); };

@@ -39,7 +39,7 @@ struct DatabaseSummary {
 DatabaseSummary summarize(const Database& db);
 
 nlohmann::json toJson(const DatabaseSummary& s);
-// One node in full, with its blob records; throws std::out_of_range for a bad id.
+// One node in full, with its blob records; throws std::invalid_argument for a bad id.
 nlohmann::json nodeJson(const Skeleton& s, uint32_t id);
 // The tree from the hlod0 list down to `maxDepth` levels (0 = unlimited): nested
 // {"id", "level", "block", "triangles", "texels", "bytes", "error", "children"}.

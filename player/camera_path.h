@@ -1,6 +1,6 @@
 // Camera paths: the text format of player/CAMERA_PATH.md (time, position, orientation
 // quaternion, vertical field of view), sampling between keys, and the generated paths of
-// `hlod path` (walk, drive, fly, erratic - Funkhouser's viewpoint C) from a database's bounds.
+// `hlod path` (walk, drive, fly, erratic - Funkhouser & Séquin 1993, viewpoint path C) from a database's bounds.
 #pragma once
 
 #include "formats/db.h"

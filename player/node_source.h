@@ -1,6 +1,6 @@
 // Where the loading thread gets a node's bytes and how it decodes them: a Database (Draco and
-// JPEG/PNG blobs, thesis §3.3 / §4.3) or an in-memory skeleton with synthesized meshes (tests,
-// benchmarks of the engine without a file).
+// JPEG/PNG blobs, thesis §3.3 / §4.3). Tests implement NodeSource in memory
+// (tests/support/memory_source.h).
 #pragma once
 
 #include "formats/db.h"
@@ -30,9 +30,5 @@ public:
 // Reads through `db` (which must outlive the source): one positioned read per chunk, blob
 // checksums verified (XXH3-64), geometry decoded with Draco and textures with OpenImageIO.
 std::shared_ptr<const NodeSource> databaseSource(const Database& db);
-
-// Node n decodes to one mesh of n.texturedTriangles triangles with a 1x1 texture and one of
-// n.untexturedTriangles triangles; its stored size is `bytesPerTriangle` per triangle.
-std::shared_ptr<const NodeSource> memorySource(Skeleton skeleton, uint32_t bytesPerTriangle = 16);
 
 }  // namespace hlod

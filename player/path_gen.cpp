@@ -1,7 +1,9 @@
 // Generated camera paths for `hlod path` (thesis Chapter 6 test conditions): a walk-through
 // at eye height (~1.5 m/s, §6.2/§6.5), a drive-through ten times faster (§6.5), a fly-over
 // with the whole model in view (§6.2), and an erratic walk with sudden 180-degree turns and
-// teleports (Funkhouser & Sequin's viewpoint path C). Routes are ellipses inset in the bounds.
+// teleports (viewpoint path C of T. A. Funkhouser and C. H. Séquin, "Adaptive Display Algorithm
+// for Interactive Frame Rates During Visualization of Complex Virtual Environments", SIGGRAPH
+// 1993). Routes are ellipses inset in the bounds.
 #include "player/camera_path.h"
 
 #include <Eigen/Geometry>

@@ -32,7 +32,7 @@ struct DecodedNode {
 };
 
 struct FrameOptions {
-    bool colorByLevel = false;         // shade nodes by level (grey levels, as thesis/FS93 figures)
+    bool colorByLevel = false;         // shade nodes by level (grey levels, as the thesis and Funkhouser & Séquin 1993 show them)
 };
 
 struct DrawItem {

@@ -1,5 +1,5 @@
 // `hlod path DB --kind walk|drive|fly|erratic -o FILE`: camera paths of thesis Chapter 6 (walk,
-// 10x faster drive, fly-over) and Funkhouser's erratic viewpoint path, in the format of
+// 10x faster drive, fly-over) and the erratic viewpoint path of Funkhouser & Séquin 1993, in the format of
 // player/CAMERA_PATH.md.
 #include "player/cli/subcommands.h"
 

@@ -1,5 +1,6 @@
 // Calibration of the render-time model on the current machine (thesis §3.3, Table 6.1
-// "c_textured: measured render time"; FS93 §4 measures per-primitive costs the same way).
+// "c_textured: measured render time"; Funkhouser & Séquin 1993 §4 measure per-primitive costs
+// the same way, full reference in player/path_gen.cpp).
 // Batches of N textured and N untextured triangles are drawn; a least-squares line
 // time = overhead + perTri * N per kind gives the per-triangle costs, and eq. 3.1's weight
 // follows from their ratio: c_textured / (1 - c_textured) = perTextured / perUntextured.

@@ -1,6 +1,6 @@
 // OpenGL renderer: offscreen through EGL (Mesa surfaceless / any GPU) or in a GLFW window.
 // Also what is built on it: calibration of the cost model (thesis §3.3 eq. 3.1, Table 6.1
-// c_textured; FS93 §4) and 6-DOF navigation for `hlod view` (thesis Ch. 6).
+// c_textured; Funkhouser & Séquin 1993 §4) and 6-DOF navigation for `hlod view` (thesis Ch. 6).
 #pragma once
 
 #include "formats/calibration.h"
@@ -30,7 +30,7 @@ std::unique_ptr<Renderer> makeGlRenderer(const GlOptions& options);
 GLFWwindow* glfwWindowOf(Renderer& renderer);
 
 // Grey (0..1) that FrameOptions::colorByLevel gives to `level`: hlod0 darkest, each finer
-// level lighter, 8 distinct greys repeating (as the grey-level LOD figures of the thesis/FS93).
+// level lighter, 8 distinct greys repeating (as the grey-level LOD figures of the thesis and Funkhouser & Séquin 1993).
 float levelGrey(uint32_t level);
 
 // --- Calibration (`hlod calibrate`): the model and its file are in formats/calibration.h ----

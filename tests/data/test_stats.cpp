@@ -3,17 +3,20 @@
 // the thesis's figures (synthetic city manifest at scale 1), and bad input on the command line.
 #include "pipeline/stats/stats.h"
 
-#include "formats/synthetic.h"
+#include "tests/support/run_hlod.h"
+#include "tests/support/synthetic.h"
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 namespace fs = std::filesystem;
 using namespace hlod;
+using hlod::test::RunResult;
+using hlod::test::runHlod;
 
 namespace {
 
@@ -29,25 +32,6 @@ struct Fixture {
     }
     ~Fixture() { fs::remove_all(dir); }
 };
-
-struct CmdResult {
-    int status;
-    std::string out, err;
-};
-
-CmdResult run(const std::string& args, const fs::path& errFile) {
-    std::string cmd = std::string(HLOD_BINARY) + " " + args + " 2>" + errFile.string();
-    FILE* p = popen(cmd.c_str(), "r");
-    std::string out;
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    int status = pclose(p);
-    std::ifstream e(errFile);
-    std::stringstream err;
-    err << e.rdbuf();
-    return {WEXITSTATUS(status), out, err.str()};
-}
 
 void writeSidecar(const fs::path& db, const std::string& text) { std::ofstream(db.string() + ".build.json") << text; }
 
@@ -89,25 +73,25 @@ TEST(Stats, FiguresMatchAnIndependentCountOfTheSkeleton) {
 
 TEST(Stats, AgreesWithInspect) {
     Fixture f("inspect");
-    CmdResult st = run("stats --json " + f.db.string(), f.dir / "err1");
-    CmdResult in = run("inspect --json " + f.db.string(), f.dir / "err2");
-    ASSERT_EQ(st.status, 0) << st.err;
-    ASSERT_EQ(in.status, 0) << in.err;
+    RunResult st = runHlod({"stats", "--json", f.db.string()});
+    RunResult in = runHlod({"inspect", "--json", f.db.string()});
+    ASSERT_EQ(st.exitCode, 0) << st.err;
+    ASSERT_EQ(in.exitCode, 0) << in.err;
     auto a = nlohmann::json::parse(st.out), b = nlohmann::json::parse(in.out);
     EXPECT_EQ(a["nodes"], b["nodes"]);
     EXPECT_EQ(a["blocks"], b["blocks"]);
     EXPECT_EQ(a["max_depth"], b["depth"]);
-    ASSERT_EQ(a["levels"].size(), b["perLevel"].size());
+    ASSERT_EQ(a["levels"].size(), b["per_level"].size());
     for (size_t L = 0; L < a["levels"].size(); ++L) {
-        const auto &x = a["levels"][L], &y = b["perLevel"][L];
+        const auto &x = a["levels"][L], &y = b["per_level"][L];
         EXPECT_EQ(x["nodes"], y["nodes"]);
         EXPECT_EQ(x["triangles"].get<uint64_t>(),
-                  y["texturedTriangles"].get<uint64_t>() + y["untexturedTriangles"].get<uint64_t>());
+                  y["textured_triangles"].get<uint64_t>() + y["untextured_triangles"].get<uint64_t>());
         EXPECT_EQ(x["texels"], y["texels"]);
-        EXPECT_EQ(x["geometry_bytes"], y["geometryBytes"]);
-        EXPECT_EQ(x["texture_bytes"], y["textureBytes"]);
+        EXPECT_EQ(x["geometry_bytes"], y["geometry_bytes"]);
+        EXPECT_EQ(x["texture_bytes"], y["texture_bytes"]);
     }
-    EXPECT_EQ(a["hlod0_nodes"], b["perLevel"][0]["nodes"]);
+    EXPECT_EQ(a["hlod0_nodes"], b["per_level"][0]["nodes"]);
 }
 
 TEST(Stats, ReadsTheBuildSidecar) {
@@ -131,8 +115,8 @@ TEST(Stats, CorruptSidecarIsOneLineNamingIt) {
     Fixture f("corrupt");
     for (const char* bad : {"{\"stages\": [", "[1,2]", R"({"stages":[]})", R"({"stages":[{"name":3}]})"}) {
         writeSidecar(f.db, bad);
-        CmdResult r = run("stats " + f.db.string(), f.dir / "err");
-        EXPECT_EQ(r.status, 1) << bad;
+        RunResult r = runHlod({"stats", f.db.string()});
+        EXPECT_EQ(r.exitCode, 2) << bad;  // an input that cannot be read
         EXPECT_NE(r.err.find(f.db.string() + ".build.json"), std::string::npos) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
@@ -140,13 +124,13 @@ TEST(Stats, CorruptSidecarIsOneLineNamingIt) {
 
 TEST(Stats, MissingOrTruncatedDatabaseFailsCleanly) {
     Fixture f("bad");
-    CmdResult missing = run("stats " + (f.dir / "nope.hlod").string(), f.dir / "err");
-    EXPECT_NE(missing.status, 0);
+    RunResult missing = runHlod({"stats", (f.dir / "nope.hlod").string()});
+    EXPECT_NE(missing.exitCode, 0);
     EXPECT_NE(missing.err.find("nope.hlod"), std::string::npos) << missing.err;
     EXPECT_EQ(std::count(missing.err.begin(), missing.err.end(), '\n'), 1) << missing.err;
     fs::resize_file(f.db, fs::file_size(f.db) / 2);
-    CmdResult truncated = run("stats " + f.db.string(), f.dir / "err");
-    EXPECT_NE(truncated.status, 0);
+    RunResult truncated = runHlod({"stats", f.db.string()});
+    EXPECT_NE(truncated.exitCode, 0);
     EXPECT_NE(truncated.err.find("tiny.hlod"), std::string::npos) << truncated.err;
     EXPECT_TRUE(truncated.out.empty());
 }

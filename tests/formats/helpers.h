@@ -1,34 +1,17 @@
-// Test helpers for formats/: temporary directories, small meshes and images, file bytes, and
-// byte patching of the skeleton (with checksums fixed so that only the patched fact is wrong).
+// Test helpers for formats/: small meshes and images, and byte patching of the skeleton (with
+// checksums fixed so that only the patched fact is wrong). TempDir and file bytes: temp_dir.h.
 #pragma once
 
 #include "formats/codec.h"
 #include "formats/db.h"
 #include "formats/layout.h"
+#include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <string>
 #include <vector>
 
 namespace hlod::test {
-
-// A fresh directory under the system temp dir, removed when the test ends.
-struct TempDir {
-    std::filesystem::path path;
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = std::filesystem::temp_directory_path() /
-               ("hlod-formats-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" +
-                std::to_string(::getpid()));
-        std::filesystem::remove_all(path);
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
 
 // An n x n grid in the plane z = height over [x0, x0 + size]^2, with texcoords.
 inline MeshData gridMesh(uint32_t n, float x0 = 0, float size = 1, float height = 0) {
@@ -51,16 +34,6 @@ inline Image gradientImage(uint32_t w, uint32_t h, uint32_t channels) {
     Image img{w, h, channels, std::vector<uint8_t>(size_t(w) * h * channels)};
     for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = uint8_t((i * 7 + i / (w * channels) * 13) & 0xff);
     return img;
-}
-
-inline std::vector<uint8_t> readFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-inline void writeFile(const std::string& path, const std::vector<uint8_t>& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
 }
 
 // Absolute file offset of record `index` of section `tag` in a database image.

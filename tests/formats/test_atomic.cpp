@@ -2,7 +2,7 @@
 // PATH that opens as a database, and an existing database stays intact until finish().
 #include "helpers.h"
 
-#include "formats/synthetic.h"
+#include "tests/support/synthetic.h"
 
 #include <sys/wait.h>
 #include <unistd.h>

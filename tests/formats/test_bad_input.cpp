@@ -4,8 +4,8 @@
 // or by a full validate.
 #include "helpers.h"
 
-#include "formats/synthetic.h"
 #include "formats/validate.h"
+#include "tests/support/synthetic.h"
 
 #include <sys/stat.h>
 

@@ -2,24 +2,15 @@
 // exit codes, and one-line error messages naming the file.
 #include "helpers.h"
 
-#include "formats/synthetic.h"
+#include "tests/support/run_hlod.h"
+#include "tests/support/synthetic.h"
 
 #include <nlohmann/json.hpp>
 
-#include <sys/wait.h>
+#include <algorithm>
 
 namespace hlod::test {
 namespace {
-
-struct Result {
-    int status;
-    std::string out, err;
-};
-
-std::string slurp(const std::string& path) {
-    std::vector<uint8_t> b = readFile(path);
-    return {b.begin(), b.end()};
-}
 
 struct Cli : ::testing::Test {
     TempDir dir;
@@ -29,40 +20,35 @@ struct Cli : ::testing::Test {
         o.levels = 2;
         writeSyntheticDatabase(db, o);
     }
-    Result hlod(const std::string& args) {
-        const std::string out = dir.file("out.txt"), err = dir.file("err.txt");
-        int raw = std::system((std::string(HLOD_BINARY) + " " + args + " >" + out + " 2>" + err).c_str());
-        return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-    }
 };
 
 TEST_F(Cli, InspectSummary) {
-    Result r = hlod("inspect " + db);
-    EXPECT_EQ(r.status, 0) << r.err;
+    RunResult r = runHlod({"inspect", db});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("nodes 20, blobs 40, blocks 4, levels 2, depth 2"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("c_levelFactor=4"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("tool: hlod writeSyntheticDatabase"), std::string::npos) << r.out;
 }
 
 TEST_F(Cli, InspectJsonViews) {
-    Result r = hlod("inspect --json " + db);
-    ASSERT_EQ(r.status, 0) << r.err;
+    RunResult r = runHlod({"inspect", "--json", db});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
     nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["nodes"], 20);
-    EXPECT_EQ(j["perLevel"].size(), 2u);
-    EXPECT_EQ(j["perLevel"][1]["nodes"], 16);
+    EXPECT_EQ(j["per_level"].size(), 2u);
+    EXPECT_EQ(j["per_level"][1]["nodes"], 16);
     EXPECT_EQ(j["constants"]["c_levelFactor"], "4");
 
-    r = hlod("inspect --tree --depth 1 --json " + db);
-    ASSERT_EQ(r.status, 0) << r.err;
+    r = runHlod({"inspect", "--tree", "--depth", "1", "--json", db});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
     j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j.size(), 4u);
     EXPECT_TRUE(j[0]["children"].empty());
-    r = hlod("inspect --tree --json " + db);
+    r = runHlod({"inspect", "--tree", "--json", db});
     EXPECT_EQ(nlohmann::json::parse(r.out)[0]["children"].size(), 4u);
 
-    r = hlod("inspect --node 1 --json " + db);
-    ASSERT_EQ(r.status, 0) << r.err;
+    r = runHlod({"inspect", "--node", "1", "--json", db});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
     j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["id"], 1);
     EXPECT_EQ(j["parent"], 0);
@@ -72,33 +58,33 @@ TEST_F(Cli, InspectJsonViews) {
 }
 
 TEST_F(Cli, InspectTextTreeAndNode) {
-    Result r = hlod("inspect --tree " + db);
-    EXPECT_EQ(r.status, 0);
+    RunResult r = runHlod({"inspect", "--tree", db});
+    EXPECT_EQ(r.exitCode, 0);
     EXPECT_NE(r.out.find("  node 1  level 1  block 0"), std::string::npos) << r.out;
-    r = hlod("inspect --node 3 " + db);
-    EXPECT_EQ(r.status, 0);
-    EXPECT_NE(r.out.find("staticBenefit"), std::string::npos) << r.out;
-    r = hlod("inspect --node 999 " + db);
-    EXPECT_EQ(r.status, 2);
+    r = runHlod({"inspect", "--node", "3", db});
+    EXPECT_EQ(r.exitCode, 0);
+    EXPECT_NE(r.out.find("static_benefit"), std::string::npos) << r.out;
+    r = runHlod({"inspect", "--node", "999", db});
+    EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(r.err, "hlod inspect: node 999 does not exist (the database has 20 nodes)\n");
 }
 
 TEST_F(Cli, ValidateExitCodes) {
-    Result r = hlod("validate " + db);
-    EXPECT_EQ(r.status, 0) << r.out << r.err;
+    RunResult r = runHlod({"validate", db});
+    EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("valid (20 nodes, 40 blobs, all blobs decoded)"), std::string::npos) << r.out;
 
     std::vector<uint8_t> file = readFile(db);
     patchRecord(file, layout::kTagNode, 1, kNodeCost, 5.0f);
     patchRecord(file, layout::kTagNode, 2, kNodeLevel, uint32_t(4));
     writeFile(db, file);
-    r = hlod("validate --quick " + db);
-    EXPECT_EQ(r.status, 1);
+    r = runHlod({"validate", "--quick", db});
+    EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.out.find(db + ": node 1: cost 5 differs from eq. 3.1"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find(db + ": node 2: level 4 is not parent level 0 + 1"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("2 violation(s)"), std::string::npos) << r.out;
-    r = hlod("validate --json " + db);
-    EXPECT_EQ(r.status, 1);
+    r = runHlod({"validate", "--json", db});
+    EXPECT_EQ(r.exitCode, 1);
     nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_FALSE(j["valid"].get<bool>());
     EXPECT_EQ(j["violations"].size(), 2u);
@@ -117,8 +103,8 @@ TEST_F(Cli, BadFilesGiveOneLineAndNonZeroExit) {
                  {dir.path.string(), "is a directory"},
                  {empty, "empty file"},
                  {flipped, "header checksum mismatch"}}) {
-            Result r = hlod(cmd + " " + path);
-            EXPECT_EQ(r.status, 2) << cmd << " " << path;
+            RunResult r = runHlod({cmd, path});
+            EXPECT_EQ(r.exitCode, 2) << cmd << " " << path;
             EXPECT_EQ(r.err, "hlod " + cmd + ": " + path + ": " + r.err.substr(cmd.size() + path.size() + 9));
             EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
             EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

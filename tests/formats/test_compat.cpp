@@ -2,7 +2,7 @@
 // an unknown section is read; an unknown major version and shrunken records are refused.
 #include "helpers.h"
 
-#include "formats/synthetic.h"
+#include "tests/support/synthetic.h"
 
 namespace hlod::test {
 namespace {

@@ -60,8 +60,24 @@ TEST(Constants, PairsRoundTripAndPrint) {
     for (const auto& [name, value] : constantsAsPairs(c)) setConstant(d, name, value);
     for (const ConstantInfo& info : constantTable()) EXPECT_EQ(c.*info.field, d.*info.field) << info.name;
     std::ostringstream os;
-    printConstants(os, Constants{});
-    EXPECT_EQ(os.str().rfind("constants: c_desiredTris=900 c_levelFactor=4 c_textured=0.127", 0), 0u) << os.str();
+    printConstants(os, Constants{}, kUsedByBuild);
+    EXPECT_EQ(os.str(), "constants: c_desiredTris=900 c_levelFactor=4 c_textured=0.127\n");
+    os.str("");
+    printConstants(os, Constants{}, kUsedByPlayer);
+    EXPECT_EQ(os.str(), "constants: c_vis=1.275 c_fore=0.45 c_targetTime=30 c_hystSwitch=1500 c_hystLimit=4510 c_memory=935\n");
+}
+
+TEST(Constants, FileAppliesOnlyTheConstantsOfItsUseAndNamesTheOthers) {
+    TempDir dir;
+    const std::string path = dir.file("all.conf");
+    std::ofstream(path) << "c_desiredTris = 300\nc_vis = 2\nc_memory = 1000\n";
+    Constants c;
+    EXPECT_EQ(loadConstantsFile(c, path, kUsedByBuild), (std::vector<std::string>{"c_vis", "c_memory"}));
+    EXPECT_EQ(c.desiredTris, 300);
+    EXPECT_EQ(c.vis, Constants{}.vis);
+    EXPECT_EQ(loadConstantsFile(c, path, kUsedByPlayer), std::vector<std::string>{"c_desiredTris"});
+    EXPECT_EQ(c.vis, 2);
+    EXPECT_THROW(loadConstantsFile(c, dir.file("missing.conf")), InputError);
 }
 
 }  // namespace

@@ -4,8 +4,8 @@
 #include "helpers.h"
 
 #include "formats/metrics.h"
-#include "formats/synthetic.h"
 #include "formats/validate.h"
+#include "tests/support/synthetic.h"
 
 #include <cmath>
 

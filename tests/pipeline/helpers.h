@@ -1,11 +1,12 @@
-// Test helpers for pipeline/: temporary folders, a generated wavy terrain (UVs an affine
-// function of position, so exact interpolation can be checked), PLY/OBJ writers, areas.
+// Test helpers for pipeline/: a generated wavy terrain (UVs an affine function of position, so
+// exact interpolation can be checked), PLY/OBJ writers, areas. TempDir and file bytes:
+// tests/support/temp_dir.h.
 #pragma once
 
 #include "pipeline/pipeline.h"
+#include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -14,22 +15,6 @@
 #include <string>
 
 namespace hlod::test {
-
-struct TempDir {
-    std::filesystem::path path;
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        std::string name = "hlod-pipeline-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" +
-                           std::to_string(::getpid());
-        for (char& c : name)
-            if (c == '/') c = '_';  // parameterised suites are named "Real/Scans"
-        path = std::filesystem::temp_directory_path() / name;
-        std::filesystem::remove_all(path);
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
 
 // n x n quads (2 n^2 triangles) over [0, size]^2 in x/y, height a gentle wave; u = x/size,
 // v = y/size; material 0 for x < size/2, 1 otherwise when twoMaterials.
@@ -123,10 +108,6 @@ inline Image testImage(uint32_t w, uint32_t h) {
     return img;
 }
 
-inline void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-}
-
 // Base64 (RFC 4648, padded), for data URIs.
 inline std::string base64(const std::vector<uint8_t>& in) {
     static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -148,11 +129,6 @@ inline std::string errorOf(const std::function<void()>& f) {
         return e.what();
     }
     return "";
-}
-
-inline std::vector<uint8_t> readBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 inline std::string sharedDir() {

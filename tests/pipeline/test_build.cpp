@@ -132,12 +132,27 @@ TEST_F(TerrainBuild, GeometricErrorIsMeasuredPerNode) {
 TEST_F(TerrainBuild, ByteIdenticalForAnyJobs) {
     build(file("terrain.ply"), file("j2.hlod"), smallOptions(2));
     build(file("terrain.ply"), file("j3.hlod"), smallOptions(3));
-    EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("j2.hlod")));
-    EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("j3.hlod")));
+    EXPECT_EQ(readFile(file("j1.hlod")), readFile(file("j2.hlod")));
+    EXPECT_EQ(readFile(file("j1.hlod")), readFile(file("j3.hlod")));
     BuildOptions tight = smallOptions(2);
     tight.memoryLimit = 1;  // the gate admits one block at a time; split buffers flush at their minimum
     build(file("terrain.ply"), file("tight.hlod"), tight);
-    EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("tight.hlod")));
+    EXPECT_EQ(readFile(file("j1.hlod")), readFile(file("tight.hlod")));
+}
+
+// The automatic block grid does not depend on --memory-limit: with blockTriangles left at 0, a
+// 64 KiB and a 4 GiB limit (and -j 1 / 2) give the same bytes as the default.
+TEST_F(TerrainBuild, AutomaticGridByteIdenticalForAnyMemoryLimit) {
+    BuildOptions automatic = smallOptions(2);
+    automatic.blockTriangles = 0;
+    build(file("terrain.ply"), file("auto.hlod"), automatic);
+    for (const uint64_t limit : {uint64_t{64} << 10, uint64_t{4} << 30}) {
+        BuildOptions o = automatic;
+        o.memoryLimit = limit;
+        o.jobs = limit > (1u << 20) ? 2 : 1;
+        build(file("terrain.ply"), file("limit.hlod"), o);
+        EXPECT_EQ(readFile(file("auto.hlod")), readFile(file("limit.hlod"))) << "--memory-limit " << limit;
+    }
 }
 
 TEST(MemoryGate, AdmitsBlocksWhileTheyFitAndALargeOneAlone) {
@@ -169,7 +184,7 @@ TEST_F(TerrainBuild, ShardsMergedEqualOneBuild) {
     build(file("terrain.ply"), file("shardA"), smallOptions(1), true, 0, 1);
     build(file("terrain.ply"), file("shardB"), smallOptions(2), true, 1, 4);
     mergeShards({file("shardB"), file("shardA")}, file("merged.hlod"), 0.127);
-    EXPECT_EQ(readBytes(file("j1.hlod")), readBytes(file("merged.hlod")));
+    EXPECT_EQ(readFile(file("j1.hlod")), readFile(file("merged.hlod")));
     EXPECT_THROW(mergeShards({file("shardA")}, file("partial.hlod"), 0.127), std::runtime_error);  // blocks 1..3 missing
     EXPECT_FALSE(std::filesystem::exists(file("partial.hlod")));
     EXPECT_THROW(mergeShards({file("shardA"), file("shardA"), file("shardB")}, file("dup.hlod"), 0.127), std::runtime_error);
@@ -189,7 +204,7 @@ TEST_F(TerrainBuild, MetaHoldsConstantsAndOptionsButNothingRunSpecific) {
 
 TEST(Build, TexturedObjWithTwoMaterials) {
     TempDir dir;
-    writeBytes(dir.file("atlas.png"), encodeTexture(testImage(256, 256), Codec::Png).bytes);
+    writeFile(dir.file("atlas.png"), encodeTexture(testImage(256, 256), Codec::Png).bytes);
     writeObj(dir.file("t.obj"), terrain(60, 100, true), "atlas.png");
     BuildOptions o = smallOptions(2);
     o.constants.desiredTris = 400;

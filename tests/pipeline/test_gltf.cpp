@@ -133,7 +133,7 @@ TEST(Gltf, GlbWithAnUpperCaseExtension) {
     TempDir dir;
     const MeshData m = sample();
     save(modelOf(m), dir.file("m.GLB"), true);
-    EXPECT_EQ(readBytes(dir.file("m.GLB"))[0], 'g');  // binary: the "glTF" magic
+    EXPECT_EQ(readFile(dir.file("m.GLB"))[0], 'g');  // binary: the "glTF" magic
     const SourceMesh s = readMesh(dir.file("m.GLB"));
     EXPECT_EQ(s.piece.mesh.positions, m.positions);
     EXPECT_EQ(s.piece.mesh.indices, m.indices);
@@ -155,7 +155,7 @@ TEST(Gltf, EmbeddedAndExternalImages) {
     EXPECT_EQ(e.materials[0].image->pixels, atlas.pixels);  // PNG is lossless
     EXPECT_EQ(e.piece.mesh.texcoords.size(), 2 * e.piece.mesh.vertexCount());
 
-    writeBytes(dir.file("atlas.png"), png);
+    writeFile(dir.file("atlas.png"), png);
     tinygltf::Model external = modelOf(terrain(4).mesh);
     image.uri = "atlas.png";
     addTexturedMaterial(external, image);
@@ -282,16 +282,16 @@ TEST(GltfBadInput, TruncatedBuffers) {
     TempDir dir;
     const MeshData m = terrain(4).mesh;
     save(modelOf(m), dir.file("t.glb"), true);
-    std::vector<uint8_t> glb = readBytes(dir.file("t.glb"));
+    std::vector<uint8_t> glb = readFile(dir.file("t.glb"));
     glb.resize(glb.size() - 200);
-    writeBytes(dir.file("t.glb"), glb);
+    writeFile(dir.file("t.glb"), glb);
     EXPECT_NE(errorOf([&] { readMesh(dir.file("t.glb")); }).find("corrupt glTF"), std::string::npos);
 
     save(modelOf(m), dir.file("x.gltf"), false, true);  // x.bin beside it
-    std::vector<uint8_t> bin = readBytes(dir.file("x.bin"));
+    std::vector<uint8_t> bin = readFile(dir.file("x.bin"));
     ASSERT_FALSE(bin.empty());
     bin.resize(bin.size() / 2);
-    writeBytes(dir.file("x.bin"), bin);
+    writeFile(dir.file("x.bin"), bin);
     EXPECT_NE(errorOf([&] { readMesh(dir.file("x.gltf")); }), "");
 
     tinygltf::Model longAccessor = modelOf(m);  // more positions than its buffer view holds

@@ -62,7 +62,7 @@ TEST(ReadObj, BananaWithTextureAtlas) {
 TEST(ReadObj, ManyMaterialsAndFlippedV) {
     TempDir dir;
     const Piece p = terrain(8, 100, true);
-    writeBytes(dir.file("atlas.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+    writeFile(dir.file("atlas.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
     writeObj(dir.file("m.obj"), p, "atlas.png");
     const SourceMesh s = readMesh(dir.file("m.obj"));
     const MeshData& m = s.piece.mesh;  // corners are renumbered in first-use order: compare corners
@@ -122,7 +122,7 @@ TEST(BadInput, MissingFile) {
 
 TEST(BadInput, UnsupportedFormat) {
     TempDir dir;
-    writeBytes(dir.file("x.stl"), {1, 2, 3});
+    writeFile(dir.file("x.stl"), {1, 2, 3});
     EXPECT_NE(errorOf([&] { readMesh(dir.file("x.stl")); }).find("unsupported format"), std::string::npos);
 }
 
@@ -130,9 +130,9 @@ TEST(BadInput, TruncatedPly) {
     TempDir dir;
     for (bool binary : {false, true}) {
         writePly(dir.file("t.ply"), terrain(6).mesh, binary);
-        std::vector<uint8_t> bytes = readBytes(dir.file("t.ply"));
+        std::vector<uint8_t> bytes = readFile(dir.file("t.ply"));
         bytes.resize(bytes.size() * 3 / 4);
-        writeBytes(dir.file("t.ply"), bytes);
+        writeFile(dir.file("t.ply"), bytes);
         EXPECT_NE(errorOf([&] { readMesh(dir.file("t.ply")); }).find("truncated PLY"), std::string::npos) << binary;
     }
 }
@@ -197,7 +197,7 @@ TEST(BadInput, CorruptGltf) {
     TempDir dir;
     std::ofstream(dir.file("c.gltf")) << "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [";
     EXPECT_NE(errorOf([&] { readMesh(dir.file("c.gltf")); }).find("corrupt glTF"), std::string::npos);
-    writeBytes(dir.file("c.glb"), {'g', 'l', 'T', 'F', 2, 0, 0, 0});
+    writeFile(dir.file("c.glb"), {'g', 'l', 'T', 'F', 2, 0, 0, 0});
     EXPECT_NE(errorOf([&] { readMesh(dir.file("c.glb")); }).find("corrupt glTF"), std::string::npos);
 }
 

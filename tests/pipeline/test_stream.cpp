@@ -1,4 +1,4 @@
-// Out-of-core input (issue 3): a single PLY/OBJ is parsed into spill files and streamed to the
+// Out-of-core input: a single PLY/OBJ is parsed into spill files and streamed to the
 // block grid. The streamed blocks must be the blocks of the in-memory split, whatever the buffer
 // size; the streaming OBJ parser must refuse corrupt numbers and truncated lines.
 #include "helpers.h"

@@ -1,0 +1,147 @@
+// The command-line convention of formats/cli/command.h, checked on every subcommand through the
+// built binary: a missing file, a file that is not a database, a corrupt blob and a bad option
+// each give the documented exit status (0 ok, 1 invalid data, 2 usage or unreadable input) and
+// one error line "hlod SUBCOMMAND: ..."; --set of a constant a subcommand does not use is a
+// usage error that names the subcommands using it.
+#include "helpers.h"
+
+#include "formats/db.h"
+#include "tests/support/run_hlod.h"
+#include "tests/support/synthetic.h"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+
+namespace hlod::test {
+namespace {
+
+struct Conventions : ::testing::Test {
+    TempDir dir;
+    std::string db = dir.file("s.hlod"), notDb = dir.file("garbage.hlod"), corrupt = dir.file("corrupt.hlod");
+    std::string path = dir.file("walk.path");
+    void SetUp() override {
+        SyntheticOptions o;
+        o.levels = 2;
+        writeSyntheticDatabase(db, o);
+        writeFile(notDb, std::vector<uint8_t>(4096, 0x5a));
+        std::vector<uint8_t> bytes = readFile(db);
+        const Database database = Database::open(db);
+        const BlobRef& blob = database.skeleton().blobs.at(0);  // an hlod0 node's geometry
+        bytes.at(blob.offset + blob.size / 2) ^= 0xff;
+        writeFile(corrupt, bytes);
+        ASSERT_EQ(runHlod({"path", db, "--kind", "walk", "-o", path, "--duration", "2"}).exitCode, 0);
+    }
+};
+
+// One line on stderr, prefixed with the subcommand.
+void expectOneErrorLine(const RunResult& r, const std::string& prefix) {
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.rfind(prefix, 0), 0u) << r.err;
+}
+
+// Each subcommand that reads a database, with the arguments that make it run.
+std::vector<std::vector<std::string>> databaseCommands(const std::string& db, const std::string& path,
+                                                       const std::string& out) {
+    return {{"inspect", db},
+            {"validate", db},
+            {"stats", db},
+            {"play", db, "--path", path, "--sync-loader", "--frames", "3"},
+            {"path", db, "-o", out},
+            {"view", db}};
+}
+
+TEST_F(Conventions, MissingOrUnreadableDatabaseIsStatusTwo) {
+    for (const std::string& file : {dir.file("missing.hlod"), notDb}) {
+        for (const auto& args : databaseCommands(file, path, dir.file("p.path"))) {
+            const RunResult r = runHlod(args);
+            EXPECT_EQ(r.exitCode, 2) << args[0] << " " << file << ": " << r.err;
+            expectOneErrorLine(r, "hlod " + args[0] + ": " + file + ": ");
+        }
+    }
+}
+
+TEST_F(Conventions, CorruptBlobIsStatusOneWhereBlobsAreRead) {
+    RunResult r = runHlod({"validate", corrupt});
+    EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+    r = runHlod({"play", corrupt, "--path", path, "--sync-loader", "--frames", "3"});
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    expectOneErrorLine(r, "hlod play: " + corrupt + " (node 0, blob 0): checksum mismatch");
+    for (const std::string cmd : {"inspect", "stats"}) {  // read the skeleton only
+        r = runHlod({cmd, corrupt});
+        EXPECT_EQ(r.exitCode, 0) << cmd << ": " << r.err;
+    }
+}
+
+TEST_F(Conventions, BadOptionIsStatusTwoWithOneLine) {
+    const std::vector<std::vector<std::string>> commands = {
+        {"build", db, "-o", dir.file("x.hlod"), "--no-such-option"}, {"merge", db, "-o", dir.file("m.hlod"), "--bogus"},
+        {"inspect", db, "--bogus"}, {"validate", db, "--bogus"}, {"stats", db, "--bogus"},
+        {"play", db, "--path", path, "--bogus"}, {"path", db, "-o", dir.file("p"), "--kind", "swim"},
+        {"view", db, "--up", "w"}, {"calibrate", "--frames", "0"}, {"synth", "city", "-o", dir.file("c"), "--bogus"},
+        {"no-such-subcommand"}};
+    for (const auto& args : commands) {
+        const RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << args[0] << ": " << r.err;
+        expectOneErrorLine(r, "hlod: ");
+    }
+}
+
+TEST_F(Conventions, MissingInputsOfOtherSubcommandsAreStatusTwo) {
+    const std::string missing = dir.file("missing.ply");
+    const std::vector<std::vector<std::string>> commands = {
+        {"build", missing, "-o", dir.file("x.hlod")},
+        {"merge", dir.file("no-shard"), "-o", dir.file("m.hlod")},
+        {"play", db, "--path", dir.file("missing.path")},
+        {"play", db, "--path", path, "--config", dir.file("missing.conf")},
+        {"play", db, "--path", path, "--calibration", dir.file("missing.conf")},
+        {"build", missing, "-o", dir.file("x.hlod"), "--calibration", dir.file("missing.conf")}};
+    for (const auto& args : commands) {
+        const RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << args[0] << " " << args[1] << ": " << r.err;
+        expectOneErrorLine(r, "hlod " + args[0] + ": ");
+    }
+}
+
+TEST_F(Conventions, ConstantsAreAcceptedOnlyWhereUsed) {
+    RunResult r = runHlod({"build", dir.file("missing.ply"), "-o", dir.file("x.hlod"), "--set", "c_targetTime=20"});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, "hlod build: --set c_targetTime: `hlod build` does not use c_targetTime (used by: play, view)\n");
+    r = runHlod({"play", db, "--path", path, "--set", "c_levelFactor=3"});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, "hlod play: --set c_levelFactor: `hlod play` does not use c_levelFactor (used by: build)\n");
+    r = runHlod({"view", db, "--set", "c_desiredTris=3"});
+    EXPECT_EQ(r.exitCode, 2);
+    for (const std::string cmd : {"inspect", "validate", "stats", "path"}) {  // take no constants at all
+        r = runHlod({cmd, db, "--set", "c_vis=1"});
+        EXPECT_EQ(r.exitCode, 2) << cmd;
+    }
+
+    // A constants file may hold every constant: the ones play does not use are noted, not applied.
+    const std::string conf = dir.file("all.conf");
+    std::ofstream(conf) << "c_desiredTris = 300\nc_targetTime = 20\n";
+    r = runHlod({"play", db, "--path", path, "--sync-loader", "--frames", "3", "--config", conf});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("note: " + conf + ": not used by `hlod play`: c_desiredTris"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("constants: c_vis=1.275 c_fore=0.45 c_targetTime=20 "), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("c_desiredTris="), std::string::npos) << r.out;  // prints only what it uses
+}
+
+TEST_F(Conventions, HelpAndVersionAreStatusZero) {
+    EXPECT_EQ(runHlod({"--help"}).exitCode, 0);
+    EXPECT_EQ(runHlod({"--version"}).exitCode, 0);
+    const std::vector<std::string> withDb = {"inspect", "validate", "stats", "play", "path", "view"};
+    for (const std::string cmd : {"build", "merge", "inspect", "validate", "stats", "play", "path", "view", "calibrate",
+                                  "synth"}) {
+        const RunResult r = runHlod({cmd, "--help"});
+        EXPECT_EQ(r.exitCode, 0) << cmd;
+        ASSERT_FALSE(r.out.empty()) << cmd;
+        EXPECT_TRUE(std::islower(static_cast<unsigned char>(r.out[0]))) << cmd << ": " << r.out;  // one help style
+        if (std::find(withDb.begin(), withDb.end(), cmd) != withDb.end()) {
+            EXPECT_NE(r.out.find("  DB TEXT REQUIRED            database file (.hlod)"), std::string::npos) << cmd;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace hlod::test

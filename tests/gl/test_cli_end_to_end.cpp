@@ -1,0 +1,120 @@
+// End to end through the `hlod` tool on a small synthetic database: `play --renderer gl`
+// writes PNG frames shaded by level and a statistics log, scripts/plot_figures.sh turns the
+// log into Figures 6.1-6.6; `calibrate` and `view` fail with one line on bad input.
+// Skips the GL parts when no EGL context exists.
+#include "player/gl/gl_renderer.h"
+#include "tests/support/run_hlod.h"
+#include "tests/support/synthetic.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace hlod {
+namespace {
+
+using test::RunResult;
+using test::runHlod;
+using test::runProcess;
+
+namespace fs = std::filesystem;
+
+bool haveEgl() {
+    try {
+        makeGlRenderer({64, 64, false, false});
+        return true;
+    } catch (const std::runtime_error&) {
+        return false;
+    }
+}
+
+class HlodTool : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("hlod_gl_cli_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    fs::path dir_;
+};
+
+TEST_F(HlodTool, PlayWithGlWritesLevelShadedFramesAndTheLogPlots) {
+    if (!haveEgl()) GTEST_SKIP() << "no EGL OpenGL context";
+    const fs::path db = dir_ / "terrain.hlod";
+    SyntheticOptions synthetic;
+    synthetic.levels = 3;
+    synthetic.trianglesPerNode = 256;
+    synthetic.textureSize = 0;  // textured drawing is covered by test_gl_renderer.cpp
+    writeSyntheticDatabase(db.string(), synthetic);
+    const fs::path path = dir_ / "fly.path", log = dir_ / "run.csv", frames = dir_ / "frames";
+    RunResult r = runHlod({"path", db.string(), "--kind", "fly", "--duration", "4", "-o", path.string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    r = runHlod({"play", db.string(), "--path", path.string(), "--renderer", "gl", "--width", "320", "--height", "180", "--sync-loader", "--stats", log.string(), "--frames-dir", frames.string(), "--every", "20", "--color-by-level"});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    size_t pngs = 0;
+    for (const auto& entry : fs::directory_iterator(frames)) pngs += entry.path().extension() == ".png";
+    EXPECT_GT(pngs, 0u);
+    if (runProcess({"sh", "-c", "command -v gnuplot"}).exitCode != 0) GTEST_SKIP() << "gnuplot is not installed";
+    r = runProcess({"bash", std::string(HLOD_SOURCE_DIR) + "/scripts/plot_figures.sh", log.string(), (dir_ / "figs").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    for (int n = 1; n <= 6; ++n) EXPECT_GT(fs::file_size(dir_ / "figs" / ("fig6_" + std::to_string(n) + ".png")), 10000u);
+}
+
+TEST_F(HlodTool, CalibrateWritesACalibrationFileThatBuildAndPlayRead) {
+    if (!haveEgl()) GTEST_SKIP() << "no EGL OpenGL context";
+    const fs::path out = dir_ / "calibration.conf";
+    const RunResult r = runHlod({"calibrate", "--width", "320", "--height", "180", "--frames", "3", "--triangles", "1000", "80000", "-o", out.string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    std::ifstream in(out);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("\nc_textured = 0."), std::string::npos) << text;
+    EXPECT_NE(text.find("\nms_per_cost = "), std::string::npos) << text;
+    const Calibration c = readCalibration(out.string());
+    EXPECT_GT(c.msPerCost, 0);
+    EXPECT_GT(c.cTextured, 0);
+}
+
+TEST_F(HlodTool, CalibrateToAnUnwritablePathFailsBeforeMeasuring) {
+    const std::string out = (dir_ / "missing-dir" / "c.conf").string();
+    const RunResult r = runHlod({"calibrate", "-o", out});
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.outAndErr(), "hlod calibrate: " + out + ": cannot be written\n");
+}
+
+TEST_F(HlodTool, ViewOfAMissingDatabaseFailsWithOneLine) {
+    const std::string db = (dir_ / "missing.hlod").string();
+    const RunResult r = runHlod({"view", db});
+    EXPECT_EQ(r.exitCode, 2);
+    const std::string output = r.err;
+    EXPECT_NE(output.find(db), std::string::npos) << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
+}
+
+TEST_F(HlodTool, ViewWithoutADisplayFailsWithOneLine) {
+    const fs::path db = dir_ / "terrain.hlod";
+    SyntheticOptions synthetic;
+    synthetic.levels = 2;
+    writeSyntheticDatabase(db.string(), synthetic);
+    const RunResult r = runHlod({"view", db.string()}, {.unsetEnv = {"DISPLAY", "WAYLAND_DISPLAY"}});
+    EXPECT_EQ(r.exitCode, 1);
+    const std::string output = r.err;
+    EXPECT_NE(output.find("hlod view: GLFW"), std::string::npos) << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
+}
+
+TEST_F(HlodTool, ViewOfACorruptDatabaseFailsWithOneLine) {
+    const fs::path db = dir_ / "corrupt.hlod";
+    std::ofstream(db) << std::string(4096, 'x');
+    const RunResult r = runHlod({"view", db.string()});
+    EXPECT_EQ(r.exitCode, 2);
+    const std::string output = r.err;
+    EXPECT_NE(output.find(db.string()), std::string::npos) << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
+}
+
+}  // namespace
+}  // namespace hlod

@@ -1,0 +1,121 @@
+// Camera path format (player/CAMERA_PATH.md): round trip, sampling, one-line errors for each
+// class of bad input, and the generated paths' speeds and shapes.
+#include "player/camera_path.h"
+#include "tests/support/trees.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+using namespace hlod;
+
+namespace {
+
+std::string parseError(const std::string& text) {
+    std::istringstream in(text);
+    try {
+        parseCameraPath(in, "walk.path");
+    } catch (const std::runtime_error& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+double dist(const double a[3], const double b[3]) {
+    return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+}  // namespace
+
+TEST(CameraPath, RoundTripsAndSamples) {
+    CameraPath p;
+    CameraKey a, b;
+    b.time = 2;
+    b.position[0] = 10;
+    b.orientation[1] = std::sin(M_PI / 4);  // 90 degrees about +Y
+    b.orientation[3] = std::cos(M_PI / 4);
+    b.vfovDegrees = 40;
+    p.keys = {a, b};
+    std::stringstream s;
+    writeCameraPath(s, p);
+    CameraPath q = parseCameraPath(s, "mem");
+    ASSERT_EQ(q.keys.size(), 2u);
+    EXPECT_NEAR(q.keys[1].orientation[1], b.orientation[1], 1e-9);
+    Camera mid = sampleCameraPath(q, 1.0);
+    EXPECT_NEAR(mid.position[0], 5, 1e-9);
+    EXPECT_NEAR(mid.vfovDegrees, 50, 1e-9);
+    EXPECT_NEAR(mid.orientation[1], std::sin(M_PI / 8), 1e-6);  // slerp halfway: 45 degrees
+    Camera after = sampleCameraPath(q, 99);
+    EXPECT_NEAR(after.position[0], 10, 1e-9);
+}
+
+TEST(CameraPath, BadInputGivesOneLineNamingFileAndLine) {
+    const std::string h = "hlod-camera-path 1\n";
+    EXPECT_EQ(parseError(""), "walk.path: empty file (expected 'hlod-camera-path 1')");
+    EXPECT_EQ(parseError("ply\n"), "walk.path:1: not a camera path (expected 'hlod-camera-path 1')");
+    EXPECT_EQ(parseError("hlod-camera-path 7\n"), "walk.path:1: unsupported camera path version 7");
+    EXPECT_EQ(parseError(h), "walk.path: camera path has no keys");
+    EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 1\n"),
+              "walk.path:2: expected 9 fields (time px py pz qx qy qz qw vfov), found 8");
+    EXPECT_EQ(parseError(h + "0 0 0 nan 0 0 0 1 60\n"), "walk.path:2: bad pz 'nan' (expected a finite number)");
+    EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 2 60\n").rfind("walk.path:2: orientation quaternion is not unit", 0), 0u);
+    EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 1 180\n"), "walk.path:2: vertical field of view must be in (0, 180) degrees");
+    EXPECT_EQ(parseError(h + "1 0 0 0 0 0 0 1 60\n# c\n1 0 0 0 0 0 0 1 60\n"), "walk.path:4: times must increase strictly");
+    EXPECT_THROW(readCameraPath("/nonexistent/walk.path"), std::runtime_error);
+}
+
+TEST(CameraPath, GeneratedWalkAndDriveHaveTheirSpeeds) {
+    Skeleton s = test::gridSkeleton(4, 4, 2, 16, 50);
+    for (auto [kind, speed] : {std::pair{PathKind::Walk, 1.5}, std::pair{PathKind::Drive, 15.0}}) {
+        PathOptions o;
+        o.kind = kind;
+        CameraPath p = generatePath(s, o);
+        ASSERT_GT(p.keys.size(), 10u);
+        for (size_t i = 1; i < p.keys.size(); ++i) {
+            double v = dist(p.keys[i].position, p.keys[i - 1].position) / (p.keys[i].time - p.keys[i - 1].time);
+            EXPECT_NEAR(v, speed, speed * 0.05) << i;
+            EXPECT_NEAR(p.keys[i].position[2], 11.7, 1e-6);  // eye height above the boxes' tops (z = 10)
+        }
+    }
+}
+
+// --look-at-center: walking around an object, the camera (looking down -Z of its orientation)
+// faces the model's centre horizontally at every key; without it, it faces along the route.
+TEST(CameraPath, LookAtCenterFacesTheModel) {
+    Skeleton s = test::gridSkeleton(4, 4, 2, 16, 50);
+    Box3f b = modelBounds(s);
+    const Eigen::Vector3d center(0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y), 0.5 * (b.min.z + b.max.z));
+    for (bool look : {true, false}) {
+        PathOptions o;
+        o.lookAtCenter = look;
+        for (const CameraKey& k : generatePath(s, o).keys) {
+            const Eigen::Quaterniond q(k.orientation[3], k.orientation[0], k.orientation[1], k.orientation[2]);
+            const Eigen::Vector3d forward = q * Eigen::Vector3d(0, 0, -1);
+            Eigen::Vector3d toCenter = center - Eigen::Vector3d(k.position[0], k.position[1], k.position[2]);
+            toCenter.z() = 0;
+            const double cosine = forward.normalized().dot(toCenter.normalized());
+            if (look) EXPECT_GT(cosine, 0.9) << k.time;
+            else EXPECT_LT(std::abs(cosine), 0.5) << k.time;  // along the ellipse, across the line to the centre
+        }
+    }
+}
+
+TEST(CameraPath, FlyOverSeesTheWholeModelAndErraticJumps) {
+    Skeleton s = test::gridSkeleton(4, 4, 2, 16, 50);
+    PathOptions o;
+    o.kind = PathKind::Fly;
+    CameraPath fly = generatePath(s, o);
+    Box3f b = modelBounds(s);
+    double center[3] = {0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y), 0.5 * (b.min.z + b.max.z)};
+    for (const CameraKey& k : fly.keys) EXPECT_GT(dist(k.position, center), 141.0);  // radius / sin(30 deg)
+    o.kind = PathKind::Erratic;
+    o.duration = 60;
+    CameraPath erratic = generatePath(s, o);
+    int jumps = 0;
+    for (size_t i = 1; i < erratic.keys.size(); ++i)
+        if (erratic.keys[i].time - erratic.keys[i - 1].time < 0.01) ++jumps;
+    EXPECT_GE(jumps, 10);  // an event every 2-5 s
+    EXPECT_THROW(parsePathKind("swim"), std::invalid_argument);
+}

@@ -1,0 +1,161 @@
+// `hlod path` and `hlod play` as a user runs them: outputs (CSV with the documented header,
+// JSON summary, path file) and, for each class of bad input, one line naming the file,
+// a non-zero status and no half-written output.
+#include "player/stats.h"
+#include "tests/support/run_hlod.h"
+#include "tests/support/synthetic.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using namespace hlod;
+using hlod::test::RunResult;
+using hlod::test::runHlod;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+class Cli : public ::testing::Test {
+protected:
+    fs::path dir;
+    std::string db;
+
+    void SetUp() override {
+        dir = fs::temp_directory_path() / ("hlod_cli_player_" + std::to_string(::getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir);
+        db = (dir / "terrain.hlod").string();
+        SyntheticOptions o;
+        o.levels = 3;
+        writeSyntheticDatabase(db, o);
+    }
+    void TearDown() override { fs::remove_all(dir); }
+
+    std::string walk() {
+        std::string path = (dir / "walk.path").string();
+        RunResult r = runHlod({"path", db, "--kind", "walk", "--duration", "5", "-o", path});
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return path;
+    }
+};
+
+int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+}  // namespace
+
+TEST_F(Cli, PlayWritesCsvAndJsonSummary) {
+    std::string path = walk();
+    std::string csv = (dir / "walk.csv").string(), json = (dir / "walk.json").string();
+    RunResult r = runHlod({"play", db, "--path", path, "--stats", csv, "--json", json, "--frames", "100", "--sync-loader", "--set", "c_targetTime=20"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("constants: "), std::string::npos);
+    EXPECT_NE(r.out.find("c_targetTime=20"), std::string::npos);
+    std::istringstream in(slurp(csv));
+    std::string line, header;
+    int rows = 0;
+    while (std::getline(in, line)) {
+        if (line.starts_with("#")) continue;
+        if (header.empty())
+            header = line;
+        else
+            ++rows;
+    }
+    std::string expected;
+    for (const std::string& h : statsHeader(3)) expected += (expected.empty() ? "" : ",") + h;
+    EXPECT_EQ(header, expected);
+    EXPECT_EQ(rows, 100);
+    auto j = nlohmann::json::parse(slurp(json));
+    EXPECT_EQ(j["frames"], 100);
+    EXPECT_EQ(j["constants"]["c_targetTime"], "20");
+}
+
+TEST_F(Cli, MissingDatabaseIsOneLine) {
+    std::string path = walk();
+    RunResult r = runHlod({"play", (dir / "absent.hlod").string(), "--path", path});
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("absent.hlod"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, TruncatedDatabaseIsOneLineStatus2AndNoCsv) {  // cannot be opened as a database
+    std::string path = walk();
+    std::string cut = (dir / "cut.hlod").string();
+    fs::copy_file(db, cut);
+    fs::resize_file(cut, fs::file_size(cut) / 2);
+    std::string csv = (dir / "cut.csv").string();
+    RunResult r = runHlod({"play", cut, "--path", path, "--stats", csv});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("cut.hlod"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(csv));
+}
+
+TEST_F(Cli, BadPathFileIsOneLineWithLineNumber) {
+    std::string bad = (dir / "bad.path").string();
+    std::ofstream(bad) << "hlod-camera-path 1\n0 0 0 1.7 0 0 0 1 60\n1 0 0 1.7 0 0 0 1\n";
+    RunResult r = runHlod({"play", db, "--path", bad});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("bad.path:3:"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, FramesDirNeedsGlAndBadConstantIsRejected) {
+    std::string path = walk();
+    RunResult r = runHlod({"play", db, "--path", path, "--frames-dir", (dir / "png").string()});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    r = runHlod({"play", db, "--path", path, "--set", "c_vis=abc"});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+}
+
+TEST_F(Cli, PathKindsAndBadDatabase) {
+    for (const char* kind : {"walk", "drive", "fly", "erratic"}) {
+        std::string out = (dir / (std::string(kind) + ".path")).string();
+        RunResult r = runHlod({"path", db, "--kind", kind, "-o", out});
+        EXPECT_EQ(r.exitCode, 0) << kind << r.err;
+        EXPECT_TRUE(slurp(out).starts_with("hlod-camera-path 1\n"));
+    }
+    std::string junk = (dir / "junk.hlod").string();
+    std::ofstream(junk) << "not a database at all";
+    RunResult r = runHlod({"path", junk, "-o", (dir / "x.path").string()});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "x.path"));
+}
+
+TEST_F(Cli, CalibrationFileSetsInitialVTimeAndOverhead) {
+    std::string path = walk();
+    std::string cal = (dir / "cal.conf").string();
+    std::ofstream(cal) << "# formats/calibration.h\nrenderer = test\nc_textured = 0.5\nms_per_cost = 0.0123\nfixed_overhead_ms = 4.5\n";
+    std::string csv = (dir / "cal.csv").string();
+    RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--frames", "5", "--calibration", cal, "--stats", csv});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::string text = slurp(csv);
+    EXPECT_NE(text.find("# overhead_ms: 4.500000"), std::string::npos) << text.substr(0, 600);
+    EXPECT_NE(text.find("# initial_v_time: 0.012300"), std::string::npos) << text.substr(0, 600);
+
+    std::string notCal = (dir / "notcal.conf").string();
+    std::ofstream(notCal) << "c_textured = 0.5\n";
+    r = runHlod({"play", db, "--path", path, "--calibration", notCal});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("notcal.conf: not a calibration file"), std::string::npos) << r.err;
+
+    std::ofstream(notCal) << "c_textured = 0.5\nms_per_cost = -1\nfixed_overhead_ms = 4.5\n";
+    r = runHlod({"play", db, "--path", path, "--calibration", notCal});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("notcal.conf:2: ms_per_cost '-1' is not a finite non-negative number"), std::string::npos) << r.err;
+}

@@ -1,0 +1,60 @@
+// Statistics: the CSV header is the documented one, rows have one field per column, and the
+// summary computes mean, sd, p99 and toggles per frame as defined in player/STATS.md.
+#include "player/stats.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <sstream>
+
+using namespace hlod;
+
+TEST(Stats, HeaderAndRowsAgree) {
+    std::ostringstream os;
+    Constants c;
+    std::vector<std::pair<std::string, std::string>> extra{{"database", "x.hlod"}};
+    writeStatsPreamble(os, c, extra, 3);
+    FrameStats f;
+    f.nodesPerLevel = {1, 2, 3};
+    f.trianglesPerLevel = {10, 20, 30};
+    f.actualMs = 12.5;
+    writeStatsRow(os, f, 3);
+    std::istringstream in(os.str());
+    std::string constants, db, header, row;
+    std::getline(in, constants);
+    std::getline(in, db);
+    std::getline(in, header);
+    std::getline(in, row);
+    EXPECT_EQ(constants.rfind("# constants: c_vis=", 0), 0u);  // the constants the player uses
+    EXPECT_EQ(db, "# database: x.hlod");
+    EXPECT_EQ(header.rfind("frame,time_s,target_ms,est_nofb_ms,est_ms,actual_ms,v_time,hlod0_share_ms,nodes_drawn", 0), 0u);
+    EXPECT_NE(header.find(",nodes_l0,nodes_l1,nodes_l2,tris_l0,tris_l1,tris_l2"), std::string::npos);
+    auto count = [](const std::string& s) { return std::count(s.begin(), s.end(), ','); };
+    EXPECT_EQ(count(header), count(row));
+    EXPECT_NE(row.find(",6,60,"), std::string::npos);  // nodes_drawn, tris_drawn
+    EXPECT_TRUE(row.ends_with(",1,2,3,10,20,30")) << row;
+}
+
+TEST(Stats, SummaryMeanSdP99AndToggles) {
+    std::vector<FrameStats> frames(200);
+    for (size_t i = 0; i < frames.size(); ++i) {
+        frames[i].targetMs = 30;
+        frames[i].actualMs = i < 100 ? 100 : (i % 2 ? 28 : 32);  // first 100: warm-up
+        frames[i].estimateMs = frames[i].actualMs;
+        frames[i].upToggles = i == 150;
+        frames[i].residentBytes = i;
+    }
+    frames[199].actualMs = 50;
+    StatsSummary s = summarize(frames, 100);
+    EXPECT_EQ(s.frames, 200u);
+    EXPECT_NEAR(s.frameMs.mean, (49 * 28 + 50 * 32 + 50) / 100.0, 1e-9);
+    EXPECT_EQ(s.frameMs.p99, 32);  // nearest rank: 99th of 100 sorted values
+    EXPECT_EQ(s.frameMs.max, 50);
+    EXPECT_NEAR(s.errorMs.mean, s.frameMs.mean - 30, 1e-9);
+    EXPECT_DOUBLE_EQ(s.togglesPerFrame, 0.01);
+    EXPECT_EQ(s.peakResidentBytes, 199u);
+    auto j = nlohmann::json::parse(summaryJson(s, Constants{}));
+    EXPECT_EQ(j["constants"]["c_targetTime"], "30");
+    EXPECT_DOUBLE_EQ(j["toggles_per_frame"].get<double>(), 0.01);
+}
