@@ -13,6 +13,10 @@
 
 namespace hlod {
 
+double consistentUntexturedRate(double msPerTexturedTriangle, double cTextured) {
+    return msPerTexturedTriangle * (1 - cTextured) / cTextured;  // eq. 3.1 weights
+}
+
 CostModelRenderer::CostModelRenderer(const CostModel& model) : model_(model), rng_(model.seed) {}
 
 void CostModelRenderer::upload(DecodedNode&& node) {

@@ -14,13 +14,19 @@ namespace hlod {
 struct CostModel {
     double overheadMs = 2.0;              // fixed per-frame cost (clear, swap, state)
     double msPerTexturedTriangle = 2e-4;  // ~130 k textured triangles in 28 ms (llvmpipe, 2 threads)
-    double msPerUntexturedTriangle = 1.2e-4;
+    double msPerUntexturedTriangle = 2e-4 * (1 - 0.127) / 0.127;  // consistentWith(c_textured 0.127)
     double noise = 0.02;                  // relative sd of the Gaussian noise on each frame
     double nodeError = 0;                 // each node's true cost is off by a fixed factor in [-e, e]
     uint64_t seed = 1;
     bool realTime = false;                // sleep for the modelled time, so that a loading thread
                                           // gets the wall-clock time a real frame would give it
 };
+
+// The untextured rate that makes the model agree with eq. 3.1 (cost = textured x c_textured +
+// untextured x (1 - c_textured)): a textured triangle costs c / (1 - c) of an untextured one, so
+// the engine's estimate v_time x cost is right whatever the mix. `hlod play` applies it with the
+// database's c_textured unless --model-ms-per-flat-tri is given.
+double consistentUntexturedRate(double msPerTexturedTriangle, double cTextured);
 
 class CostModelRenderer final : public Renderer {
 public:

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include <unistd.h>
 
@@ -34,6 +35,7 @@ struct PlayArgs {
     int width = 1280, height = 720;
     PlayerOptions player;
     CostModel model;
+    std::optional<double> flatRate;  // --model-ms-per-flat-tri; default: consistent with c_textured
     ConstantOptions constants{"play", kUsedByPlayer};
     std::string calibration;
 };
@@ -73,6 +75,19 @@ private:
     std::ofstream out_;
 };
 
+// The c_textured the database's node costs were computed with (eq. 3.1), from its metadata.
+double databaseCTextured(const Database& db) {
+    const std::string* meta = db.skeleton().findMeta("c_textured");
+    Constants c;
+    try {
+        if (meta) setConstant(c, "c_textured", *meta);
+    } catch (const std::invalid_argument&) {
+        c.textured = -1;
+    }
+    if (!(c.textured > 0 && c.textured <= 1)) throw FormatError(db.path() + ": metadata c_textured is not in (0, 1]");
+    return c.textured;
+}
+
 std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
     if (a.renderer == "gl") return makeGlRenderer(GlOptions{a.width, a.height, false, false});
     return std::make_unique<CostModelRenderer>(a.model);
@@ -92,6 +107,8 @@ int runPlay(PlayArgs& a) {
     Database db = Database::open(a.db);
     a.player.threadedLoader = !a.syncLoader;
     a.model.realTime = !a.syncLoader;  // the loading thread needs the frames' wall-clock time
+    a.model.msPerUntexturedTriangle = a.flatRate ? *a.flatRate : consistentUntexturedRate(a.model.msPerTexturedTriangle,
+                                                                                           databaseCTextured(db));
     std::unique_ptr<Renderer> renderer = makeRenderer(a);
     Player player(db, c, *renderer, a.player);
     if (!a.framesDir.empty()) std::filesystem::create_directories(a.framesDir);
@@ -101,6 +118,8 @@ int runPlay(PlayArgs& a) {
         {"database", a.db},
         {"path", a.path},
         {"renderer", renderer->name()},
+        {"model_ms_per_tri", a.renderer == "model" ? std::to_string(a.model.msPerTexturedTriangle) : "-"},
+        {"model_ms_per_flat_tri", a.renderer == "model" ? std::to_string(a.model.msPerUntexturedTriangle) : "-"},
         {"memory_budget_bytes", std::to_string(a.player.memoryBudget)},
         {"loader", a.syncLoader ? "synchronous" : "thread"},
         {"require_loaded_children", a.player.requireLoadedChildren ? "yes" : "no"},
@@ -185,7 +204,9 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--height", a->height, "frame height (gl)");
     sub->add_option("--model-overhead-ms", a->model.overheadMs, "cost model: fixed ms per frame");
     sub->add_option("--model-ms-per-tri", a->model.msPerTexturedTriangle, "cost model: ms per textured triangle");
-    sub->add_option("--model-ms-per-flat-tri", a->model.msPerUntexturedTriangle, "cost model: ms per untextured triangle");
+    sub->add_option("--model-ms-per-flat-tri", a->flatRate,
+                    "cost model: ms per untextured triangle (default: --model-ms-per-tri x (1 - c_textured) / "
+                    "c_textured, the database's eq. 3.1 weights)");
     sub->add_option("--model-noise", a->model.noise, "cost model: relative sd of per-frame noise");
     sub->add_option("--model-node-error", a->model.nodeError, "cost model: per-node cost error in [-e, e]");
     sub->add_option("--seed", a->model.seed, "cost model: noise and error seed");
