@@ -28,7 +28,7 @@ TEST(Stats, HeaderAndRowsAgree) {
     std::getline(in, row);
     EXPECT_EQ(constants.rfind("# constants: c_vis=", 0), 0u);  // the constants the player uses
     EXPECT_EQ(db, "# database: x.hlod");
-    EXPECT_EQ(header.rfind("frame,time_s,target_ms,est_nofb_ms,est_ms,actual_ms,v_time,hlod0_share_ms,nodes_drawn", 0), 0u);
+    EXPECT_EQ(header.rfind("frame,time_s,distance,target_ms,est_nofb_ms,est_ms,actual_ms,v_time,hlod0_share_ms,nodes_drawn", 0), 0u);
     EXPECT_NE(header.find(",nodes_l0,nodes_l1,nodes_l2,tris_l0,tris_l1,tris_l2"), std::string::npos);
     auto count = [](const std::string& s) { return std::count(s.begin(), s.end(), ','); };
     EXPECT_EQ(count(header), count(row));
