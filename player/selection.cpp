@@ -63,7 +63,8 @@ struct Traversal {
     // §6.5: "we count each time a node gets upgraded to its children between successive frames
     // [...] each downgrade from sibling nodes to a parent node. We do not count nodes that are
     // culled away between frames." An up toggle is Drawn -> Refined from a countable Drawn; a
-    // down toggle is Refined -> Drawn by the hysteresis rule (cumHyst < 0) only.
+    // down toggle is Refined -> Drawn by the hysteresis rule (cumHyst < 0) only. `reason` is
+    // why a Drawn node is drawn (unused for Refined).
     void setRole(uint32_t id, DrawState role, DrawReason reason = DrawReason::Leaf) {
         NodeState& s = state.nodes[id];
         DrawState previous = state.role(id);
