@@ -41,14 +41,34 @@ PathKind parsePathKind(const std::string& text);  // throws std::invalid_argumen
 struct PathOptions {
     PathKind kind = PathKind::Walk;
     double duration = 0;       // seconds; 0: one lap of the route
-    double speed = 0;          // m/s; 0: 1.5 walk, 15 drive, fly: a lap in 60 s, erratic 1.5
-    double eyeHeight = 1.7;    // above the ground estimate (walk, drive, erratic)
+    double speed = 0;          // m/s; 0: by kind and scale (planPath)
+    double eyeHeight = -1;     // metres above the ground (walk, drive, erratic); < 0: by scale (planPath)
+    double metresPerUnit = 1;  // what one database unit is (--units); 1: metres
     double keyInterval = 0.5;  // seconds between keys
     uint32_t seed = 1;         // erratic turns and teleports
     int upAxis = 2;            // 2: Z up (default), 1: Y up
     bool lookAtCenter = false; // walk, drive, erratic: look at the model's centre instead of ahead
                                // (an object scan walked around, rather than a city walked through)
 };
+
+// A scene is city-like (a city, a street, a terrain: walked through at metre speeds) when its
+// horizontal extent is at least kCityMinExtentM metres and kCityMinFlatness times its height;
+// anything else is an object, walked around in kObjectLapSeconds (player/CAMERA_PATH.md).
+inline constexpr double kCityMinExtentM = 20, kCityMinFlatness = 4, kObjectLapSeconds = 60;
+inline constexpr double kWalkSpeedMps = 1.5, kDriveFactor = 10, kEyeHeightM = 1.7;
+
+// What a generated path will do, in database units.
+struct PathPlan {
+    bool object = false;           // not city-like: speeds and eye height follow the extent
+    double horizontalExtent = 0;   // larger horizontal side of the hlod0 bounds (units)
+    double verticalExtent = 0;     // height of the hlod0 bounds (units)
+    double speed = 0;              // units per second (walk, drive, erratic; fly: 0 = a lap per 60 s)
+    double eyeHeight = 0;          // units above the ground estimate (city) or the model's bottom (object)
+};
+PathPlan planPath(const Skeleton& skeleton, const PathOptions& options);
+
+// Parses --units: m, cm, mm, km, or a positive number of metres per unit. Throws std::invalid_argument.
+double parseUnits(const std::string& text);
 
 // The bounds of all hlod0 nodes.
 Box3f modelBounds(const Skeleton& skeleton);

@@ -3,6 +3,7 @@
 #include "player/feedback.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hlod {
 
@@ -12,10 +13,16 @@ double nextVTime(double vTime, double actualMs, double overheadMs, double drawnC
     return std::max(vTime + gain * (measured - vTime), 1e-9);
 }
 
+// §4.2: "a second feedback loop that gradually increases shareTime for hlod0 nodes if some nodes
+// were not selected because their cumulative hysteresis value was below 0 and the actual total
+// render time used was substantially below c_targetTime. Similarly, if the total render time
+// substantially exceeds c_targetTime, we decrease shareTime for hlod0 nodes."
 double nextHlod0Share(double share, double targetMs, double actualMs, uint32_t refused, const ShareLoop& loop) {
-    if (refused > 0 && actualMs < targetMs * (1 - loop.band)) share *= 1 + loop.step;
-    if (actualMs > targetMs * (1 + loop.band)) share *= 1 - loop.step;
-    return std::clamp(share, kMinShare * targetMs, kMaxShare * targetMs);
+    const double e = (targetMs - actualMs) / targetMs;  // > 0: under target
+    const bool raise = refused > 0 && e > loop.band, lower = e < -loop.band;
+    double change = (raise || lower ? loop.gain * e : 0) + loop.leak * std::log(targetMs / share);
+    change = std::clamp(change, -loop.step, loop.step);
+    return std::clamp(share * (1 + change), kMinShare * targetMs, kMaxShare * targetMs);
 }
 
 }  // namespace hlod

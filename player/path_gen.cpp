@@ -12,6 +12,7 @@
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include <string>
 
 namespace hlod {
 namespace {
@@ -141,16 +142,64 @@ Box3f modelBounds(const Skeleton& skeleton) {
     return b;
 }
 
+double parseUnits(const std::string& text) {
+    if (text == "m") return 1;
+    if (text == "cm") return 0.01;
+    if (text == "mm") return 0.001;
+    if (text == "km") return 1000;
+    size_t used = 0;
+    double v = 0;
+    try {
+        v = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || !(v > 0) || !std::isfinite(v))
+        throw std::invalid_argument("--units '" + text + "': m, cm, mm, km or a positive number of metres");
+    return v;
+}
+
+// Speeds and eye height by the scale rule of player/CAMERA_PATH.md.
+PathPlan planPath(const Skeleton& skeleton, const PathOptions& o) {
+    if (!(o.metresPerUnit > 0)) throw std::invalid_argument("metres per unit must be positive");
+    Frame f = frameFor(o.upAxis);
+    Box3f b = modelBounds(skeleton);
+    PathPlan plan;
+    plan.horizontalExtent = std::max(axis(b.max, f.a) - axis(b.min, f.a), axis(b.max, f.b) - axis(b.min, f.b));
+    plan.verticalExtent = axis(b.max, f.up) - axis(b.min, f.up);
+    const double m = o.metresPerUnit;
+    plan.object = plan.horizontalExtent * m < kCityMinExtentM || plan.horizontalExtent < kCityMinFlatness * plan.verticalExtent;
+    const double factor = o.kind == PathKind::Drive ? kDriveFactor : 1;
+    if (o.speed > 0) {
+        plan.speed = o.speed / m;
+    } else if (o.kind == PathKind::Fly) {
+        plan.speed = 0;  // a lap per 60 s (or --duration)
+    } else if (plan.object) {
+        double ea = 0.35 * std::max(axis(b.max, f.a) - axis(b.min, f.a), 1e-9);
+        double eb = 0.35 * std::max(axis(b.max, f.b) - axis(b.min, f.b), 1e-9);
+        Route r{Vector3d::Zero(), unit(f.a) * ea, unit(f.b) * eb, unit(f.up)};
+        plan.speed = factor * r.perimeter() / kObjectLapSeconds;
+    } else {
+        plan.speed = factor * kWalkSpeedMps / m;
+    }
+    if (o.eyeHeight >= 0) plan.eyeHeight = o.eyeHeight / m;
+    else plan.eyeHeight = plan.object ? 0.5 * plan.verticalExtent : kEyeHeightM / m;
+    return plan;
+}
+
 CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
     if (skeleton.nodes.empty()) throw std::invalid_argument("the database has no nodes");
     if (o.upAxis != 1 && o.upAxis != 2) throw std::invalid_argument("up axis must be y or z");
     if (!(o.keyInterval > 0) || o.duration < 0 || o.speed < 0) throw std::invalid_argument("durations and speeds must be positive");
+    const PathPlan plan = planPath(skeleton, o);
     Frame f = frameFor(o.upAxis);
     Box3f b = modelBounds(skeleton);
     Vector3d lo(b.min.x, b.min.y, b.min.z), hi(b.max.x, b.max.y, b.max.z);
     Vector3d center = 0.5 * (lo + hi), up = unit(f.up);
     double extentA = hi[f.a] - lo[f.a], extentB = hi[f.b] - lo[f.b];
-    Route route{center, unit(f.a) * 0.35 * std::max(extentA, 1.0), unit(f.b) * 0.35 * std::max(extentB, 1.0), up};
+    // The route of a city is at least a metre across; an object's follows its own extent.
+    double minRoute = plan.object ? 1e-9 : 1.0 / o.metresPerUnit;
+    Route route{center, unit(f.a) * 0.35 * std::max(extentA, minRoute), unit(f.b) * 0.35 * std::max(extentB, minRoute), up};
     CameraPath path;
 
     if (o.kind == PathKind::Fly) {
@@ -158,7 +207,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
         double distance = radius / std::sin(30.0 * M_PI / 180.0);  // whole sphere within a 60-degree view
         double duration = o.duration > 0 ? o.duration : 60;
         for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
-            double angle = 2 * M_PI * t / duration * (o.speed > 0 ? o.speed * duration / (2 * M_PI * distance) : 1);
+            double angle = 2 * M_PI * t / duration * (plan.speed > 0 ? plan.speed * duration / (2 * M_PI * distance) : 1);
             Vector3d horizontal = std::cos(angle) * unit(f.a) + std::sin(angle) * unit(f.b);
             Vector3d p = center + distance * (std::cos(M_PI / 4) * horizontal + std::sin(M_PI / 4) * up);
             path.keys.push_back(key(t, p, center - p, up));
@@ -166,15 +215,15 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
         return path;
     }
 
-    double speed = o.speed > 0 ? o.speed : (o.kind == PathKind::Drive ? 15.0 : 1.5);
-    double duration = o.duration > 0 ? o.duration : route.perimeter() / speed;
+    double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
     GroundIndex ground(skeleton, f, lo[f.up]);
     std::mt19937 rng(o.seed);
     std::uniform_real_distribution<double> gap(2.0, 5.0), angle(0, 2 * M_PI), coin(0, 1);
     double theta = 0, direction = 1, nextEvent = gap(rng);
     auto place = [&](double t, double th, double dir) {
         Vector3d p = route.at(th);
-        p[f.up] = ground.at(p[f.a], p[f.b]) + o.eyeHeight;
+        // An object's ground is its bottom; a city's is the ground estimate under the eye.
+        p[f.up] = (plan.object ? lo[f.up] : ground.at(p[f.a], p[f.b])) + plan.eyeHeight;
         path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : Vector3d(dir * route.tangent(th)), up));
     };
     for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
@@ -187,7 +236,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
             place(t + 1e-3, theta, direction);
             nextEvent += gap(rng);
         }
-        double step = speed * o.keyInterval / std::max(route.tangent(theta).norm(), 1e-9);
+        double step = plan.speed * o.keyInterval / std::max(route.tangent(theta).norm(), 1e-9);
         theta += direction * step;
     }
     return path;

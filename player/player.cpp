@@ -55,6 +55,7 @@ struct Player::Impl {
     uint64_t frameIndex = 0;
     bool havePrevious = false;
     double previousPosition[3] = {0, 0, 0}, previousTime = 0, velocity[3] = {0, 0, 0};
+    double distance = 0;  // camera path length so far, teleports excluded (toggles per metre, §6.5)
 
     Impl(std::shared_ptr<const NodeSource> src, const Constants& constants, Renderer& r, const PlayerOptions& o)
         : source(std::move(src)),
@@ -121,6 +122,7 @@ struct Player::Impl {
             // is smoothed: half the previous velocity, half this frame's.
             double limit = options.teleportSpeed;
             double scale = std::sqrt(speed) > limit ? limit / std::sqrt(speed) : 1;
+            if (scale == 1) distance += std::sqrt(speed) * (t - previousTime);
             for (int i = 0; i < 3; ++i) velocity[i] = 0.5 * velocity[i] + 0.5 * v[i] * scale;
         }
         havePrevious = true;
@@ -210,6 +212,8 @@ struct Player::Impl {
         s.residentNodes = residentNodes;
         s.residentBytes = loader.counters().residentBytes;
         s.memoryEstimateBytes = c.memory * residentCost;
+        s.memoryEstimatePct = options.memoryBudget ? 100 * s.memoryEstimateBytes / double(options.memoryBudget) : NAN;
+        s.distance = distance;
         s.stallMs = loader.takeLongestWaitMs();
         front = std::move(sel.drawn);
         ++frameIndex;

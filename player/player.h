@@ -40,6 +40,7 @@ struct PlayerOptions {
 struct FrameStats {
     uint64_t frame = 0;
     double timeSeconds = 0;          // simulated time the camera was sampled at
+    double distance = 0;             // path length travelled by the camera since frame 0 (teleports excluded)
     double targetMs = 0;             // c_targetTime
     double estimateNoFeedbackMs = 0; // overhead + initial v_time * sum(cost drawn) (Fig. 6.4a)
     double estimateMs = 0;           // overhead + v_time * sum(cost drawn) (Fig. 6.4b)
@@ -54,6 +55,7 @@ struct FrameStats {
     uint32_t residentNodes = 0;      // uploaded to the renderer
     uint64_t residentBytes = 0;      // real bytes: uploaded + decoded waiting + being loaded
     double memoryEstimateBytes = 0;  // §4.3: c_memory * sum(cost) of resident nodes
+    double memoryEstimatePct = 0;    // 100 * memoryEstimateBytes / maxMemory (Fig. 6.1); NaN without a budget
     uint32_t loads = 0;              // nodes uploaded this frame
     uint32_t evictions = 0;          // nodes evicted this frame
     uint32_t misses = 0;             // visible nodes wanted (cumHyst >= 0) but not loaded

@@ -3,7 +3,7 @@
 // hysteresis counter and the cumulative hysteresis rule (cumHyst < 0 draws the parent,
 // otherwise all the siblings are visited); a visible sibling that is not loaded forces the
 // parent; §5.2 option: switch to children only when all of them are loaded. Toggles are
-// counted by the rule of §6.5.
+// counted by the rule of §6.5, without the switches that culling causes (player/STATS.md).
 #include "player/selection.h"
 
 #include <algorithm>
@@ -60,23 +60,32 @@ struct Traversal {
         return params.vTime * std::max(double(skeleton.nodes[id].cost), 1.0);
     }
 
-    void setRole(uint32_t id, DrawState role) {
+    // §6.5: "we count each time a node gets upgraded to its children between successive frames
+    // [...] each downgrade from sibling nodes to a parent node. We do not count nodes that are
+    // culled away between frames." An up toggle is Drawn -> Refined from a countable Drawn; a
+    // down toggle is Refined -> Drawn by the hysteresis rule (cumHyst < 0) only. `reason` is
+    // why a Drawn node is drawn (unused for Refined).
+    void setRole(uint32_t id, DrawState role, DrawReason reason = DrawReason::Leaf) {
         NodeState& s = state.nodes[id];
         DrawState previous = state.role(id);
-        const bool up = previous == DrawState::Drawn && role == DrawState::Refined;
-        const bool down = previous == DrawState::Refined && role == DrawState::Drawn;
+        const bool up = previous == DrawState::Drawn && role == DrawState::Refined && s.upCountable;
+        const bool down = previous == DrawState::Refined && role == DrawState::Drawn && reason == DrawReason::Hysteresis;
         out.upToggles += up, out.downToggles += down;
         if (up || down) {
             out.reversals += s.toggledTo == previous && state.frame - s.toggleFrame <= kReversalWindow;
             s.toggledTo = role;
             s.toggleFrame = state.frame;
         }
+        if (role == DrawState::Drawn) {
+            const bool missContinues = previous == DrawState::Refined || (previous == DrawState::Drawn && !s.upCountable);
+            s.upCountable = reason == DrawReason::Hysteresis || (reason == DrawReason::Miss && !missContinues);
+        }
         s.role = role;
         s.roleFrame = state.frame;
     }
 
-    void draw(uint32_t id) {
-        setRole(id, DrawState::Drawn);
+    void draw(uint32_t id, DrawReason reason) {
+        setRole(id, DrawState::Drawn, reason);
         out.drawn.push_back({id, skeleton.nodes[id].level});
         out.drawnCost += skeleton.nodes[id].cost;
     }
@@ -121,9 +130,9 @@ struct Traversal {
     // `parent` is visible and drawable: draw it, or descend into all its visible children.
     void consider(uint32_t parent) {
         uint32_t first = skeleton.nodes[parent].firstChild;
-        if (first == kNone) return draw(parent);
+        if (first == kNone) return draw(parent, DrawReason::Leaf);
         double sum = evaluateSiblings(first);
-        if (siblings.empty()) return draw(parent);  // visible box, no visible child: draw it
+        if (siblings.empty()) return draw(parent, DrawReason::Culled);  // visible box, no visible child
         sliceTime(state.nodes[parent].timeSlice, sum);
         hysts.clear();
         uint32_t unloaded = 0;
@@ -136,11 +145,11 @@ struct Traversal {
                 unloaded += !resident[id] && state.nodes[id].frustumVis < 1;
         if (cumulativeHysteresis(hysts, params.hystSwitch) < 0) {
             out.refused += unloaded == 0;
-            return draw(parent);
+            return draw(parent, DrawReason::Hysteresis);
         }
         if (unloaded > 0) {
             out.misses += unloaded;
-            return draw(parent);
+            return draw(parent, DrawReason::Miss);
         }
         setRole(parent, DrawState::Refined);
         pending.insert(pending.end(), siblings.begin(), siblings.end());

@@ -41,6 +41,16 @@ using Evaluate = std::function<NodeEval(uint32_t node)>;
 
 enum class DrawState : uint8_t { None, Drawn, Refined };
 
+// Why a node was drawn rather than refined (the branch of §4.2's traversal that drew it).
+// Only Hysteresis is a detail decision; the others follow culling and loading (§6.5 counting,
+// player/STATS.md).
+enum class DrawReason : uint8_t {
+    Leaf,        // no children
+    Culled,      // none of its children is visible
+    Hysteresis,  // cumHyst < 0 (§4.2)
+    Miss,        // cumHyst >= 0 but a visible child is not loaded
+};
+
 // Per-node state kept across frames by the render thread.
 struct NodeState {
     double hyst = 0;         // hysteresis_n (§4.2), in [-c_hystLimit, c_hystLimit]
@@ -50,6 +60,10 @@ struct NodeState {
     bool evaluated = false;  // hyst has been initialised
     DrawState role = DrawState::None;  // role in frame `roleFrame`
     uint64_t roleFrame = 0;
+    // Drawn: whether switching to the children next is a §6.5 toggle. False after a culling
+    // branch (Leaf, Culled) and for a Miss that follows Refined or a not-countable Drawn
+    // (a newly visible child not loaded yet); true after Hysteresis and other Misses.
+    bool upCountable = false;
     DrawState toggledTo = DrawState::None;  // role its last toggle switched it to, in frame `toggleFrame`
     uint64_t toggleFrame = 0;
 };
@@ -87,7 +101,7 @@ struct Selection {
     std::vector<DrawItem> drawn;     // the front, in traversal (breadth-first) order
     std::vector<uint32_t> visited;   // every node whose priority was computed this frame
     double drawnCost = 0;            // sum of cost_n over drawn nodes
-    uint32_t upToggles = 0, downToggles = 0;  // §6.5 counting rule
+    uint32_t upToggles = 0, downToggles = 0;  // §6.5 counting rule, culling excluded (player/STATS.md)
     uint32_t reversals = 0;          // toggles undoing the node's previous one within kReversalWindow
     uint32_t misses = 0;             // visible children wanted but not loaded
     uint32_t refused = 0;            // all-loaded sibling sets refused because cumHyst < 0

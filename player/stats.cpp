@@ -1,7 +1,10 @@
 // Per-frame CSV (columns in player/stats.h, documented in player/STATS.md) and the summary:
 // mean, sd, p99 of the frame time and of its error to target (§6.4), of the estimate errors
-// with and without feedback (§6.3), toggles per frame (§6.5), peak memory (§6.1).
+// with and without feedback (§6.3), toggles per frame, per unit of distance and per 400-frame
+// window (§6.5), time the hlod0 share spends at its bounds (§4.2 second loop), peak memory (§6.1).
 #include "player/stats.h"
+
+#include "player/feedback.h"
 
 #include <nlohmann/json.hpp>
 
@@ -34,10 +37,10 @@ void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels) {
     uint64_t tris = 0;
     for (uint32_t n : s.nodesPerLevel) nodes += n;
     for (uint64_t t : s.trianglesPerLevel) tris += t;
-    std::snprintf(buf, sizeof buf, "%llu,%.6f,%.3f,%.4f,%.4f,%.4f,%.6g,%.4f,%u,%llu,%u,%u,%u,%u,%llu,%.0f,%u,%u,%u,%u,%.4f,%.4f",
-                  (unsigned long long)s.frame, s.timeSeconds, s.targetMs, s.estimateNoFeedbackMs, s.estimateMs,
+    std::snprintf(buf, sizeof buf, "%llu,%.6f,%.4f,%.3f,%.4f,%.4f,%.4f,%.6g,%.4f,%u,%llu,%u,%u,%u,%u,%llu,%.0f,%.3f,%u,%u,%u,%u,%.4f,%.4f",
+                  (unsigned long long)s.frame, s.timeSeconds, s.distance, s.targetMs, s.estimateNoFeedbackMs, s.estimateMs,
                   s.actualMs, s.vTime, s.hlod0ShareMs, nodes, (unsigned long long)tris, s.upToggles, s.downToggles,
-                  s.reversals, s.residentNodes, (unsigned long long)s.residentBytes, s.memoryEstimateBytes, s.loads, s.evictions,
+                  s.reversals, s.residentNodes, (unsigned long long)s.residentBytes, s.memoryEstimateBytes, s.memoryEstimatePct, s.loads, s.evictions,
                   s.misses, s.refused, s.stallMs, s.selectionMs);
     os << buf;
     for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.nodesPerLevel.size() ? s.nodesPerLevel[l] : 0);
@@ -70,7 +73,8 @@ StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames
     StatsSummary s;
     s.frames = frames.size();
     s.warmupFrames = std::min<uint64_t>(warmupFrames, frames.size() / 2);  // short runs keep half
-    std::vector<double> ms, err, est, estNoFb;
+    std::vector<double> ms, err, est, estNoFb, windows;
+    uint64_t atMin = 0, atMax = 0, inWindow = 0, windowToggles = 0;
     for (size_t i = 0; i < frames.size(); ++i) {
         const FrameStats& f = frames[i];
         s.peakResidentBytes = std::max(s.peakResidentBytes, f.residentBytes);
@@ -83,38 +87,61 @@ StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames
         s.upToggles += f.upToggles;
         s.downToggles += f.downToggles;
         s.reversals += f.reversals;
+        windowToggles += f.upToggles + f.downToggles;
+        if (++inWindow == kToggleWindow) {
+            windows.push_back(double(windowToggles));
+            inWindow = windowToggles = 0;
+        }
+        atMin += f.hlod0ShareMs <= kMinShare * f.targetMs * (1 + 1e-9);
+        atMax += f.hlod0ShareMs >= kMaxShare * f.targetMs * (1 - 1e-9);
         ms.push_back(f.actualMs);
         err.push_back(f.actualMs - f.targetMs);
-        if (f.actualMs > 0) {
-            est.push_back(100 * (f.estimateMs - f.actualMs) / f.actualMs);
-            estNoFb.push_back(100 * (f.estimateNoFeedbackMs - f.actualMs) / f.actualMs);
-        }
+        if (f.estimateMs > 0) est.push_back(100 * (f.actualMs - f.estimateMs) / f.estimateMs);  // §6.3 footnote 2
+        if (f.estimateNoFeedbackMs > 0) estNoFb.push_back(100 * (f.actualMs - f.estimateNoFeedbackMs) / f.estimateNoFeedbackMs);
     }
     s.frameMs = distribution(ms);
     s.errorMs = distribution(err);
     s.estimateErrorPct = distribution(est);
     s.estimateNoFbErrorPct = distribution(estNoFb);
     size_t counted = frames.size() - s.warmupFrames;
-    s.togglesPerFrame = counted ? double(s.upToggles + s.downToggles) / counted : 0;
+    const double toggles = double(s.upToggles + s.downToggles);
+    s.togglesPerFrame = counted ? toggles / counted : 0;
+    if (counted) s.distance = frames.back().distance - frames[s.warmupFrames].distance;
+    s.togglesPerDistance = s.distance > 0 ? toggles / s.distance : 0;
+    s.toggleWindows = windows.size();
+    if (!windows.empty()) {
+        Distribution w = distribution(windows);
+        s.windowTogglesMean = w.mean;
+        s.windowTogglesMin = *std::min_element(windows.begin(), windows.end());
+        s.windowTogglesMax = w.max;
+    }
+    s.shareAtMinPct = counted ? 100.0 * atMin / counted : 0;
+    s.shareAtMaxPct = counted ? 100.0 * atMax / counted : 0;
     return s;
 }
 
 void printSummary(std::ostream& os, const StatsSummary& s) {
-    char buf[1024];
+    char buf[1536];
     std::snprintf(buf, sizeof buf,
                   "frames %llu (first %llu excluded as warm-up)\n"
                   "frame time ms: mean %.3f sd %.3f p99 %.3f max %.3f\n"
                   "error to target ms: mean %.3f sd %.3f p99 %.3f\n"
-                  "estimate error %%: with feedback mean %.2f sd %.2f; without mean %.2f sd %.2f\n"
+                  "estimate error %% (actual - estimate, negative = conservative): with feedback mean %.2f sd %.2f; "
+                  "without mean %.2f sd %.2f\n"
                   "toggles per frame %.4f (up %llu, down %llu; reversals within 35 frames %llu)\n"
+                  "toggles per unit of distance %.4f over %.1f; per %llu frames: mean %.2f min %.0f max %.0f (%llu windows)\n"
+                  "hlod0 share at its lower bound %.1f %% of frames, at its upper bound %.1f %%\n"
                   "peak resident bytes %llu, peak c_memory estimate %.0f\n"
                   "loads %llu, evictions %llu, misses %llu, longest render-thread stall %.3f ms\n",
                   (unsigned long long)s.frames, (unsigned long long)s.warmupFrames, s.frameMs.mean, s.frameMs.sd,
                   s.frameMs.p99, s.frameMs.max, s.errorMs.mean, s.errorMs.sd, s.errorMs.p99, s.estimateErrorPct.mean,
                   s.estimateErrorPct.sd, s.estimateNoFbErrorPct.mean, s.estimateNoFbErrorPct.sd, s.togglesPerFrame,
                   (unsigned long long)s.upToggles, (unsigned long long)s.downToggles, (unsigned long long)s.reversals,
-                  (unsigned long long)s.peakResidentBytes, s.peakMemoryEstimateBytes, (unsigned long long)s.loads,
-                  (unsigned long long)s.evictions, (unsigned long long)s.misses, s.longestStallMs);
+                  s.togglesPerDistance, s.distance, (unsigned long long)kToggleWindow, s.windowTogglesMean,
+                  s.windowTogglesMin, s.windowTogglesMax, (unsigned long long)s.toggleWindows, s.shareAtMinPct,
+                  s.shareAtMaxPct, (unsigned long long)s.peakResidentBytes, s.peakMemoryEstimateBytes,
+                  (unsigned long long)s.loads, (unsigned long long)s.evictions, (unsigned long long)s.misses,
+                  s.longestStallMs);
     os << buf;
 }
 
@@ -128,9 +155,18 @@ std::string summaryJson(const StatsSummary& s, const Constants& c) {
                         {"estimate_error_pct", toJson(s.estimateErrorPct)},
                         {"estimate_nofb_error_pct", toJson(s.estimateNoFbErrorPct)},
                         {"toggles_per_frame", s.togglesPerFrame},
+                        {"distance", s.distance},
+                        {"toggles_per_distance", s.togglesPerDistance},
+                        {"toggles_per_400_frames",
+                         {{"windows", s.toggleWindows},
+                          {"mean", s.windowTogglesMean},
+                          {"min", s.windowTogglesMin},
+                          {"max", s.windowTogglesMax}}},
                         {"up_toggles", s.upToggles},
                         {"down_toggles", s.downToggles},
                         {"reversals", s.reversals},
+                        {"hlod0_share_at_min_pct", s.shareAtMinPct},
+                        {"hlod0_share_at_max_pct", s.shareAtMaxPct},
                         {"peak_resident_bytes", s.peakResidentBytes},
                         {"peak_memory_estimate_bytes", s.peakMemoryEstimateBytes},
                         {"loads", s.loads},

@@ -15,7 +15,7 @@ namespace hlod::cli {
 namespace {
 
 struct PathArgs {
-    std::string db, output, kind = "walk", up = "z";
+    std::string db, output, kind = "walk", up = "z", units = "m";
     PathOptions options;
 };
 
@@ -23,10 +23,19 @@ int runPath(PathArgs& a) {
     a.options.kind = parsePathKind(a.kind);
     if (a.up != "y" && a.up != "z") throw std::invalid_argument("--up must be y or z");
     a.options.upAxis = a.up == "y" ? 1 : 2;
+    a.options.metresPerUnit = parseUnits(a.units);
     Database db = Database::open(a.db);
+    const PathPlan plan = planPath(db.skeleton(), a.options);
     CameraPath path = generatePath(db.skeleton(), a.options);
     writeCameraPathFile(a.output, path);
-    std::cout << a.output << ": " << a.kind << " path, " << path.keys.size() << " keys, " << path.duration() << " s\n";
+    std::cout << a.output << ": " << a.kind << " path, " << path.keys.size() << " keys, duration " << path.duration()
+              << " s\n";
+    std::cout << "scale: " << (plan.object ? "object" : "city-like") << " (horizontal extent " << plan.horizontalExtent
+              << ", height " << plan.verticalExtent << " units; 1 unit = " << a.options.metresPerUnit << " m)";
+    if (a.options.kind != PathKind::Fly)
+        std::cout << "; speed " << plan.speed << " units/s, eye " << plan.eyeHeight << " units above the "
+                  << (plan.object ? "model's bottom" : "ground estimate");
+    std::cout << '\n';
     return 0;
 }
 
@@ -37,11 +46,14 @@ void addPath(CLI::App& app, int& status) {
     CLI::App* sub = app.add_subcommand("path", "generate a camera path (walk, drive, fly, erratic) from a database's bounds");
     addDatabaseArgument(*sub, a->db);
     sub->add_option("-o,--output", a->output, "camera path file to write")->required();
-    sub->add_option("--kind", a->kind, "walk (1.5 m/s), drive (15 m/s), fly (whole model in view), erratic")
+    sub->add_option("--kind", a->kind, "walk, drive (10x the walk), fly (whole model in view), erratic")
         ->check(CLI::IsMember({"walk", "drive", "fly", "erratic"}));
     sub->add_option("--duration", a->options.duration, "seconds (default: one lap; fly 60 s)");
-    sub->add_option("--speed", a->options.speed, "metres per second (default by kind)");
-    sub->add_option("--eye-height", a->options.eyeHeight, "metres above the estimated ground");
+    sub->add_option("--speed", a->options.speed,
+                    "metres per second (default: city-like 1.5 walk, 15 drive; object: one lap in 60 s, drive 6 s)");
+    sub->add_option("--eye-height", a->options.eyeHeight,
+                    "metres above the ground estimate (city-like) or the model's bottom (object; default: half its height)");
+    sub->add_option("--units", a->units, "what one database unit is: m (default), cm, mm, km or a number of metres");
     sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys");
     sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports");
     sub->add_option("--up", a->up, "up axis of the model: z (default) or y");

@@ -129,6 +129,8 @@ int runPlay(PlayArgs& a) {
         {"teleport_speed", std::to_string(a.player.teleportSpeed)},
         {"v_time_gain", std::to_string(a.player.vTimeGain)},
         {"share_band", std::to_string(a.player.shareLoop.band)},
+        {"share_gain", std::to_string(a.player.shareLoop.gain)},
+        {"share_leak", std::to_string(a.player.shareLoop.leak)},
         {"share_step", std::to_string(a.player.shareLoop.step)},
         {"initial_hyst", std::to_string(a.player.initialHystSwitches * c.hystSwitch)},
         {"time", "simulated (camera sampled at the sum of measured frame times)"}};
@@ -194,7 +196,12 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--v-time-gain", a->player.vTimeGain, "first feedback loop: fraction of the v_time error corrected per frame");
     sub->add_option("--share-band", a->player.shareLoop.band,
                     "second feedback loop: frames outside target x (1 -+ band) move the hlod0 share");
-    sub->add_option("--share-step", a->player.shareLoop.step, "second feedback loop: relative step of the hlod0 share per frame");
+    sub->add_option("--share-gain", a->player.shareLoop.gain,
+                    "second feedback loop: relative change of the hlod0 share per unit of relative frame-time error");
+    sub->add_option("--share-leak", a->player.shareLoop.leak,
+                    "second feedback loop: fraction of ln(target / share) recovered per frame");
+    sub->add_option("--share-step", a->player.shareLoop.step,
+                    "second feedback loop: largest relative change of the hlod0 share per frame");
     sub->add_option("--initial-hyst", a->player.initialHystSwitches,
                     "hysteresis counter of a node evaluated first, in units of c_hystSwitch (default -1)");
     sub->add_option("--frames-dir", a->framesDir, "write PNG frames here (needs --renderer gl)");

@@ -38,7 +38,7 @@ protected:
     fs::path writeLog(const std::string& name, int frames, int levels = 3) {
         const fs::path path = dir_ / name;
         std::ofstream out(path);
-        out << "# constants: c_targetTime=30\n";
+        out << "# constants: c_targetTime=30\n# memory_budget_bytes: 4000000\n";
         std::string header;
         for (const char* column : kStatsColumns) header += std::string(header.empty() ? "" : ",") + column;
         for (int l = 0; l < levels; ++l) header += ",nodes_l" + std::to_string(l);
@@ -47,10 +47,11 @@ protected:
         for (int f = 0; f < frames; ++f) {
             const double actual = 25 + 4 * std::sin(f / 7.0);
             const int nodes[3] = {8, 4 + f % 5, f % 3};
-            out << f << "," << f / 30.0 << ",30," << actual * 1.2 << "," << actual * 0.98 << "," << actual << ",0.01,"
+            out << f << "," << f / 30.0 << "," << 0.05 * f << ",30," << actual * 1.2 << "," << actual * 0.98 << ","
+                << actual << ",0.01,"
                 << "20," << nodes[0] + nodes[1] + nodes[2] << "," << 900 * (nodes[0] + nodes[1] + nodes[2]) << ","
                 << (f % 11 == 0) << "," << (f % 13 == 0) << ",0,40," << 1000000 + 5000 * f << "," << 900000 + 4000 * f
-                << ",1,0,0,0,0.1,0.4";
+                << "," << (900000 + 4000 * f) / 40000.0 << ",1,0,0,0,0.1,0.4";
             for (int l = 0; l < levels; ++l) out << "," << nodes[l % 3];
             for (int l = 0; l < levels; ++l) out << "," << 900 * nodes[l % 3];
             out << "\n";
@@ -86,11 +87,19 @@ TEST_F(PlotFigures, WritesSixNonTrivialPngs) {
     }
 }
 
-TEST_F(PlotFigures, TakesASecondRunForTheTwoRunFigures) {
-    const fs::path walk = writeLog("walk.csv", 60, 2), fly = writeLog("fly.csv", 90, 4);
-    const RunResult r = runProcess({"bash", script(), walk.string(), (dir_ / "figs").string(), fly.string()});
+TEST_F(PlotFigures, TakesFlyAndDriveRunsForTheTwoRunFigures) {
+    const fs::path walk = writeLog("walk.csv", 60, 2), fly = writeLog("fly.csv", 90, 4), drive = writeLog("drive.csv", 70, 3);
+    RunResult r = runProcess({"bash", script(), walk.string(), (dir_ / "figs").string(), fly.string()});
     ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_NE(r.out.find("6.5: (a) walk-through, (b) fly-through"), std::string::npos) << r.out;
     for (int n = 1; n <= 6; ++n) EXPECT_GT(pngSize(dir_ / "figs" / ("fig6_" + std::to_string(n) + ".png")).first, 0u);
+    EXPECT_GT(pngSize(dir_ / "figs" / "hlod0_share.png").first, 0u);
+    r = runProcess({"bash", script(), walk.string(), (dir_ / "figs2").string(), fly.string(), drive.string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_NE(r.out.find("6.6: (a) walk-through, (b) drive-through"), std::string::npos) << r.out;
+    r = runProcess({"bash", script(), walk.string(), (dir_ / "figs3").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_NE(r.out.find("6.5: (a) walk-through only"), std::string::npos) << r.out;
 }
 
 void expectOneLineFailure(const RunResult& r, const std::string& mention) {

@@ -119,3 +119,61 @@ TEST(CameraPath, FlyOverSeesTheWholeModelAndErraticJumps) {
     EXPECT_GE(jumps, 10);  // an event every 2-5 s
     EXPECT_THROW(parsePathKind("swim"), std::invalid_argument);
 }
+
+namespace {
+
+// Mean speed of a generated path, in units per second.
+double meanSpeed(const CameraPath& p) {
+    double length = 0;
+    for (size_t i = 1; i < p.keys.size(); ++i) length += dist(p.keys[i].position, p.keys[i - 1].position);
+    return length / p.duration();
+}
+
+}  // namespace
+
+// player/CAMERA_PATH.md "Scale": an object (a statue in millimetres, a banana in metres) is walked
+// around in one lap of 60 s at mid-height, so its speed scales with its extent; a city keeps
+// 1.5 m/s and a 1.7 m eye, converted to its units by --units.
+TEST(CameraPath, PathSpeedScalesWithExtent) {
+    auto object = [](float size) {
+        Skeleton s;
+        test::addNode(s, kNone, Box3f{{0, 0, 0}, {size, 0.6f * size, 1.7f * size}}, 512);
+        test::linkSkeleton(s);
+        return s;
+    };
+    double speedPerSize[2];
+    int i = 0;
+    for (float size : {0.3f, 1600.0f}) {
+        Skeleton s = object(size);
+        PathOptions o;
+        o.lookAtCenter = true;
+        ASSERT_TRUE(planPath(s, o).object) << size;
+        CameraPath p = generatePath(s, o);
+        EXPECT_NEAR(p.duration(), kObjectLapSeconds, o.keyInterval) << size;
+        for (const CameraKey& k : p.keys) EXPECT_NEAR(k.position[2], 0.85 * size, 1e-3 * size);  // mid-height
+        speedPerSize[i++] = meanSpeed(p) / size;
+        o.kind = PathKind::Drive;  // ten times the walk: a lap in 6 s
+        EXPECT_NEAR(generatePath(s, o).duration(), kObjectLapSeconds / kDriveFactor, o.keyInterval) << size;
+    }
+    EXPECT_NEAR(speedPerSize[0], speedPerSize[1], 0.01 * speedPerSize[0]);
+
+    Skeleton city = test::gridSkeleton(4, 4, 2, 16, 50);  // 200 x 200 x 10 m
+    PathOptions o;
+    EXPECT_FALSE(planPath(city, o).object);
+    EXPECT_NEAR(meanSpeed(generatePath(city, o)), kWalkSpeedMps, 0.05 * kWalkSpeedMps);
+    o.metresPerUnit = 0.001;  // the same numbers read as millimetres: a 20 cm model, an object
+    EXPECT_TRUE(planPath(city, o).object);
+    Skeleton cityMm = test::gridSkeleton(4, 4, 2, 16, 50000);  // 200 m in millimetres
+    PathPlan mm = planPath(cityMm, o);
+    EXPECT_FALSE(mm.object);
+    EXPECT_NEAR(mm.speed, 1500, 1e-9);
+    EXPECT_NEAR(mm.eyeHeight, 1700, 1e-9);
+}
+
+TEST(CameraPath, UnitsParse) {
+    EXPECT_EQ(parseUnits("m"), 1);
+    EXPECT_EQ(parseUnits("mm"), 0.001);
+    EXPECT_EQ(parseUnits("cm"), 0.01);
+    EXPECT_EQ(parseUnits("0.3048"), 0.3048);
+    for (const char* bad : {"", "inch", "-1", "0", "2m", "nan"}) EXPECT_THROW(parseUnits(bad), std::invalid_argument) << bad;
+}

@@ -128,6 +128,15 @@ TEST_F(Cli, PathKindsAndBadDatabase) {
         EXPECT_EQ(r.exitCode, 0) << kind << r.err;
         EXPECT_TRUE(slurp(out).starts_with("hlod-camera-path 1\n"));
     }
+    // The scale it chose and the duration are printed; --units must be a unit or a number of metres.
+    RunResult units = runHlod({"path", db, "--units", "mm", "-o", (dir / "mm.path").string()});
+    EXPECT_EQ(units.exitCode, 0) << units.err;
+    EXPECT_NE(units.out.find("duration"), std::string::npos) << units.out;
+    EXPECT_NE(units.out.find("1 unit = 0.001 m"), std::string::npos) << units.out;
+    RunResult badUnits = runHlod({"path", db, "--units", "furlong", "-o", (dir / "u.path").string()});
+    EXPECT_EQ(badUnits.exitCode, 2);
+    EXPECT_EQ(lines(badUnits.err), 1) << badUnits.err;
+    EXPECT_FALSE(fs::exists(dir / "u.path"));
     std::string junk = (dir / "junk.hlod").string();
     std::ofstream(junk) << "not a database at all";
     RunResult r = runHlod({"path", junk, "-o", (dir / "x.path").string()});

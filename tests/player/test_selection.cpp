@@ -1,7 +1,7 @@
 // Selection (thesis §4.2) on small hand-built trees: exact fronts for given priorities and
 // budgets, the up- and down-switch delays predicted by the hysteresis formula, the first
 // counter value, the cumHyst sign rule, the loaded-children rule (§5.2), hlod0 never skipped,
-// §6.5 toggle counting.
+// §6.5 toggle counting (culling excluded).
 #include "player/selection.h"
 #include "tests/support/trees.h"
 
@@ -208,13 +208,15 @@ TEST(Selection, CumHystSignRuleDecidesParentOrChildren) {
     EXPECT_EQ(sel.downToggles, 1u);
 }
 
-// The four children of root 0 with counters at +c_hystLimit: their set switches whenever it may.
-void saturateChildren(SelectionState& st) {
+// The four children of root 0 with counters at `hyst`; at +c_hystLimit their set switches
+// whenever it may, at -c_hystLimit the parent is drawn (cumHyst < 0).
+void presetChildren(SelectionState& st, double hyst) {
     for (int k = 0; k < 4; ++k) {
-        st.nodes[1 + k].hyst = 4510;
+        st.nodes[1 + k].hyst = hyst;
         st.nodes[1 + k].evaluated = true;
     }
 }
+void saturateChildren(SelectionState& st) { presetChildren(st, 4510); }
 
 TEST(Selection, VisibleUnloadedSiblingForcesParent) {
     Tree t(1, false);
@@ -239,23 +241,76 @@ TEST(Selection, VisibleUnloadedSiblingForcesParent) {
 TEST(Selection, ReversalsCountTogglesUndoneWithinTheWindow) {
     Tree t(1, false);
     SelectionState st(t.s);
-    saturateChildren(st);
-    t.resident[3] = 0;
+    presetChildren(st, -4510);
     ASSERT_EQ(t.front(t.run(st)), std::set<uint32_t>{0});  // first frame: no previous role, no toggle
-    t.resident[3] = 1;
+    saturateChildren(st);
     Selection up = t.run(st);
     ASSERT_EQ(t.front(up), (std::set<uint32_t>{1, 2, 3, 4}));
     EXPECT_EQ(up.upToggles, 1u);
     EXPECT_EQ(up.reversals, 0u);  // the node's first toggle
-    t.resident[3] = 0;  // a child goes missing: the parent comes back
+    presetChildren(st, -4510);  // the hysteresis rule brings the parent back
     Selection down = t.run(st);
     EXPECT_EQ(down.downToggles, 1u);
     EXPECT_EQ(down.reversals, 1u);
     for (uint64_t f = 0; f < kReversalWindow; ++f) EXPECT_EQ(t.run(st).downToggles, 0u);
-    t.resident[3] = 1;
+    saturateChildren(st);
     Selection late = t.run(st);
     EXPECT_EQ(late.upToggles, 1u);
     EXPECT_EQ(late.reversals, 0u);  // the down toggle was kReversalWindow + 1 frames before
+}
+
+// §6.5 "We do not count nodes that are culled away between frames": a parent drawn because none
+// of its children is visible, or because a newly visible child is not loaded yet, and its return
+// to the children, are not toggles; the same switches made by the hysteresis rule are.
+TEST(Selection, CullingAndNewlyVisibleUnloadedChildrenAreNotToggles) {
+    Tree t(1, false);
+    SelectionState st(t.s);
+    saturateChildren(st);
+    ASSERT_EQ(t.front(t.run(st)).size(), 4u);  // first frame: refined, no previous role
+    auto setVisible = [&](std::vector<uint32_t> ids, double vis) {
+        for (uint32_t id : ids) t.evals[id].frustumVis = vis;
+    };
+    setVisible({1, 2, 3, 4}, 0.5);  // every child culled: the parent is drawn
+    Selection culled = t.run(st);
+    ASSERT_EQ(t.front(culled), std::set<uint32_t>{0});
+    EXPECT_EQ(culled.downToggles, 0u);
+    setVisible({1, 2, 3, 4}, 1);  // back in view: the children again
+    Selection back = t.run(st);
+    ASSERT_EQ(t.front(back).size(), 4u);
+    EXPECT_EQ(back.upToggles, 0u);
+    setVisible({3}, 0.5);  // one child leaves the view and is evicted ...
+    ASSERT_EQ(t.front(t.run(st)), (std::set<uint32_t>{1, 2, 4}));
+    t.resident[3] = 0;
+    setVisible({3}, 1);  // ... and comes back before it is loaded: the parent for now
+    Selection miss = t.run(st);
+    ASSERT_EQ(t.front(miss), std::set<uint32_t>{0});
+    EXPECT_EQ(miss.misses, 1u);
+    EXPECT_EQ(miss.downToggles, 0u);
+    EXPECT_EQ(t.run(st).upToggles + t.run(st).downToggles, 0u);  // still waiting: nothing counted
+    t.resident[3] = 1;  // loaded: the children again, not a toggle either
+    Selection loaded = t.run(st);
+    ASSERT_EQ(t.front(loaded).size(), 4u);
+    EXPECT_EQ(loaded.upToggles, 0u);
+    presetChildren(st, -4510);  // the hysteresis rule: counted both ways
+    EXPECT_EQ(t.run(st).downToggles, 1u);
+    saturateChildren(st);
+    EXPECT_EQ(t.run(st).upToggles, 1u);
+}
+
+// A set the hysteresis rule accepts but whose visible child is still loading keeps the parent;
+// when the child arrives the switch is an up toggle (a detail decision delayed by loading).
+TEST(Selection, SwitchDelayedByLoadingIsAnUpToggle) {
+    Tree t(1, false);
+    SelectionState st(t.s);
+    presetChildren(st, -4510);
+    ASSERT_EQ(t.front(t.run(st)), std::set<uint32_t>{0});
+    saturateChildren(st);
+    t.resident[2] = 0;
+    Selection waiting = t.run(st);
+    ASSERT_EQ(t.front(waiting), std::set<uint32_t>{0});
+    EXPECT_EQ(waiting.misses, 1u);
+    t.resident[2] = 1;
+    EXPECT_EQ(t.run(st).upToggles, 1u);
 }
 
 TEST(Selection, Hlod0NeverSkippedEvenWithTinyBudget) {

@@ -1,5 +1,6 @@
 // Statistics: the CSV header is the documented one, rows have one field per column, and the
-// summary computes mean, sd, p99 and toggles per frame as defined in player/STATS.md.
+// summary computes mean, sd, p99, toggles per frame, per distance and per 400-frame window, the
+// estimate error in the thesis's sign and the share's time at its bounds as defined in player/STATS.md.
 #include "player/stats.h"
 
 #include <gtest/gtest.h>
@@ -28,7 +29,7 @@ TEST(Stats, HeaderAndRowsAgree) {
     std::getline(in, row);
     EXPECT_EQ(constants.rfind("# constants: c_vis=", 0), 0u);  // the constants the player uses
     EXPECT_EQ(db, "# database: x.hlod");
-    EXPECT_EQ(header.rfind("frame,time_s,target_ms,est_nofb_ms,est_ms,actual_ms,v_time,hlod0_share_ms,nodes_drawn", 0), 0u);
+    EXPECT_EQ(header.rfind("frame,time_s,distance,target_ms,est_nofb_ms,est_ms,actual_ms,v_time,hlod0_share_ms,nodes_drawn", 0), 0u);
     EXPECT_NE(header.find(",nodes_l0,nodes_l1,nodes_l2,tris_l0,tris_l1,tris_l2"), std::string::npos);
     auto count = [](const std::string& s) { return std::count(s.begin(), s.end(), ','); };
     EXPECT_EQ(count(header), count(row));
@@ -57,4 +58,42 @@ TEST(Stats, SummaryMeanSdP99AndToggles) {
     auto j = nlohmann::json::parse(summaryJson(s, Constants{}));
     EXPECT_EQ(j["constants"]["c_targetTime"], "30");
     EXPECT_DOUBLE_EQ(j["toggles_per_frame"].get<double>(), 0.01);
+}
+
+// §6.5 per distance and per 400-frame window; the share's time at its bounds.
+TEST(Stats, TogglesPerDistanceAndPerWindowAndShareAtBounds) {
+    std::vector<FrameStats> frames(1000);
+    for (size_t i = 0; i < frames.size(); ++i) {
+        frames[i].targetMs = 30;
+        frames[i].actualMs = 30;
+        frames[i].distance = 0.05 * i;                  // 1.5 m/s at 30 ms a frame
+        frames[i].upToggles = i >= 100 && i % 100 == 0;  // 9 counted: frames 100, 200, ... 900
+        frames[i].downToggles = i == 150;
+        frames[i].hlod0ShareMs = i < 300 ? kMinShare * 30 : i < 400 ? kMaxShare * 30 : 60;
+    }
+    StatsSummary s = summarize(frames, 100);
+    EXPECT_NEAR(s.distance, 0.05 * 899, 1e-9);
+    EXPECT_NEAR(s.togglesPerDistance, 10 / (0.05 * 899), 1e-12);
+    EXPECT_EQ(s.toggleWindows, 2u);  // frames 100-499 and 500-899; the last 100 are no full window
+    EXPECT_DOUBLE_EQ(s.windowTogglesMin, 4);  // 500, 600, 700, 800
+    EXPECT_DOUBLE_EQ(s.windowTogglesMax, 5);  // 100, 150 (down), 200, 300, 400
+    EXPECT_DOUBLE_EQ(s.windowTogglesMean, 4.5);
+    EXPECT_NEAR(s.shareAtMinPct, 100 * 200 / 900.0, 1e-9);
+    EXPECT_NEAR(s.shareAtMaxPct, 100 * 100 / 900.0, 1e-9);
+    auto j = nlohmann::json::parse(summaryJson(s, Constants{}));
+    EXPECT_EQ(j["toggles_per_400_frames"]["windows"].get<int>(), 2);
+}
+
+// §6.3 footnote 2: a negative difference is a conservative estimate (the frame took less).
+TEST(Stats, EstimateErrorIsNegativeForAConservativeEstimate) {
+    std::vector<FrameStats> frames(10);
+    for (FrameStats& f : frames) {
+        f.targetMs = 30;
+        f.actualMs = 24;
+        f.estimateMs = 25;            // over-estimated: conservative
+        f.estimateNoFeedbackMs = 20;  // under-estimated
+    }
+    StatsSummary s = summarize(frames, 0);
+    EXPECT_NEAR(s.estimateErrorPct.mean, -4, 1e-9);   // 100 (24 - 25) / 25
+    EXPECT_NEAR(s.estimateNoFbErrorPct.mean, 20, 1e-9);  // 100 (24 - 20) / 20
 }
