@@ -40,7 +40,7 @@ echo "== hlod play (walk, cost-model renderer)"
 # The fly-through (Figs. 6.2, 6.5b) and the drive-through ten times faster (Fig. 6.6b).
 for kind in fly drive; do
   echo "== hlod play ($kind)"
-  "$hlod" play "$db" --path "samples/$sample/$kind.path" --sync-loader --model-ms-per-tri 0.004 \
+  "$hlod" play "$db" --path "samples/$sample/$kind.path" --sync-loader --model-ms-per-tri "$rate" \
     --stats "$out/$kind.csv" --json "$out/$kind-summary.json" > "$out/$kind-play.txt"
 done
 echo "== plots"
