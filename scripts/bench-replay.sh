@@ -55,23 +55,28 @@ metres() {
        END { printf "%.1f", d }' "$1"
 }
 
-# figures CSV METRES: "mean sd p99 p99err toggles/frame toggles/m reversals misses" after warm-up.
+# figures CSV METRES: "mean sd p99 p99err toggles/frame toggles/m reversals misses"; the
+# distributions leave out the first WARMUP frames, or the first half of a shorter run (as `hlod play`).
 figures() {
   awk -F, -v warmup="$WARMUP" -v metres="$2" -v tmp="$1.actual" '
     /^#/ { next }
     !header { for (i = 1; i <= NF; ++i) col[$i] = i; header = 1; next }
-    { toggles += $col["up_toggles"] + $col["down_toggles"]; rev += $col["reversals"]; miss += $col["misses"]; ++all }
-    $col["frame"] >= warmup {
-      a = $col["actual_ms"]; t = $col["target_ms"]; e = (a > t ? a - t : t - a) / t
-      s += a; ss += a * a; ++n; print a, e > tmp
+    {
+      toggles += $col["up_toggles"] + $col["down_toggles"]; rev += $col["reversals"]; miss += $col["misses"]
+      a[all] = $col["actual_ms"]; t[all] = $col["target_ms"]; ++all
     }
     END {
+      skip = warmup < int(all / 2) ? warmup : int(all / 2)
+      for (i = skip; i < all; ++i) {
+        e = (a[i] > t[i] ? a[i] - t[i] : t[i] - a[i]) / t[i]
+        s += a[i]; ss += a[i] * a[i]; ++n; print a[i], e > tmp
+      }
       close(tmp)
       mean = n ? s / n : 0; sd = n > 1 ? sqrt((ss - n * mean * mean) / (n - 1)) : 0
       rank = int(0.99 * n + 0.999999); if (rank < 1) rank = 1
       cmd = "sort -g -k1,1 " tmp " | sed -n " rank "p | cut -d\" \" -f1"; cmd | getline p99; close(cmd)
       cmd = "sort -g -k2,2 " tmp " | sed -n " rank "p | cut -d\" \" -f2"; cmd | getline p99e; close(cmd)
-      printf "%.2f %.2f %.2f %.3f %.4f %.4f %d %d\n", mean, sd, p99, p99e, toggles / all,
+      printf "%.2f %.2f %.2f %.3f %.4f %.4f %d %d\n", mean, sd, p99, p99e, (all ? toggles / all : 0),
              (metres > 0 ? toggles / metres : 0), rev, miss
     }' "$1"
   rm -f "$1.actual"
