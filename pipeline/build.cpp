@@ -228,7 +228,8 @@ uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels) {
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {
     const char* simplifier = o.simplifier == Simplifier::Meshopt ? "meshopt" : "openmesh";
     std::vector<std::pair<std::string, std::string>> meta = {{"tool", std::string("hlod ") + HLOD_VERSION}, {"input", input}};
-    std::string command = "hlod build " + input + " --simplifier " + simplifier;
+    std::string command = "hlod build " + input + " --simplifier " + simplifier + " --leaf-rule " +
+                          leafRuleName(o.leafRule) + " --planes " + planesName(o.planes);
     command += o.blockSize > 0 ? " --block-size " + std::to_string(o.blockSize)
                                : " --block-triangles " + std::to_string(blockTarget(o));
     command += " --draco-position-bits " + std::to_string(o.draco.positionBits) + " --draco-texcoord-bits " +
@@ -239,6 +240,8 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     meta.emplace_back("command", command);
     for (const auto& pair : constantsAsPairs(o.constants, kUsedByBuild)) meta.push_back(pair);
     meta.emplace_back("simplifier", simplifier);
+    meta.emplace_back("tree.leafRule", leafRuleName(o.leafRule));
+    meta.emplace_back("tree.planes", planesName(o.planes));
     meta.emplace_back("blocks.triangles", o.blockSize > 0 ? "" : std::to_string(blockTarget(o)));
     meta.emplace_back("blocks.size", o.blockSize > 0 ? std::to_string(o.blockSize) : "");
     meta.emplace_back("draco.positionBits", std::to_string(o.draco.positionBits));

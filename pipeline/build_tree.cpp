@@ -1,9 +1,14 @@
 // The HLOD recursion of thesis §3.2 for one block, breadth-first:
 //   simplification_hlod0 = numTriangles_b / c_desiredTris,
 //   simplification_hlod(i+1) = simplification_hlod(i) / c_levelFactor,
-// each node simplifying the piece's ORIGINAL triangles by its factor (leaves, factor <= 1, keep
-// them), then dividing the piece into c_levelFactor children by c_levelFactor - 1 plane cuts
-// (cut.cpp). Textures are cropped and downsampled by the same factor (texture.cpp); the
+// each node simplifying the piece's ORIGINAL triangles by its factor, then dividing the piece
+// into c_levelFactor children by c_levelFactor - 1 plane cuts (cut.cpp), "until the factor
+// becomes less than 1". Leaves keep the original triangles; which node is a leaf is the
+// --leaf-rule (tree_rules.h, pipeline/TREE.md): below-one (default) divides every node whose
+// factor is > 1, so leaves have a factor in (1/c_levelFactor, 1]; stop-before divides a node only
+// when its children's factor would still be >= 1, so leaves have a factor in [1, c_levelFactor)
+// (or the block's own, when it is below 1). Textures are cropped and downsampled by the same
+// factor (texture.cpp, leaves keep the source's); the
 // geometric error is measured against the original piece (error.cpp). All nodes are encoded on
 // one position lattice (DracoOptions::positionStep, by default the block root's), so the
 // borders the cuts made identical stay identical after quantization.
@@ -68,13 +73,15 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         Pending p = std::move(queue.front());
         queue.pop_front();
         const std::vector<SubMesh> original = splitByMaterial(p.piece);
+        const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
         std::vector<SubMesh> parts = original;
-        if (p.factor > 1)
+        if (!leaf)
             for (SubMesh& part : parts) part.mesh = simplifyMesh(part.mesh, p.factor, options.simplifier, part.locked);
-        const double error = p.factor > 1 ? surfaceDistance(parts, original) : 0.0;
+        const double error = leaf ? 0.0 : surfaceDistance(parts, original);
+        const double textureFactor = leaf ? 1.0 : p.factor;  // a leaf keeps the source's texels
         std::vector<Image> images(parts.size());
         for (size_t i = 0; i < parts.size(); ++i)
-            if (const Image* scaled = textures.get(parts[i].material, p.level, p.factor))
+            if (const Image* scaled = textures.get(parts[i].material, p.level, textureFactor))
                 images[i] = atlasTexture(*scaled, parts[i].mesh);
         emit(packNode(parts, images, pieceBounds(p.piece.mesh), p.parentLocal, p.level, blockIndex, error, options));
         if (stats.nodesPerLevel.size() <= p.level) stats.nodesPerLevel.resize(p.level + 1);
@@ -83,8 +90,8 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         const uint32_t self = static_cast<uint32_t>(parentOf.size());
         parentOf.push_back(p.parentLocal);
         stats.geometricErrors.push_back(static_cast<float>(error));
-        if (p.factor <= 1) continue;
-        for (Piece& child : dividePiece(p.piece, levelFactor))  // §3.2: simplification_hlod(i+1)
+        if (leaf) continue;
+        for (Piece& child : dividePiece(p.piece, levelFactor, options.planes))  // §3.2: simplification_hlod(i+1)
             queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});
     }
     // A node's error bounds its whole subtree's: a child's measure can exceed its parent's.

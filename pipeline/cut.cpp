@@ -13,6 +13,10 @@
 // and leaving all the new vertices locked on the border. Each plane minimises
 // 3 x crossing triangles + |triangles below - k/c x triangles| over 63 positions evenly spread
 // across the extent and the quantile itself.
+// Planes::Even (`hlod build --planes even`) reads §3.2 literally instead: the planes "run from
+// one end of the bounding box to the other end", evenly spaced along the longest side, so a
+// piece of uneven density gives unequal or empty pieces; empty pieces are dropped (a node may
+// then have fewer than c_levelFactor children; pipeline/TREE.md).
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
@@ -173,15 +177,24 @@ std::vector<float> divisionPlanes(const MeshData& m, int axis, uint32_t count) {
     return planes;
 }
 
+std::vector<float> evenPlanes(float lo, float hi, uint32_t count) {
+    std::vector<float> planes;
+    for (uint32_t k = 1; k < count; ++k) planes.push_back(lo + (hi - lo) * static_cast<float>(k) / static_cast<float>(count));
+    return planes;
+}
+
 }  // namespace
 
-std::vector<Piece> dividePiece(const Piece& piece, uint32_t count) {
+std::vector<Piece> dividePiece(const Piece& piece, uint32_t count, Planes placement) {
     const Box3f b = pieceBounds(piece.mesh);
-    const float extent[3] = {b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z};
+    const float lo[3] = {b.min.x, b.min.y, b.min.z}, hi[3] = {b.max.x, b.max.y, b.max.z};
+    const float extent[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
     const int axis = static_cast<int>(std::max_element(extent, extent + 3) - extent);
+    const std::vector<float> planes = placement == Planes::Even ? evenPlanes(lo[axis], hi[axis], count)
+                                                                : divisionPlanes(piece.mesh, axis, count);
     std::vector<Piece> pieces;
     Piece rest = piece;
-    for (float plane : divisionPlanes(piece.mesh, axis, count)) {
+    for (float plane : planes) {
         CutResult cut = cutPiece(rest, axis, plane);
         if (cut.below.mesh.triangleCount() > 0) pieces.push_back(std::move(cut.below));
         rest = std::move(cut.above);

@@ -12,6 +12,7 @@
 #include "formats/constants.h"
 #include "formats/db.h"
 #include "pipeline/spill_array.h"
+#include "pipeline/tree_rules.h"
 
 #include <condition_variable>
 #include <cstdint>
@@ -116,9 +117,10 @@ struct CutResult {
 };
 CutResult cutPiece(const Piece& piece, int axis, float position);
 // §3.2 division into `count` pieces by count-1 planes perpendicular to the longest bounding-box
-// dimension; each plane minimises 3 x crossing triangles + the triangle-count imbalance over 64
-// candidate positions through existing vertices (cut.cpp says why).
-std::vector<Piece> dividePiece(const Piece& piece, uint32_t count);
+// dimension. Planes::Balanced: each plane minimises 3 x crossing triangles + the triangle-count
+// imbalance over 64 candidate positions through existing vertices (cut.cpp says why);
+// Planes::Even: evenly spaced over the bounding box. Empty pieces are dropped.
+std::vector<Piece> dividePiece(const Piece& piece, uint32_t count, Planes planes = Planes::Balanced);
 Box3f pieceBounds(const MeshData& mesh);
 
 // split_blocks.cpp: a grid over the two longest (horizontal) axes of the input bounds.
@@ -156,7 +158,8 @@ Piece loadPiece(const std::string& file);
 
 // simplify.cpp. Simplifies each material's triangles to about triangleCount / factor with
 // quadric error metrics, keeping locked the vertices neighbours share: open-border vertices on
-// the piece's bounding-box faces (the cut planes) and material-seam vertices.
+// the piece's bounding-box faces (the cut planes) and material-seam vertices. When the result
+// exceeds kTargetSlack x the target, closable scan holes are filled and it is simplified again.
 enum class Simplifier { Meshopt, OpenMesh };
 struct SubMesh {
     uint32_t material = 0;
@@ -167,6 +170,12 @@ std::vector<uint8_t> sharedVertices(const Piece& piece);  // per vertex: must st
 std::vector<SubMesh> splitByMaterial(const Piece& piece);
 // `locked` per vertex of `mesh`; when empty, sharedVertices of the mesh alone.
 MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier, const std::vector<uint8_t>& locked = {});
+
+// fill_holes.cpp: triangles (indices into `mesh`'s vertices) closing the scan holes of the
+// triangles `indices`: border loops (on positions) through one UV chart with no `locked` vertex,
+// other than the outline of their connected surface, of at most 64 vertices; no vertex is added.
+std::vector<uint32_t> holePatches(const MeshData& mesh, const std::vector<uint32_t>& indices,
+                                  const std::vector<uint8_t>& locked);
 
 // error.cpp: largest distance from points sampled on `simplified` (edge midpoints and
 // centroids) to the surface of `original` (CGAL AABB tree). 0 when either is empty.
@@ -183,6 +192,8 @@ Image atlasTexture(const Image& scaled, MeshData& mesh);
 struct BuildOptions {
     Constants constants;
     Simplifier simplifier = Simplifier::Meshopt;
+    LeafRule leafRule = LeafRule::BelowOne;  // tree_rules.h, pipeline/TREE.md
+    Planes planes = Planes::Balanced;
     DracoOptions draco;
     int jpegQuality = 85;
     uint64_t blockTriangles = 0;   // target triangles per block of a single-mesh input; 0 = auto (671,088)

@@ -8,6 +8,10 @@
 // reaching its target. Both simplifiers only collapse edges onto existing vertices, so texture
 // coordinates stay exact. meshoptimizer (default, ~1.4 M tri/s) or OpenMesh's Decimater with
 // ModQuadric (~50 k tri/s, selectable with --simplifier openmesh).
+// Neither closes a hole, so a mesh with many scan holes stops far above its target. Fallback:
+// when the result exceeds kTargetSlack x the target, the closable holes of the result (no locked
+// vertex, not a surface's outline: fill_holes.cpp) are triangulated and the result simplified
+// again, up to kFillRounds times. Locked vertices never move, so borders stay crack-free.
 #include "pipeline/pipeline.h"
 
 #include <meshoptimizer.h>
@@ -21,6 +25,8 @@
 
 namespace hlod {
 namespace {
+
+constexpr int kFillRounds = 16;  // hole filling + simplification rounds of the fallback
 
 // Keeps only the vertices `indices` use, in first-use order; `kept` (optional) receives, per
 // new vertex, its index in `mesh`.
@@ -48,12 +54,13 @@ MeshData compact(const MeshData& mesh, const std::vector<uint32_t>& indices, std
 // position with an unreferenced twin is classified Kind_Locked by its simplifier (a two-way
 // wedge whose twin has no open edge is not a seam), so it is never collapsed; the twins are
 // appended after the real vertices and never appear in the result.
-std::vector<uint32_t> simplifyMeshopt(const MeshData& mesh, size_t targetTriangles, const std::vector<uint8_t>& locked) {
+std::vector<uint32_t> simplifyMeshopt(const MeshData& mesh, const std::vector<uint32_t>& indices, size_t targetTriangles,
+                                      const std::vector<uint8_t>& locked) {
     std::vector<float> positions = mesh.positions;
     for (size_t i = 0; i < locked.size(); ++i)
         if (locked[i]) positions.insert(positions.end(), mesh.positions.begin() + 3 * i, mesh.positions.begin() + 3 * i + 3);
-    std::vector<uint32_t> out(mesh.indices.size());
-    const size_t n = meshopt_simplify(out.data(), mesh.indices.data(), mesh.indices.size(), positions.data(),
+    std::vector<uint32_t> out(indices.size());
+    const size_t n = meshopt_simplify(out.data(), indices.data(), indices.size(), positions.data(),
                                       positions.size() / 3, 3 * sizeof(float), targetTriangles * 3, FLT_MAX, 0, nullptr);
     out.resize(n);
     return out;
@@ -61,15 +68,16 @@ std::vector<uint32_t> simplifyMeshopt(const MeshData& mesh, size_t targetTriangl
 
 using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 
-std::vector<uint32_t> simplifyOpenMesh(const MeshData& mesh, size_t targetTriangles, const std::vector<uint8_t>& locked) {
+std::vector<uint32_t> simplifyOpenMesh(const MeshData& mesh, const std::vector<uint32_t>& indices, size_t targetTriangles,
+                                       const std::vector<uint8_t>& locked) {
     OMesh om;
     om.request_vertex_status(), om.request_edge_status(), om.request_face_status();
     std::vector<OMesh::VertexHandle> handles(mesh.vertexCount());
     for (size_t i = 0; i < handles.size(); ++i)
         handles[i] = om.add_vertex({mesh.positions[3 * i], mesh.positions[3 * i + 1], mesh.positions[3 * i + 2]});
     std::vector<uint32_t> out;  // faces OpenMesh refuses (non-manifold) are kept unsimplified
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        const uint32_t* tri = &mesh.indices[3 * t];
+    for (size_t t = 0; t < indices.size() / 3; ++t) {
+        const uint32_t* tri = &indices[3 * t];
         if (!om.add_face(handles[tri[0]], handles[tri[1]], handles[tri[2]]).is_valid())
             out.insert(out.end(), tri, tri + 3);
     }
@@ -144,7 +152,18 @@ MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier
     if (factor <= 1 || mesh.triangleCount() < 2) return mesh;
     const std::vector<uint8_t> lock = locked.size() == mesh.vertexCount() ? locked : sharedVertices({mesh, std::vector<uint32_t>(mesh.triangleCount())});
     const size_t target = std::max<size_t>(1, static_cast<size_t>(std::llround(mesh.triangleCount() / factor)));
-    return compact(mesh, simplifier == Simplifier::Meshopt ? simplifyMeshopt(mesh, target, lock) : simplifyOpenMesh(mesh, target, lock));
+    auto simplify = [&](const std::vector<uint32_t>& indices) {
+        return simplifier == Simplifier::Meshopt ? simplifyMeshopt(mesh, indices, target, lock)
+                                                 : simplifyOpenMesh(mesh, indices, target, lock);
+    };
+    std::vector<uint32_t> result = simplify(mesh.indices);
+    for (int round = 0; round < kFillRounds && double(result.size() / 3) > kTargetSlack * double(target); ++round) {
+        const std::vector<uint32_t> patches = holePatches(mesh, result, lock);
+        if (patches.empty()) break;
+        result.insert(result.end(), patches.begin(), patches.end());
+        result = simplify(result);
+    }
+    return compact(mesh, result);
 }
 
 }  // namespace hlod

@@ -23,6 +23,8 @@ struct BuildArgs {
     ConstantOptions constants{"build", kUsedByBuild};
     std::string calibration;
     std::string simplifier = "meshopt";
+    std::string leafRule = "below-one";
+    std::string planes = "balanced";
     std::string blocks;  // "A:B" shard selection
 };
 
@@ -77,6 +79,8 @@ int runBuildCommand(BuildArgs& a) {
     applyConstantOptions(a.constants, o.constants, std::cout);
     if (!a.calibration.empty()) o.constants.textured = readCalibration(a.calibration).cTextured;
     o.simplifier = a.simplifier == "openmesh" ? Simplifier::OpenMesh : Simplifier::Meshopt;
+    o.leafRule = a.leafRule == "stop-before" ? LeafRule::StopBefore : LeafRule::BelowOne;
+    o.planes = a.planes == "even" ? Planes::Even : Planes::Balanced;
     if (!a.blocks.empty()) parseBlockRange(a.blocks, a.request);
     printConstants(std::cout, o.constants, kUsedByBuild);
     std::cout << std::flush;
@@ -109,6 +113,14 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_option("-j,--jobs", o.jobs, "blocks built in parallel (default: all cores)");
     sub->add_option("--simplifier", a->simplifier, "meshopt (fast, default) or openmesh (Decimater, ModQuadric)")
         ->check(CLI::IsMember({"meshopt", "openmesh"}));
+    sub->add_option("--leaf-rule", a->leafRule,
+                    "below-one (default: divide until the factor is below 1) or stop-before (stop before a level "
+                    "whose factor would be below 1); pipeline/TREE.md")
+        ->check(CLI::IsMember({"below-one", "stop-before"}));
+    sub->add_option("--planes", a->planes,
+                    "balanced (default: triangle-count quantiles avoiding dense surfaces) or even (evenly spaced, "
+                    "empty pieces dropped)")
+        ->check(CLI::IsMember({"balanced", "even"}));
     sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088, whatever the memory limit)");
     sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)");
     sub->add_option("--memory-limit", o.memoryLimit, "working-set bound, e.g. 512M, 2G (default 1G)")

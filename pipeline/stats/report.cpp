@@ -3,6 +3,8 @@
 // city) and the same facts as JSON (--json).
 #include "pipeline/stats/stats.h"
 
+#include "formats/constants.h"
+
 #include <cstdio>
 #include <ostream>
 #include <string>
@@ -39,6 +41,32 @@ uint64_t levelTriangles(const LevelSummary& L) { return L.texturedTriangles + L.
 
 const LevelSummary* hlod0(const Stats& s) { return s.summary.levels.empty() ? nullptr : &s.summary.levels[0]; }
 
+// The two readings of §3.2 beside the thesis's 114 / 2,296 / 5 (pipeline/TREE.md).
+void printArithmetic(std::ostream& os, const Stats& s) {
+    const ThesisFigures t;
+    const TreeArithmetic a = thesisArithmetic(Constants{});
+    const uint64_t k = static_cast<uint64_t>(a.levelFactor);
+    os << fmt("thesis §3.2 tree arithmetic (Table 6.1: c_desiredTris %.0f, c_levelFactor %llu; pipeline/TREE.md):\n",
+              a.desiredTris, (unsigned long long)k);
+    os << fmt("  mean block %s / %llu = %.0f triangles, hlod0 factor %.1f\n", count(t.triangles).c_str(),
+              (unsigned long long)t.hlod0Nodes, a.meanBlockTriangles, a.hlod0Factor);
+    for (const auto& [name, shape] : {std::pair{"below-one  (divide while the factor is > 1)", a.belowOne},
+                                      std::pair{"stop-before (no level whose factor is < 1)", a.stopBefore}})
+        os << fmt("  %-44s depth %u, %llu nodes per block, x %llu = %llu nodes\n", name, shape.levels,
+                  (unsigned long long)shape.nodes, (unsigned long long)t.hlod0Nodes,
+                  (unsigned long long)(shape.nodes * t.hlod0Nodes));
+    os << fmt("  thesis: %llu nodes, depth %u (%.1f nodes per block); %llu x %.0f = %s triangles, not %s\n",
+              (unsigned long long)t.nodes, t.depth, double(t.nodes) / double(t.hlod0Nodes), (unsigned long long)t.nodes,
+              a.desiredTris, count(uint64_t(double(t.nodes) * a.desiredTris)).c_str(), count(t.triangles).c_str());
+    os << fmt("  a full %llu-ary tree has 1 + %llu m nodes, so %llu of them have %llu (mod %llu) in all; the thesis's %llu "
+              "is %llu (mod %llu)%s\n", (unsigned long long)k, (unsigned long long)k, (unsigned long long)t.hlod0Nodes,
+              (unsigned long long)(t.hlod0Nodes % k), (unsigned long long)k, (unsigned long long)t.nodes,
+              (unsigned long long)(t.nodes % k), (unsigned long long)k,
+              t.hlod0Nodes % k != t.nodes % k ? ": some divisions gave fewer pieces (even planes leave empty ones)" : "");
+    os << fmt("  ours (--leaf-rule %s --planes %s): %llu nodes, depth %u\n", s.leafRule.empty() ? "below-one" : s.leafRule.c_str(),
+              s.planes.empty() ? "balanced" : s.planes.c_str(), (unsigned long long)s.summary.nodes, s.summary.depth);
+}
+
 }  // namespace
 
 nlohmann::json toJson(const Stats& s) {
@@ -53,6 +81,14 @@ nlohmann::json toJson(const Stats& s) {
                           {"geometry_bytes", L.geometryBytes},
                           {"texture_bytes", L.textureBytes},
                           {"mean_triangles_per_node", L.nodes ? double(levelTriangles(L)) / double(L.nodes) : 0.0}});
+        const LevelCheck& c = s.checks.at(L.level);
+        levels.back().update({{"max_triangles_per_node", c.maxTriangles},
+                              {"simplified_nodes", c.simplifiedNodes},
+                              {"nodes_missing_target", c.missing},
+                              {"misses_target", c.missing > 0},
+                              {"worst_target_ratio", c.worstRatio},
+                              {"geometric_error_mean", c.meanError},
+                              {"geometric_error_max", c.maxError}});
     }
     const LevelSummary* h0 = hlod0(s);
     nlohmann::json j = {
@@ -75,6 +111,12 @@ nlohmann::json toJson(const Stats& s) {
           {"decoded_texture_bytes", h0 ? h0->texels * 3 : 0}}},
         {"mean_triangles_per_node", meanTriangles(s)},
         {"c_desiredTris", s.desiredTris},
+        {"c_levelFactor", s.levelFactor},
+        {"target_slack", kTargetSlack},
+        {"hlod0_triangles_per_node", {{"mean", h0 && h0->nodes ? double(levelTriangles(*h0)) / double(h0->nodes) : 0.0},
+                                      {"max", s.checks.empty() ? 0 : s.checks[0].maxTriangles}}},
+        {"leaf_rule", s.leafRule},
+        {"planes", s.planes},
     };
     if (s.build) {
         nlohmann::json stages = nlohmann::json::array();
@@ -92,6 +134,17 @@ nlohmann::json toJson(const Stats& s) {
         j["thesis"] = {{"hlod0_nodes", t.hlod0Nodes}, {"nodes", t.nodes}, {"max_depth", t.depth},
                        {"triangles", t.triangles}, {"texels", t.texels},
                        {"uncompressed_texture_mib", t.uncompressedTextureMiB}};
+        const TreeArithmetic a = thesisArithmetic(Constants{});
+        const uint64_t k = static_cast<uint64_t>(a.levelFactor);
+        j["thesis"]["arithmetic"] = {
+            {"c_desiredTris", a.desiredTris}, {"c_levelFactor", a.levelFactor},
+            {"mean_block_triangles", a.meanBlockTriangles}, {"hlod0_factor", a.hlod0Factor},
+            {"below_one", {{"levels", a.belowOne.levels}, {"nodes_per_block", a.belowOne.nodes},
+                           {"nodes", a.belowOne.nodes * t.hlod0Nodes}}},
+            {"stop_before", {{"levels", a.stopBefore.levels}, {"nodes_per_block", a.stopBefore.nodes},
+                             {"nodes", a.stopBefore.nodes * t.hlod0Nodes}}},
+            {"full_forest_nodes_mod_c_levelFactor", t.hlod0Nodes % k},
+            {"thesis_nodes_mod_c_levelFactor", t.nodes % k}};
     }
     return j;
 }
@@ -108,13 +161,27 @@ void printStats(std::ostream& os, const Stats& s) {
     os << fmt("%-34s %s in %llu leaves\n", "finest texels", count(s.leafTexels).c_str(), (unsigned long long)s.leafNodes);
     os << fmt("%-34s %.0f (c_desiredTris = %.0f, ratio %.2f)\n", "mean triangles per node", meanTriangles(s),
               s.desiredTris, s.desiredTris > 0 ? meanTriangles(s) / s.desiredTris : 0.0);
-    os << fmt("%5s %7s %12s %12s %14s %14s %10s\n", "level", "nodes", "triangles", "texels", "geometry", "textures",
-              "tris/node");
-    for (const LevelSummary& L : s.summary.levels) {
-        os << fmt("%5u %7llu %12llu %12llu %14s %14s %10.0f\n", L.level, (unsigned long long)L.nodes,
-                  (unsigned long long)levelTriangles(L), (unsigned long long)L.texels, mib(L.geometryBytes).c_str(),
-                  mib(L.textureBytes).c_str(), L.nodes ? double(levelTriangles(L)) / double(L.nodes) : 0.0);
+    if (h0 && !s.checks.empty()) {
+        const uint64_t most = s.checks[0].maxTriangles, limit = uint64_t(kTargetSlack * s.desiredTris);
+        os << fmt("%-34s mean %.0f, max %llu (target c_desiredTris, at most %.2f x = %llu): %s\n", "hlod0 triangles per node",
+                  h0->nodes ? double(levelTriangles(*h0)) / double(h0->nodes) : 0.0, (unsigned long long)most,
+                  kTargetSlack, (unsigned long long)limit, s.checks[0].missing ? "MISSED" : "ok");
     }
+    if (!s.leafRule.empty()) os << fmt("%-34s --leaf-rule %s --planes %s\n", "tree", s.leafRule.c_str(), s.planes.c_str());
+    os << fmt("%5s %7s %12s %12s %14s %14s %9s %9s %8s %9s %9s\n", "level", "nodes", "triangles", "texels", "geometry",
+              "textures", "tris/node", "max/node", "missed", "err mean", "err max");
+    for (const LevelSummary& L : s.summary.levels) {
+        const LevelCheck& c = s.checks.at(L.level);
+        os << fmt("%5u %7llu %12llu %12llu %14s %14s %9.0f %9llu %8llu %9.3f %9.3f\n", L.level, (unsigned long long)L.nodes,
+                  (unsigned long long)levelTriangles(L), (unsigned long long)L.texels, mib(L.geometryBytes).c_str(),
+                  mib(L.textureBytes).c_str(), L.nodes ? double(levelTriangles(L)) / double(L.nodes) : 0.0,
+                  (unsigned long long)c.maxTriangles, (unsigned long long)c.missing, c.meanError, c.maxError);
+    }
+    for (size_t l = 0; l < s.checks.size(); ++l)
+        if (s.checks[l].missing)
+            os << fmt("level %zu MISSES its target: %llu of %llu simplified nodes above %.2f x numTriangles / factor "
+                      "(worst %.2f x)\n", l, (unsigned long long)s.checks[l].missing,
+                      (unsigned long long)s.checks[l].simplifiedNodes, kTargetSlack, s.checks[l].worstRatio);
     if (h0)
         os << "hlod0 resident set (always in memory): " << h0->nodes << " nodes, " << levelTriangles(*h0)
            << " triangles, " << h0->texels << " texels, " << mib(h0->geometryBytes + h0->textureBytes)
@@ -144,6 +211,7 @@ void printStats(std::ostream& os, const Stats& s) {
     os << fmt("%-22s %14s %14s\n", "texels", count(t.texels).c_str(), count(texels).c_str());
     os << fmt("%-22s %14llu %14.0f\n", "uncompressed MiB", (unsigned long long)t.uncompressedTextureMiB,
               double(texels) * 3 / 1048576.0);
+    printArithmetic(os, s);
 }
 
 }  // namespace hlod::stats

@@ -1,15 +1,74 @@
 // The preprocessing statistics of thesis §3.2 from a database: the per-level summary of
 // formats/inspect.h (so stats and inspect always agree), plus the leaves (the finest detail,
 // which is the input model), the triangles over all nodes for the mean per node against
-// c_desiredTris, and the build sidecar and city manifest when they exist.
+// c_desiredTris, each level against its targets (LevelCheck), and the build sidecar and city
+// manifest when they exist.
 #include "pipeline/stats/stats.h"
 
 #include "formats/constants.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
 namespace hlod::stats {
+namespace {
+
+double constantMeta(const Database& db, const char* name) {
+    Constants c;
+    if (const std::string* v = db.skeleton().findMeta(name)) {
+        try {
+            setConstant(c, name, *v);
+        } catch (const std::invalid_argument& e) {
+            throw std::runtime_error(db.path() + ": metadata " + e.what());
+        }
+    }
+    return std::string(name) == "c_desiredTris" ? c.desiredTris : c.levelFactor;
+}
+
+std::vector<LevelCheck> checkLevels(const Skeleton& sk, double desiredTris, double levelFactor, size_t levels) {
+    std::vector<uint32_t> order = sk.roots();  // breadth-first: parents before children
+    for (size_t i = 0; i < order.size(); ++i)
+        for (uint32_t c : sk.children(order[i])) order.push_back(c);
+    std::vector<double> leaves(sk.nodes.size()), rootLeaves(sk.nodes.size());
+    for (size_t i = order.size(); i-- > 0;) {
+        const Node& n = sk.nodes[order[i]];
+        if (n.firstChild == kNone) leaves[n.id] = n.triangles();
+        if (n.parent != kNone) leaves[n.parent] += leaves[n.id];
+    }
+    std::vector<LevelCheck> checks(levels);
+    std::vector<uint64_t> nodes(levels);
+    for (uint32_t id : order) {
+        const Node& n = sk.nodes[id];
+        rootLeaves[id] = n.parent == kNone ? leaves[id] : rootLeaves[n.parent];
+        LevelCheck& L = checks.at(n.level);
+        ++nodes[n.level];
+        L.maxTriangles = std::max<uint64_t>(L.maxTriangles, n.triangles());
+        L.meanError += n.geometricError, L.maxError = std::max(L.maxError, double(n.geometricError));
+        if (n.firstChild == kNone || rootLeaves[id] <= 0) continue;
+        const double target = desiredTris * std::pow(levelFactor, n.level) * leaves[id] / rootLeaves[id];
+        const double ratio = n.triangles() / target;
+        ++L.simplifiedNodes;
+        L.worstRatio = std::max(L.worstRatio, ratio);
+        if (ratio > kTargetSlack) ++L.missing;
+    }
+    for (size_t l = 0; l < levels; ++l) checks[l].meanError /= std::max<uint64_t>(1, nodes[l]);
+    return checks;
+}
+
+}  // namespace
+
+TreeArithmetic thesisArithmetic(const Constants& c) {
+    const ThesisFigures t;
+    TreeArithmetic a;
+    a.desiredTris = c.desiredTris, a.levelFactor = c.levelFactor;
+    a.meanBlockTriangles = double(t.triangles) / double(t.hlod0Nodes);
+    a.hlod0Factor = a.meanBlockTriangles / c.desiredTris;
+    a.belowOne = fullTree(a.meanBlockTriangles, c.desiredTris, c.levelFactor, LeafRule::BelowOne);
+    a.stopBefore = fullTree(a.meanBlockTriangles, c.desiredTris, c.levelFactor, LeafRule::StopBefore);
+    return a;
+}
 
 Stats computeStats(const Database& db, bool forceThesis) {
     Stats s;
@@ -22,16 +81,11 @@ Stats computeStats(const Database& db, bool forceThesis) {
         s.leafTriangles += n.triangles();
         s.leafTexels += n.texelCount;
     }
-    s.desiredTris = Constants{}.desiredTris;
-    if (const std::string* v = sk.findMeta("c_desiredTris")) {
-        Constants c;
-        try {
-            setConstant(c, "c_desiredTris", *v);
-        } catch (const std::invalid_argument& e) {
-            throw std::runtime_error(db.path() + ": metadata " + e.what());
-        }
-        s.desiredTris = c.desiredTris;
-    }
+    s.desiredTris = constantMeta(db, "c_desiredTris");
+    s.levelFactor = constantMeta(db, "c_levelFactor");
+    s.checks = checkLevels(sk, s.desiredTris, s.levelFactor, s.summary.levels.size());
+    if (const std::string* v = sk.findMeta("tree.leafRule")) s.leafRule = *v;
+    if (const std::string* v = sk.findMeta("tree.planes")) s.planes = *v;
     s.build = readBuildReport(buildReportPath(db.path()));
     s.city = findCityManifest(db.path(), sk);
     s.thesis = forceThesis || isThesisScale(s.city);

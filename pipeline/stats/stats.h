@@ -7,7 +7,9 @@
 #pragma once
 
 #include "formats/build_report.h"
+#include "formats/constants.h"
 #include "formats/inspect.h"
+#include "pipeline/tree_rules.h"
 
 #include <nlohmann/json.hpp>
 
@@ -44,8 +46,32 @@ std::optional<CityManifest> findCityManifest(const std::string& dbPath, const Sk
 // so), or when forced.
 bool isThesisScale(const std::optional<CityManifest>& manifest);
 
+// One level against its targets. A simplified node's target is numTriangles / factor (§3.2) with
+// numTriangles its subtree's leaf triangles (the originals plus the cuts' extra triangles, the
+// closest the database comes to the piece's input): c_desiredTris x c_levelFactor^level x
+// subtree leaves / block leaves. Leaves keep the originals and have no target.
+struct LevelCheck {
+    uint64_t maxTriangles = 0;     // largest node of the level
+    uint64_t simplifiedNodes = 0;  // nodes with children
+    uint64_t missing = 0;          // simplified nodes above kTargetSlack x their target
+    double worstRatio = 0;         // largest triangles / target of a simplified node
+    double meanError = 0, maxError = 0;  // stored geometric error (bounds the subtree's), all nodes
+};
+
+// The §3.2 tree arithmetic under both leaf rules for the thesis's mean block (8.95 M / 114
+// triangles) with constants `c` (Table 6.1's are Constants{}); pipeline/TREE.md.
+struct TreeArithmetic {
+    double desiredTris = 0, levelFactor = 0;
+    double meanBlockTriangles = 0, hlod0Factor = 0;
+    TreeShape belowOne, stopBefore;  // per block
+};
+TreeArithmetic thesisArithmetic(const Constants& c);
+
 struct Stats {
     DatabaseSummary summary;
+    std::vector<LevelCheck> checks;  // per level
+    double levelFactor = 0;          // c_levelFactor of the build
+    std::string leafRule, planes;    // tree.leafRule / tree.planes metadata ("" before they existed)
     uint64_t leafNodes = 0, leafTriangles = 0, leafTexels = 0;  // finest detail = the input
     uint64_t totalTriangles = 0;                                // over all nodes
     double desiredTris = 0;                                     // c_desiredTris of the build

@@ -3,6 +3,8 @@
 // the thesis's figures (synthetic city manifest at scale 1), and bad input on the command line.
 #include "pipeline/stats/stats.h"
 
+#include "formats/codec.h"
+
 #include "tests/support/run_hlod.h"
 #include "tests/support/synthetic.h"
 
@@ -160,4 +162,82 @@ TEST(Stats, ThesisFiguresOnlyForTheScaleOneCity) {
     sk.meta = {{"input", "elsewhere"}};
     EXPECT_FALSE(stats::findCityManifest(db, sk).has_value());
     fs::remove_all(dir);
+}
+
+namespace {
+
+// A strip of `triangles` triangles over [x, x + 1] x [0, 1].
+MeshData strip(uint32_t triangles, float x) {
+    MeshData m;
+    const uint32_t columns = triangles / 2 + 1;
+    for (uint32_t i = 0; i <= columns; ++i)
+        for (float y : {0.0f, 1.0f}) m.positions.insert(m.positions.end(), {x + float(i) / columns, y, 0.0f});
+    for (uint32_t t = 0; t < triangles; ++t)
+        m.indices.insert(m.indices.end(), {t, t % 2 ? t + 2 : t + 1, t % 2 ? t + 1 : t + 2});
+    return m;
+}
+
+// One block per entry of `hlod0`: an hlod0 node of that many triangles over four 600-triangle leaves.
+void writeTree(const std::string& path, const std::vector<uint32_t>& hlod0) {
+    Constants c;  // c_desiredTris 900
+    Writer w(path, c.textured);
+    for (const auto& [name, value] : constantsAsPairs(c)) w.setMeta(name, value);
+    for (uint32_t b = 0; b < hlod0.size(); ++b) {
+        auto node = [&](uint32_t parent, uint32_t level, uint32_t triangles, float x) {
+            NodeInput in;
+            in.parent = parent, in.level = level, in.block = b;
+            in.bounds = {{x, 0, 0}, {x + 1, 1, 0}};
+            in.staticBenefit = 1, in.geometricError = level == 0 ? 0.5f : 0.0f;
+            in.blobs.push_back(encodeGeometry(strip(triangles, x), DracoOptions{}));
+            return w.addNode(std::move(in));
+        };
+        const uint32_t root = node(kNone, 0, hlod0[b], 4.0f * b);
+        for (uint32_t k = 0; k < 4; ++k) node(root, 1, 600, 4.0f * b + k / 4.0f);
+    }
+    w.finish();
+}
+
+}  // namespace
+
+// hlod0's target is c_desiredTris (900): 1,100 triangles are within 1.25 x, 2,000 are not, and
+// the level is flagged in the text and the JSON; leaves keep originals and have no target.
+TEST(Stats, FlagsALevelThatMissesItsTarget) {
+    const fs::path dir = fs::temp_directory_path() / ("hlod_test_stats_miss_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string ok = (dir / "ok.hlod").string(), missed = (dir / "missed.hlod").string();
+    writeTree(ok, {1000, 1100});
+    writeTree(missed, {1000, 2000});
+    stats::Stats s = stats::computeStats(Database::open(ok), false);
+    ASSERT_EQ(s.checks.size(), 2u);
+    EXPECT_EQ(s.checks[0].maxTriangles, 1100u);
+    EXPECT_EQ(s.checks[0].missing, 0u);
+    EXPECT_EQ(s.checks[1].simplifiedNodes, 0u);
+    EXPECT_DOUBLE_EQ(s.checks[0].maxError, 0.5);
+    s = stats::computeStats(Database::open(missed), false);
+    EXPECT_EQ(s.checks[0].missing, 1u);
+    EXPECT_NEAR(s.checks[0].worstRatio, 2000.0 / 900, 1e-9);
+    RunResult text = runHlod({"stats", missed});
+    EXPECT_NE(text.out.find("mean 1500, max 2000"), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("level 0 MISSES its target: 1 of 2"), std::string::npos) << text.out;
+    EXPECT_EQ(runHlod({"stats", ok}).out.find("MISS"), std::string::npos);
+    const nlohmann::json j = nlohmann::json::parse(runHlod({"stats", missed, "--json"}).out);
+    EXPECT_TRUE(j["levels"][0]["misses_target"].get<bool>());
+    EXPECT_FALSE(j["levels"][1]["misses_target"].get<bool>());
+    EXPECT_EQ(j["hlod0_triangles_per_node"]["max"].get<uint64_t>(), 2000u);
+    fs::remove_all(dir);
+}
+
+// `hlod stats --thesis`: both readings of §3.2 beside 114 / 2,296 / 5 (pipeline/TREE.md).
+TEST(Stats, ThesisArithmeticOfBothLeafRules) {
+    const stats::TreeArithmetic a = stats::thesisArithmetic(Constants{});  // Table 6.1: 900, 4
+    EXPECT_NEAR(a.meanBlockTriangles, 8'950'000.0 / 114, 1e-6);
+    EXPECT_EQ(a.belowOne.levels, 5u);
+    EXPECT_EQ(a.belowOne.nodes, 341u);
+    EXPECT_EQ(a.stopBefore.levels, 4u);
+    EXPECT_EQ(a.stopBefore.nodes, 85u);
+    Fixture f("arithmetic");
+    RunResult r = runHlod({"stats", f.db.string(), "--thesis"});
+    EXPECT_NE(r.out.find("341 nodes per block, x 114 = 38874 nodes"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("85 nodes per block, x 114 = 9690 nodes"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("so 114 of them have 2 (mod 4) in all; the thesis's 2296 is 0 (mod 4)"), std::string::npos) << r.out;
 }

@@ -6,6 +6,7 @@
 #include "formats/validate.h"
 
 #include <atomic>
+#include <numeric>
 #include <chrono>
 #include <thread>
 
@@ -272,6 +273,43 @@ TEST(Build, OpenMeshSimplifierAlsoValidates) {
     expectValid(dir.file("s.hlod"));
     const Database db = Database::open(dir.file("s.hlod"));
     EXPECT_EQ(*db.skeleton().findMeta("simplifier"), "openmesh");
+}
+
+// The two leaf rules of §3.2 (pipeline/TREE.md) on one 8,192-triangle block, c_desiredTris 100:
+// factors 81.9, 20.5, 5.1, 1.3, 0.32. below-one divides the 1.3 level (5 levels, 341 nodes),
+// stop-before makes it the leaves (4 levels, 85 nodes): what fullTree predicts.
+TEST(Build, LeafRulesGiveTheNodeCountsTheArithmeticPredicts) {
+    const Piece block = terrain(64);
+    for (LeafRule rule : {LeafRule::BelowOne, LeafRule::StopBefore}) {
+        BuildOptions o;
+        o.constants.desiredTris = 100;
+        o.leafRule = rule;
+        const BlockStats stats = buildBlock(block, {}, 0, o, nullptr, [&](NodeRecord&&) {});
+        const TreeShape expected = fullTree(double(block.mesh.triangleCount()), 100, 4, rule);
+        EXPECT_EQ(stats.nodesPerLevel.size(), expected.levels) << leafRuleName(rule);
+        EXPECT_EQ(std::accumulate(stats.nodesPerLevel.begin(), stats.nodesPerLevel.end(), uint64_t(0)), expected.nodes)
+            << leafRuleName(rule);
+    }
+    EXPECT_EQ(fullTree(8192, 100, 4, LeafRule::BelowOne).nodes, 341u);
+    EXPECT_EQ(fullTree(8192, 100, 4, LeafRule::StopBefore).nodes, 85u);
+}
+
+TEST(Build, TreeOptionsRoundTripIntoTheMetadata) {
+    TempDir dir;
+    writePly(dir.file("s.ply"), terrain(30).mesh, true);
+    BuildOptions o = smallOptions(1);
+    o.leafRule = LeafRule::StopBefore;
+    o.planes = Planes::Even;
+    build(dir.file("s.ply"), dir.file("s.hlod"), o);
+    expectValid(dir.file("s.hlod"));
+    const Database db = Database::open(dir.file("s.hlod"));
+    EXPECT_EQ(*db.skeleton().findMeta("tree.leafRule"), "stop-before");
+    EXPECT_EQ(*db.skeleton().findMeta("tree.planes"), "even");
+    EXPECT_NE(db.skeleton().findMeta("command")->find("--leaf-rule stop-before --planes even"), std::string::npos);
+    build(dir.file("s.ply"), dir.file("d.hlod"), smallOptions(1));
+    const Database defaults = Database::open(dir.file("d.hlod"));
+    EXPECT_EQ(*defaults.skeleton().findMeta("tree.leafRule"), "below-one");
+    EXPECT_EQ(*defaults.skeleton().findMeta("tree.planes"), "balanced");
 }
 
 }  // namespace

@@ -86,6 +86,29 @@ TEST(Grid, SplitTilesTheInputOverTheTwoLongestAxes) {
     EXPECT_THROW(chooseGrid(pieceBounds(p.mesh), 5000, 1, 0.01), std::invalid_argument);  // 4096 x 4096 blocks
 }
 
+// --planes even (§3.2 read literally): planes at 1/4, 2/4, 3/4 of the longest side, whatever the
+// density; a piece with nothing between two planes gets no child there.
+TEST(DividePiece, EvenPlanesAreEvenlySpacedAndEmptyPiecesAreDropped) {
+    const Piece p = terrain(30, 100);
+    const std::vector<Piece> pieces = dividePiece(p, 4, Planes::Even);
+    ASSERT_EQ(pieces.size(), 4u);
+    for (size_t k = 0; k < 4; ++k) {
+        EXPECT_EQ(pieceBounds(pieces[k].mesh).min.x, 25.0f * k);
+        EXPECT_EQ(pieceBounds(pieces[k].mesh).max.x, 25.0f * (k + 1));
+    }
+    Piece ends;  // triangles only where x < 20 or x > 80: the two middle slabs are empty
+    ends.mesh = p.mesh, ends.mesh.indices.clear();
+    for (size_t t = 0; t < p.mesh.triangleCount(); ++t) {
+        const float x = p.mesh.positions[3 * p.mesh.indices[3 * t]];
+        if (x < 19 || x > 81) {
+            ends.mesh.indices.insert(ends.mesh.indices.end(), p.mesh.indices.begin() + 3 * t, p.mesh.indices.begin() + 3 * t + 3);
+            ends.materials.push_back(0);
+        }
+    }
+    EXPECT_EQ(dividePiece(ends, 4, Planes::Even).size(), 2u);
+    EXPECT_EQ(dividePiece(ends, 4, Planes::Balanced).size(), 4u);  // balanced planes follow the triangles
+}
+
 TEST(TempBlocks, PieceRoundTripsThroughItsFileAndChunksAreWelded) {
     TempDir dir;
     const Piece p = terrain(20);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 #include <set>
 
 namespace hlod::test {
@@ -48,6 +49,62 @@ TEST_P(Simplify, ReachesTheFactorAndKeepsBorderVertices) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Both, Simplify, ::testing::Values(Simplifier::Meshopt, Simplifier::OpenMesh));
+
+// A scanned block riddled with small holes (2 x 2 quads missing every 4 quads: 784 holes, as
+// glass and occluders leave in a facade scan) whose outer edge lies on the cut planes (480
+// locked vertices). Without closing holes each keeps >= 3 border vertices: with V = B border
+// vertices and H holes a surface has F = V + 2H - 2 >= 5H + 478 = 4,398 triangles. With the
+// fallback it reaches kTargetSlack x c_desiredTris (2,000 here: the locked outline alone needs
+// 478) while every cut-plane vertex stays where it was, and every vertex keeps its exact UV.
+TEST(Simplify, HoleRiddledBlockReachesTheTargetWithItsCutPlaneBordersLocked) {
+    const uint32_t n = 120;
+    const Piece full = terrain(n);
+    Piece holed;
+    holed.mesh = full.mesh, holed.mesh.indices.clear();
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            if (i >= 4 && j >= 4 && i + 4 < n && j + 4 < n && i % 4 < 2 && j % 4 < 2) continue;  // a hole
+            const size_t t = 2 * (size_t(j) * n + i);
+            holed.mesh.indices.insert(holed.mesh.indices.end(), full.mesh.indices.begin() + 3 * t, full.mesh.indices.begin() + 3 * t + 6);
+            holed.materials.insert(holed.materials.end(), {0, 0});
+        }
+    const std::vector<SubMesh> parts = splitByMaterial(holed);
+    ASSERT_EQ(parts.size(), 1u);
+    const double desiredTris = 2000;
+    const MeshData s = simplifyMesh(parts[0].mesh, parts[0].mesh.triangleCount() / desiredTris, Simplifier::Meshopt, parts[0].locked);
+    EXPECT_LE(double(s.triangleCount()), kTargetSlack * desiredTris);
+    EXPECT_EQ(borderPositions(s, 100), borderPositions(holed.mesh, 100));
+    for (size_t i = 0; i < s.vertexCount(); ++i) {
+        ASSERT_NEAR(s.texcoords[2 * i], s.positions[3 * i] / 100.0f, 1e-6f);
+        ASSERT_NEAR(s.texcoords[2 * i + 1], s.positions[3 * i + 1] / 100.0f, 1e-6f);
+    }
+}
+
+// The patches close every hole and only holes: the holed terrain's holes filled give a surface
+// whose only open border is its outline (on the cut planes), each edge used once per direction.
+TEST(Simplify, HolePatchesCloseHolesButNotTheOutline) {
+    const uint32_t n = 24;
+    Piece p = terrain(n);
+    std::vector<uint32_t> indices;
+    for (size_t t = 0; t < p.mesh.triangleCount(); ++t)
+        if (t / 2 != 5 * n + 5 && t / 2 != 12 * n + 14 && t / 2 != 12 * n + 15)  // a 1-quad and a 2-quad hole
+            indices.insert(indices.end(), p.mesh.indices.begin() + 3 * t, p.mesh.indices.begin() + 3 * t + 3);
+    const std::vector<uint32_t> patches = holePatches(p.mesh, indices, std::vector<uint8_t>(p.mesh.vertexCount()));
+    EXPECT_EQ(patches.size(), 3u * (2 + 4));  // a 4-vertex loop needs 2 triangles, a 6-vertex loop 4
+    indices.insert(indices.end(), patches.begin(), patches.end());
+    std::map<std::pair<uint32_t, uint32_t>, int> directed;
+    for (size_t e = 0; e < indices.size(); ++e) ++directed[{indices[e], indices[e - e % 3 + (e + 1) % 3]}];
+    size_t open = 0;
+    for (const auto& [edge, uses] : directed) {
+        EXPECT_EQ(uses, 1);
+        open += !directed.count({edge.second, edge.first});
+    }
+    EXPECT_EQ(open, 4u * n);  // the outline alone
+    // A locked vertex on a loop keeps that hole open.
+    std::vector<uint8_t> locked(p.mesh.vertexCount());
+    locked[5 * (n + 1) + 5] = 1;
+    EXPECT_EQ(holePatches(p.mesh, std::vector<uint32_t>(indices.begin(), indices.end() - patches.size()), locked).size(), 3u * 4);
+}
 
 TEST(Simplify, FactorBelowOneKeepsTheOriginal) {
     const Piece p = terrain(10);
