@@ -82,9 +82,9 @@ figures() {
   rm -f "$1.actual"
 }
 
-printf '%-11s %-6s %-23s %15s %17s | %6s %5s %6s %8s %7s %9s %4s %6s\n' dataset path "rate (ms)" "hlod0 mean/p99" \
-  "full mean/p99" mean sd p99 "p99|err|" tog/frm tog/metre rev misses
-echo "dataset,path,rate_flag,rate,hlod0_mean,hlod0_p99,full_mean,full_p99,fair,mean,sd,p99,p99_rel_error,toggles_per_frame,toggles_per_metre,reversals,misses" \
+printf '%-11s %-6s %-23s %15s %17s | %6s %5s %6s %8s %7s %9s %4s %6s %6s\n' dataset path "rate (ms)" "hlod0 mean/p99" \
+  "full mean/p99" mean sd p99 "p99|err|" tog/frm tog/metre rev misses bound%
+echo "dataset,path,rate_flag,rate,hlod0_mean,hlod0_p99,full_mean,full_p99,fair,mean,sd,p99,p99_rel_error,toggles_per_frame,toggles_per_metre,reversals,misses,share_at_bound_pct" \
   > "$OUT/summary.csv"
 
 # run NAME DB PATH
@@ -108,11 +108,14 @@ run() {
   read -r h0 _ h0p _ < <(figures "$f-hlod0.csv" "$m")
   read -r fm _ fp _ < <(figures "$f-full.csv" "$m")
   read -r mean sd p99 err tpf tpm rev miss < <(figures "$f.csv" "$m")
+  local bound  # % of frames with the hlod0 share at a bound of the second loop (player/feedback.h)
+  bound=$(grep -o '"hlod0_share_at_m[axin]*_pct": [0-9.e+-]*' "$f.json" | awk '{ s += $2 } END { printf "%.1f", s }')
   local fair=no
   awk -v a="$h0p" -v b="$fm" -v t="$TARGET" 'BEGIN { exit !(a <= t && b > t) }' && fair=yes
-  printf '%-11s %-6s %-23s %7s/%-7s %8s/%-8s | %6s %5s %6s %8s %7s %9s %4s %6s%s\n' "$name" "$kind" "${flag#--model-} $r" \
-    "$h0" "$h0p" "$fm" "$fp" "$mean" "$sd" "$p99" "$err" "$tpf" "$tpm" "$rev" "$miss" "$([ $fair = yes ] || echo '  (not fair)')"
-  echo "$name,$kind,$flag,$r,$h0,$h0p,$fm,$fp,$fair,$mean,$sd,$p99,$err,$tpf,$tpm,$rev,$miss" >> "$OUT/summary.csv"
+  printf '%-11s %-6s %-23s %7s/%-7s %8s/%-8s | %6s %5s %6s %8s %7s %9s %4s %6s %6s%s\n' "$name" "$kind" \
+    "${flag#--model-} $r" "$h0" "$h0p" "$fm" "$fp" "$mean" "$sd" "$p99" "$err" "$tpf" "$tpm" "$rev" "$miss" "$bound" \
+    "$([ $fair = yes ] || echo '  (not fair)')"
+  echo "$name,$kind,$flag,$r,$h0,$h0p,$fm,$fp,$fair,$mean,$sd,$p99,$err,$tpf,$tpm,$rev,$miss,$bound" >> "$OUT/summary.csv"
 }
 
 db=$(database sample-city samples/city)
