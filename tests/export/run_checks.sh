@@ -28,19 +28,26 @@ for sample in banana city; do
     gltf-validator)
       node "$here/validate_gltf.mjs" "$work/$sample-tiles" || status=1 ;;
     browser)
-      # A still camera at the first key of the sample's walk, held long enough for the player's
-      # loader to bring in what it selects; frame 60 is compared.
-      key=$(grep -v '^#' "$src/samples/$sample/walk.path" | sed -n 2p)
-      read -r _ px py pz qx qy qz qw fov <<< "$key"
-      printf 'hlod-camera-path 1\n0 %s\n1000 %s\n' "$px $py $pz $qx $qy $qz $qw $fov" "$px $py $pz $qx $qy $qz $qw $fov" > "$work/still.path"
-      "$hlod" play "$work/$sample.hlod" --path "$work/still.path" --renderer gl --frames 61 --frames-dir "$work/$sample-frames" \
-        --every 60 --width 480 --height 360 > "$work/$sample.play.log"
-      echo "$sample:"
-      node "$here/view_cesium.mjs" --tileset "$work/$sample-tiles" --origin "$origin" \
-        --camera "$px $py $pz $qx $qy $qz $qw $fov" --reference "$work/$sample-frames/frame_000060.png" \
-        --out "$work/$sample-cesium.png" --width 480 --height 360 || status=$?
-      if [ -n "${HLOD_EXPORT_SHOTS:-}" ]; then mkdir -p "$HLOD_EXPORT_SHOTS"; cp "$work/$sample-cesium.png" "$work/$sample-frames/frame_000060.png" "$HLOD_EXPORT_SHOTS/" && mv "$HLOD_EXPORT_SHOTS/frame_000060.png" "$HLOD_EXPORT_SHOTS/$sample-play.png"; fi
-      [ $status = 77 ] && exit 77 ;;
+      # A still camera at the first key of the sample's walk (close up) and fly (whole model) paths,
+      # held long enough for the player's loader to bring in what it selects; frame 60 is compared.
+      for kind in walk fly; do
+        key=$(grep -v '^#' "$src/samples/$sample/$kind.path" | sed -n 2p)
+        read -r _ px py pz qx qy qz qw fov <<< "$key"
+        pose="$px $py $pz $qx $qy $qz $qw $fov"
+        printf 'hlod-camera-path 1\n0 %s\n1000 %s\n' "$pose" "$pose" > "$work/still.path"
+        frames=$work/$sample-$kind-frames
+        "$hlod" play "$work/$sample.hlod" --path "$work/still.path" --renderer gl --frames 61 --frames-dir "$frames" \
+          --every 60 --width 480 --height 360 > "$work/$sample.play.log"
+        echo "$sample, first key of $kind.path:"
+        node "$here/view_cesium.mjs" --tileset "$work/$sample-tiles" --origin "$origin" --camera "$pose" \
+          --reference "$frames/frame_000060.png" --out "$work/$sample-$kind-cesium.png" --width 480 --height 360 || status=$?
+        [ $status = 77 ] && exit 77
+        if [ -n "${HLOD_EXPORT_SHOTS:-}" ]; then  # keep the pictures (README figures, debugging)
+          mkdir -p "$HLOD_EXPORT_SHOTS"
+          cp "$work/$sample-$kind-cesium.png" "$HLOD_EXPORT_SHOTS/"
+          cp "$frames/frame_000060.png" "$HLOD_EXPORT_SHOTS/$sample-$kind-play.png"
+        fi
+      done ;;
   esac
 done
 exit $status
