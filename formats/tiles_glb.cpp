@@ -150,6 +150,9 @@ std::optional<Glb> nodeGlb(const Database& db, uint32_t node) {
             }
             return untexturedMaterial;
         }
+        if (textureBlob < n.firstBlob || textureBlob >= n.firstBlob + n.blobCount)
+            throw FormatError(db.path() + ": node " + std::to_string(node) + " samples texture blob " +
+                              std::to_string(textureBlob) + " of another node");
         int& m = materialOfTexture[textureBlob - n.firstBlob];
         if (m < 0) {
             const BlobRef& t = s.blobs[textureBlob];
