@@ -1,7 +1,7 @@
 // hlod: the entry point of the one command-line tool and its table of subcommands, in the
 // manner of git's git.c. Each library's subcommands are a target of their own, in the library's
 // cli/ folder, which the library itself does not depend on:
-//   formats/cli/   inspect, validate   (command.h: exit statuses, error guard, constant options)
+//   formats/cli/   inspect, validate, export   (command.h: exit statuses, error guard, constant options)
 //   pipeline/cli/  build, merge, stats, synth
 //   player/cli/    play, path, view, calibrate
 #include "formats/cli/subcommands.h"
@@ -16,11 +16,11 @@
 
 namespace {
 
-// In the order `hlod --help` lists them: build, look at, play back, make data.
+// In the order `hlod --help` lists them: build, look at, play back, export, make data.
 constexpr hlod::cli::AddSubcommand kSubcommands[] = {
     hlod::cli::addBuild,    hlod::cli::addMerge, hlod::cli::addInspect, hlod::cli::addValidate,
     hlod::cli::addStats,    hlod::cli::addPlay,  hlod::cli::addPath,    hlod::cli::addView,
-    hlod::cli::addCalibrate, hlod::cli::addSynth,
+    hlod::cli::addCalibrate, hlod::cli::addExport, hlod::cli::addSynth,
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs every Debian 12 package hlod needs to build, test and plot.
-# Idempotent: when everything is present it prints nothing and touches nothing.
+# Installs every Debian 12 package hlod needs to build, test and plot,
+# and the npm packages of tests/export (npm ci). Idempotent: when everything is present it prints
+# nothing and touches nothing.
 set -euo pipefail
 
 PACKAGES=(
@@ -16,22 +17,35 @@ PACKAGES=(
   libtbb-dev             # TBB: parallel blocks in the pipeline
   libcli11-dev           # CLI11: git-style subcommands and --help
   libxxhash-dev          # xxHash: XXH3-64 checksums of skeleton and blobs
+  zlib1g-dev             # zlib: CRC-32 of the entries of a .3tz archive (hlod export tiles --3tz)
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev  # OpenGL renderer (EGL headless / GLFW)
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   clang libclang-rt-14-dev  # libFuzzer targets and sanitizer runtime
   gnuplot-nox            # thesis Figure 6.x plots
   xvfb xdotool           # `hlod view` window test under a virtual X server
+  nodejs chromium        # `hlod export tiles` checks: gltf-validator and CesiumJS in headless chromium (tests/export/)
 )
+# Debian's nodejs leaves npm to a package of its own; NodeSource's nodejs brings npm and conflicts with it.
+command -v npm >/dev/null || PACKAGES+=(npm)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
+if [ ${#missing[@]} -ne 0 ]; then
+  echo "install-deps: installing ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
 
-echo "install-deps: installing ${missing[*]}"
-SUDO=""
-[ "$(id -u)" -ne 0 ] && SUDO="sudo"
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+# The npm packages of the export checks, pinned in tests/export/package-lock.json: `npm ci` when
+# node_modules was not installed from this very lock file (a copy of it marks the install).
+export_dir="$(dirname "$0")/../tests/export"
+if ! cmp -s "$export_dir/package-lock.json" "$export_dir/node_modules/.hlod-package-lock.json"; then
+  echo "install-deps: npm ci in tests/export"
+  (cd "$export_dir" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+  cp "$export_dir/package-lock.json" "$export_dir/node_modules/.hlod-package-lock.json"
+fi

@@ -48,7 +48,13 @@ std::vector<std::vector<std::string>> databaseCommands(const std::string& db, co
             {"stats", db},
             {"play", db, "--path", path, "--sync-loader", "--frames", "3"},
             {"path", db, "-o", out},
-            {"view", db}};
+            {"view", db},
+            {"export", "tiles", db, "-o", out + ".tiles"}};
+}
+
+// The name errors are prefixed with: the subcommand, and its sub-subcommand for `hlod export`.
+std::string commandName(const std::vector<std::string>& args) {
+    return args[0] == "export" ? args[0] + " " + args[1] : args[0];
 }
 
 TEST_F(Conventions, MissingOrUnreadableDatabaseIsStatusTwo) {
@@ -56,7 +62,7 @@ TEST_F(Conventions, MissingOrUnreadableDatabaseIsStatusTwo) {
         for (const auto& args : databaseCommands(file, path, dir.file("p.path"))) {
             const RunResult r = runHlod(args);
             EXPECT_EQ(r.exitCode, 2) << args[0] << " " << file << ": " << r.err;
-            expectOneErrorLine(r, "hlod " + args[0] + ": " + file + ": ");
+            expectOneErrorLine(r, "hlod " + commandName(args) + ": " + file + ": ");
         }
     }
 }
@@ -67,6 +73,9 @@ TEST_F(Conventions, CorruptBlobIsStatusOneWhereBlobsAreRead) {
     r = runHlod({"play", corrupt, "--path", path, "--sync-loader", "--frames", "3"});
     EXPECT_EQ(r.exitCode, 1) << r.err;
     expectOneErrorLine(r, "hlod play: " + corrupt + " (node 0, blob 0): checksum mismatch");
+    r = runHlod({"export", "tiles", corrupt, "-o", dir.file("corrupt-tiles")});
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    expectOneErrorLine(r, "hlod export tiles: " + corrupt + ": blob 0 (node 0) checksum mismatch");
     for (const std::string cmd : {"inspect", "stats"}) {  // read the skeleton only
         r = runHlod({cmd, corrupt});
         EXPECT_EQ(r.exitCode, 0) << cmd << ": " << r.err;
@@ -79,7 +88,7 @@ TEST_F(Conventions, BadOptionIsStatusTwoWithOneLine) {
         {"inspect", db, "--bogus"}, {"validate", db, "--bogus"}, {"stats", db, "--bogus"},
         {"play", db, "--path", path, "--bogus"}, {"path", db, "-o", dir.file("p"), "--kind", "swim"},
         {"view", db, "--up", "w"}, {"calibrate", "--frames", "0"}, {"synth", "city", "-o", dir.file("c"), "--bogus"},
-        {"no-such-subcommand"}};
+        {"export", "tiles", db, "-o", dir.file("t"), "--bogus"}, {"export", "obj", db}, {"no-such-subcommand"}};
     for (const auto& args : commands) {
         const RunResult r = runHlod(args);
         EXPECT_EQ(r.exitCode, 2) << args[0] << ": " << r.err;
@@ -130,10 +139,13 @@ TEST_F(Conventions, ConstantsAreAcceptedOnlyWhereUsed) {
 TEST_F(Conventions, HelpAndVersionAreStatusZero) {
     EXPECT_EQ(runHlod({"--help"}).exitCode, 0);
     EXPECT_EQ(runHlod({"--version"}).exitCode, 0);
-    const std::vector<std::string> withDb = {"inspect", "validate", "stats", "play", "path", "view"};
+    const std::vector<std::string> withDb = {"inspect", "validate", "stats", "play", "path", "view", "export tiles"};
     for (const std::string cmd : {"build", "merge", "inspect", "validate", "stats", "play", "path", "view", "calibrate",
-                                  "synth"}) {
-        const RunResult r = runHlod({cmd, "--help"});
+                                  "export", "export tiles", "synth"}) {
+        const size_t space = cmd.find(' ');  // "export tiles": a subcommand of a subcommand
+        const RunResult r = runHlod(space == std::string::npos ? std::vector<std::string>{cmd, "--help"}
+                                                               : std::vector<std::string>{cmd.substr(0, space),
+                                                                                          cmd.substr(space + 1), "--help"});
         EXPECT_EQ(r.exitCode, 0) << cmd;
         ASSERT_FALSE(r.out.empty()) << cmd;
         EXPECT_TRUE(std::islower(static_cast<unsigned char>(r.out[0]))) << cmd << ": " << r.out;  // one help style

@@ -1,0 +1,113 @@
+// `hlod export tiles` as a function (formats/export_tiles.h): every node's GLB, then tileset.json,
+// into OUT.tmp-XXXXXX next to OUT, renamed onto OUT at the end (swapped with an earlier export in
+// one renameat2(RENAME_EXCHANGE)), like the database writer's atomic rename (FORMAT.md §Atomic
+// writing): a failed or killed export never leaves at OUT a tileset that looks complete.
+#include "formats/tiles_detail.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+namespace hlod {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+void writeFile(const fs::path& path, const void* data, size_t size) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(static_cast<const char*>(data), std::streamsize(size));
+    out.close();
+    if (!out) throw std::runtime_error(path.string() + ": cannot write");
+}
+
+// Refuses an OUT that an export must not replace: anything but an earlier export.
+void checkTarget(const fs::path& out, bool archive) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(out, ec);
+    const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+    if (!fs::is_directory(parent)) throw InputError(out.string() + ": its folder does not exist");
+    if (!fs::exists(st)) return;
+    if (archive) {
+        if (!fs::is_regular_file(st)) throw InputError(out.string() + ": exists and is not a file");
+    } else if (!fs::is_directory(st) || (!fs::is_empty(out) && !fs::exists(out / "tileset.json"))) {
+        throw InputError(out.string() + ": exists and is not a tileset folder (no tileset.json); not replaced");
+    }
+}
+
+// A temporary path next to `out`, removed on destruction unless released.
+struct Temporary {
+    fs::path path;
+    explicit Temporary(fs::path p) : path(std::move(p)) {}
+    ~Temporary() {
+        std::error_code ec;
+        if (!path.empty()) fs::remove_all(path, ec);
+    }
+};
+
+fs::path makeTemporaryFolder(const fs::path& out) {
+    std::string pattern = out.string() + ".tmp-XXXXXX";
+    if (!mkdtemp(pattern.data())) throw std::runtime_error(out.string() + ": cannot create a temporary folder beside it");
+    return pattern;
+}
+
+// Moves `from` onto `to`; an existing `to` ends up at `from` (removed by its Temporary).
+void renameOnto(const fs::path& from, const fs::path& to) {
+    if (fs::exists(to)) {
+        if (renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_EXCHANGE) != 0)
+            throw std::runtime_error(to.string() + ": cannot replace the earlier export");
+    } else if (std::rename(from.c_str(), to.c_str()) != 0) {
+        throw std::runtime_error(to.string() + ": cannot rename the finished export onto it");
+    }
+}
+
+uint64_t folderBytes(const fs::path& folder) {
+    uint64_t bytes = 0;
+    for (const auto& e : fs::recursive_directory_iterator(folder))
+        if (e.is_regular_file()) bytes += e.file_size();
+    return bytes;
+}
+
+}  // namespace
+
+TilesReport exportTiles(const Database& db, const std::string& outPath, const TilesOptions& options) {
+    const fs::path out = fs::path(outPath).lexically_normal();
+    if (out.filename().empty()) throw InputError(outPath + ": not a file or folder name");
+    checkTarget(out, options.archive);
+    const Skeleton& s = db.skeleton();
+    Temporary folder(makeTemporaryFolder(out));
+    fs::create_directory(folder.path / "tiles");
+
+    TilesReport report;
+    std::vector<std::optional<Box3f>> content(s.nodes.size());
+    for (uint32_t n = 0; n < s.nodes.size(); ++n) {
+        std::optional<tiles::Glb> glb = tiles::nodeGlb(db, n);
+        if (!glb) continue;
+        writeFile(folder.path / tiles::contentUri(n), glb->bytes.data(), glb->bytes.size());
+        content[n] = glb->bounds;
+        report.contentTiles += 1;
+        report.triangles += glb->triangles;
+        report.contentBytes += glb->bytes.size();
+    }
+    const std::string json = tiles::tilesetJson(s, content, options, db.path()).dump();
+    writeFile(folder.path / "tileset.json", json.data(), json.size());  // last: the folder is complete
+    report.tiles = s.nodes.size() + 1;
+    report.tilesetBytes = json.size();
+
+    if (options.archive) {
+        Temporary archive(folder.path.string() + ".3tz");  // OUT.tmp-XXXXXX.3tz
+        tiles::write3tz(folder.path.string(), archive.path.string());
+        report.outputBytes = fs::file_size(archive.path);
+        renameOnto(archive.path, out);
+    } else {
+        report.outputBytes = folderBytes(folder.path);
+        renameOnto(folder.path, out);
+    }
+    return report;
+}
+
+}  // namespace hlod
