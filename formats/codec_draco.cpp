@@ -4,6 +4,7 @@
 // counts come from decoding the encoded bytes: Draco splits non-manifold vertices and drops
 // unused vertices and faces with a repeated index, so they can differ from the input's.
 #include "formats/codec.h"
+#include "formats/draco_attribute.h"
 #include "formats/layout.h"
 
 #include <draco/compression/decode.h>
@@ -114,17 +115,6 @@ void checkMesh(const MeshData& m) {
         if (!std::isfinite(x)) throw std::runtime_error("encodeGeometry: NaN/Inf position");
 }
 
-// Only the attribute layouts hlod writes are accepted (a corrupt stream may declare others,
-// e.g. bool attributes whose bytes are not valid bools).
-const draco::PointAttribute* attribute(const draco::Mesh& mesh, draco::GeometryAttribute::Type type,
-                                       draco::DataType dataType, int minComponents, int maxComponents,
-                                       const std::string& name) {
-    const draco::PointAttribute* a = mesh.GetNamedAttribute(type);
-    if (a && (a->data_type() != dataType || a->num_components() < minComponents || a->num_components() > maxComponents))
-        throw FormatError(name + ": Draco geometry has an attribute of unexpected type or size");
-    return a;
-}
-
 template <class T, int N>
 std::vector<T> extract(const draco::Mesh& mesh, const draco::PointAttribute* att) {
     std::vector<T> out(size_t(mesh.num_points()) * N);
@@ -201,16 +191,19 @@ MeshData decodeGeometry(std::span<const uint8_t> bytes, const std::string& name)
     if (!result.ok()) throw FormatError(name + ": bad Draco geometry: " + result.status().error_msg_string());
     const draco::Mesh& mesh = *result.value();
     using GA = draco::GeometryAttribute;
-    const draco::PointAttribute* pos = attribute(mesh, GA::POSITION, draco::DT_FLOAT32, 3, 3, name);
+    const draco::PointAttribute* pos = checkedDracoAttribute(mesh, GA::POSITION, draco::DT_FLOAT32, 3, 3, name);
     if (!pos) throw FormatError(name + ": Draco geometry has no positions");
     if (mesh.num_points() > layout::kMaxElements || mesh.num_faces() > layout::kMaxElements)
         throw FormatError(name + ": Draco geometry is absurdly large");
 
     MeshData m;
     m.positions = extract<float, 3>(mesh, pos);
-    if (auto* a = attribute(mesh, GA::TEX_COORD, draco::DT_FLOAT32, 2, 2, name)) m.texcoords = extract<float, 2>(mesh, a);
-    if (auto* a = attribute(mesh, GA::NORMAL, draco::DT_FLOAT32, 3, 3, name)) m.normals = extract<float, 3>(mesh, a);
-    if (auto* a = attribute(mesh, GA::COLOR, draco::DT_UINT8, 3, 4, name)) m.colors = extract<uint8_t, 4>(mesh, a);
+    if (auto* a = checkedDracoAttribute(mesh, GA::TEX_COORD, draco::DT_FLOAT32, 2, 2, name))
+        m.texcoords = extract<float, 2>(mesh, a);
+    if (auto* a = checkedDracoAttribute(mesh, GA::NORMAL, draco::DT_FLOAT32, 3, 3, name))
+        m.normals = extract<float, 3>(mesh, a);
+    if (auto* a = checkedDracoAttribute(mesh, GA::COLOR, draco::DT_UINT8, 3, 4, name))
+        m.colors = extract<uint8_t, 4>(mesh, a);
     m.indices.reserve(size_t(mesh.num_faces()) * 3);
     for (uint32_t f = 0; f < mesh.num_faces(); ++f)
         for (int k = 0; k < 3; ++k) {
@@ -219,6 +212,15 @@ MeshData decodeGeometry(std::span<const uint8_t> bytes, const std::string& name)
             m.indices.push_back(v);
         }
     return m;
+}
+
+const draco::PointAttribute* checkedDracoAttribute(const draco::Mesh& mesh, draco::GeometryAttribute::Type type,
+                                                   draco::DataType dataType, int minComponents, int maxComponents,
+                                                   const std::string& name) {
+    const draco::PointAttribute* a = mesh.GetNamedAttribute(type);
+    if (a && (a->data_type() != dataType || a->num_components() < minComponents || a->num_components() > maxComponents))
+        throw FormatError(name + ": Draco geometry has an attribute of unexpected type or size");
+    return a;
 }
 
 }  // namespace hlod

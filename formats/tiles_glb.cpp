@@ -7,6 +7,7 @@
 // Materials are unlit (KHR_materials_unlit): scan textures hold the captured lighting, as the
 // OpenGL renderer draws them. Positions stay in the database's z-up frame; the glTF node's matrix
 // turns them y-up, which 3D Tiles turns back to z-up (3D Tiles 1.1 §glTF up-axis).
+#include "formats/draco_attribute.h"
 #include "formats/tiles_detail.h"
 
 #include <draco/compression/decode.h>
@@ -34,15 +35,6 @@ struct DracoFacts {
     float min[3], max[3];
 };
 
-const draco::PointAttribute* checked(const draco::Mesh& mesh, draco::GeometryAttribute::Type type,
-                                     draco::DataType dataType, int minComponents, int maxComponents,
-                                     const std::string& name) {
-    const draco::PointAttribute* a = mesh.GetNamedAttribute(type);
-    if (a && (a->data_type() != dataType || a->num_components() < minComponents || a->num_components() > maxComponents))
-        throw FormatError(name + ": Draco attribute of a type glTF does not allow for it");
-    return a;
-}
-
 DracoFacts dracoFacts(const std::vector<uint8_t>& bytes, const BlobRef& record, const std::string& name) {
     draco::DecoderBuffer buffer;
     buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
@@ -58,12 +50,12 @@ DracoFacts dracoFacts(const std::vector<uint8_t>& bytes, const BlobRef& record, 
         throw FormatError(name + ": Draco geometry decodes to " + std::to_string(f.faces) + " triangles and " +
                           std::to_string(f.points) + " vertices, its record says " + std::to_string(record.triangles) +
                           " and " + std::to_string(record.vertices));
-    const draco::PointAttribute* pos = checked(mesh, GA::POSITION, draco::DT_FLOAT32, 3, 3, name);
+    const draco::PointAttribute* pos = checkedDracoAttribute(mesh, GA::POSITION, draco::DT_FLOAT32, 3, 3, name);
     if (!pos) throw FormatError(name + ": Draco geometry has no positions");
     f.position = int(pos->unique_id());
-    if (auto* a = checked(mesh, GA::TEX_COORD, draco::DT_FLOAT32, 2, 2, name)) f.texcoord = int(a->unique_id());
-    if (auto* a = checked(mesh, GA::NORMAL, draco::DT_FLOAT32, 3, 3, name)) f.normal = int(a->unique_id());
-    if (auto* a = checked(mesh, GA::COLOR, draco::DT_UINT8, 3, 4, name)) {
+    if (auto* a = checkedDracoAttribute(mesh, GA::TEX_COORD, draco::DT_FLOAT32, 2, 2, name)) f.texcoord = int(a->unique_id());
+    if (auto* a = checkedDracoAttribute(mesh, GA::NORMAL, draco::DT_FLOAT32, 3, 3, name)) f.normal = int(a->unique_id());
+    if (auto* a = checkedDracoAttribute(mesh, GA::COLOR, draco::DT_UINT8, 3, 4, name)) {
         f.color = int(a->unique_id());
         f.colorComponents = a->num_components();
     }
