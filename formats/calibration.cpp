@@ -87,9 +87,10 @@ Calibration readCalibration(const std::string& path) {
         if (!target) throw InputError(at + "unknown name '" + name + "'");
         double value = 0;
         const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
+        const bool intercept = name.ends_with("_intercept_ms");  // a fitted line's, of either sign
         if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(value) ||
-            value < 0)
-            throw InputError(at + name + " '" + text + "' is not a finite non-negative number");
+            (value < 0 && !intercept))
+            throw InputError(at + name + " '" + text + "' is not a finite " + (intercept ? "" : "non-negative ") + "number");
         *target = value;
         seen += field != numericFields().end();
     }

@@ -40,8 +40,8 @@ struct Calibration {
 void writeCalibration(const Calibration& calibration, const std::string& path);
 
 // Reads a file written by writeCalibration. Throws InputError "PATH[:LINE]: problem" for a
-// missing or unreadable file, an unknown name, a value that is not a finite non-negative number,
-// c_textured outside (0, 1], or a missing figure.
+// missing or unreadable file, an unknown name, a value that is not a finite number (or is negative,
+// except the fitted lines' intercepts), c_textured outside (0, 1], or a missing figure.
 Calibration readCalibration(const std::string& path);
 
 }  // namespace hlod

@@ -136,6 +136,10 @@ TEST(Calibrate, WritesACalibrationFileThatReadCalibrationReads) {
     EXPECT_THROW(readCalibration(path.string()), InputError);  // an unknown name
     std::ofstream(path) << "c_textured = 1.5\nms_per_cost = 0.001\nfixed_overhead_ms = 1\n";
     EXPECT_THROW(readCalibration(path.string()), InputError);  // c_textured outside (0, 1]
+    std::ofstream(path) << "c_textured = 0.5\nms_per_cost = 0.001\nfixed_overhead_ms = 1\ntextured_intercept_ms = -0.2\n";
+    EXPECT_DOUBLE_EQ(readCalibration(path.string()).textured.intercept, -0.2);  // a fitted intercept may be negative
+    std::ofstream(path) << "c_textured = 0.5\nms_per_cost = -0.001\nfixed_overhead_ms = 1\n";
+    EXPECT_THROW(readCalibration(path.string()), InputError);
     std::filesystem::remove(path);
 }
 
