@@ -4,7 +4,8 @@
 // Draco/JPEG decoding happens here; the render thread only uploads. Memory: a node is loaded
 // only when resident bytes + its expected decoded size fit maxMemory; the render thread
 // evicts the lowest-priority resident nodes to make room (never hlod0, never a node on the
-// current front's path: drawn or refined).
+// current front's path: drawn or refined). A node whose read or decode fails is reported once
+// (takeFailures) and never requested again; the player decides whether that ends the run.
 #include "player/loader.h"
 
 #include "formats/db.h"
@@ -14,8 +15,25 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 namespace hlod {
+namespace {
+
+// The problem of a failure without the file and node the error names: "NAME (node N, blob B):
+// problem" -> "blob B: problem", "NAME: problem" -> "problem"; anything else as it is.
+std::string problemOf(const std::string& what, const std::string& name, uint32_t id) {
+    const std::string nodePrefix = name + " (node " + std::to_string(id) + ", ";
+    if (what.starts_with(nodePrefix)) {
+        std::string rest = what.substr(nodePrefix.size());
+        if (size_t close = rest.find("): "); close != std::string::npos) rest.erase(close, 1);
+        return rest;
+    }
+    if (what.starts_with(name + ": ")) return what.substr(name.size() + 2);
+    return what;
+}
+
+}  // namespace
 
 Loader::Loader(std::shared_ptr<const NodeSource> source, const LoaderOptions& options)
     : source_(std::move(source)),
@@ -83,9 +101,10 @@ void Loader::suspend(uint32_t id, Partial&& partial) {
     suspendedOrder_.push_back(id);
 }
 
-void Loader::failLocked(uint32_t id, const std::string& message) {
-    state_[id] = Residency::Failed;  // stays "loaded" in the queue: never picked again
-    if (error_.empty()) error_ = message;
+void Loader::failLocked(uint32_t id, const std::string& what) {
+    state_[id] = Residency::Failed;  // out of the queue; priority updates skip it: never picked again
+    queue_.remove(id);
+    failures_.push_back({id, what, problemOf(what, source_->name(), id)});
 }
 
 // One node: returns false when nothing can be loaded now.
@@ -236,9 +255,9 @@ double Loader::takeLongestWaitMs() {
     return ms;
 }
 
-std::string Loader::error() {
+std::vector<LoadFailure> Loader::takeFailures() {
     auto lock = lockTimed();
-    return error_;
+    return std::exchange(failures_, {});
 }
 
 Residency Loader::residency(uint32_t id) {

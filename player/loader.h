@@ -70,7 +70,9 @@ public:
                                          const std::function<bool(uint32_t)>& pinned);
     LoaderCounters counters();
     double takeLongestWaitMs();  // longest render-thread wait for the lock since the last call
-    std::string error();         // first decode/read failure ("FILE ...: problem"), or empty
+    // Nodes whose read or decode failed since the last call, in order; each is reported once,
+    // stays Failed (out of the queue, never picked, never evicted) and keeps no bytes.
+    std::vector<LoadFailure> takeFailures();
     Residency residency(uint32_t id);
 
     // Test access: the queue (only while no thread runs).
@@ -91,7 +93,7 @@ private:
     std::vector<uint64_t> nodeBytes_;
     std::vector<DecodedNode> ready_;
     LoaderCounters counters_;
-    std::string error_;
+    std::vector<LoadFailure> failures_;
     bool stop_ = false, dirty_ = false;
     // loader thread only
     std::unordered_map<uint32_t, Partial> suspended_;
@@ -106,7 +108,7 @@ private:
     bool loadOne(bool preemptible);
     Partial takeSuspended(uint32_t id);
     void suspend(uint32_t id, Partial&& partial);
-    void failLocked(uint32_t id, const std::string& message);
+    void failLocked(uint32_t id, const std::string& what);
     void run();
 };
 

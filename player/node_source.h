@@ -13,6 +13,14 @@
 
 namespace hlod {
 
+// A node whose data could not be read or decoded (truncated, corrupt, undecodable). The loader
+// reports it once and never requests it again (thesis §4.3 has no failures; player/STATS.md).
+struct LoadFailure {
+    uint32_t node = 0;
+    std::string what;     // the error, one line naming the file: "FILE (node N, blob B): problem"
+    std::string problem;  // the same without the file and the node: "blob B: problem"
+};
+
 class NodeSource {
 public:
     virtual ~NodeSource() = default;

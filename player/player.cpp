@@ -69,11 +69,33 @@ struct Player::Impl {
           visitedStamp(skeleton.nodes.size(), 0) {
         for (const Node& n : skeleton.nodes) levels = std::max(levels, n.level + 1);
         for (uint32_t root : selection.roots) {
-            renderer.upload(loader.loadPinned(root));
+            renderer.upload(loadRoot(root));
             markResident(root, true);
         }
         calibrate();
         if (options.threadedLoader) loader.start();
+    }
+
+    // The traversal starts from every hlod0 node (§4.2) and none is ever skipped: a root that
+    // cannot load ends the run before it starts.
+    DecodedNode loadRoot(uint32_t id) {
+        try {
+            return loader.loadPinned(id);
+        } catch (const std::exception& e) {
+            throw FormatError(std::string(e.what()) + " (hlod0 node " + std::to_string(id) + ", which is never skipped)");
+        }
+    }
+
+    // A node that cannot be read or decoded stays unloaded for good: the selection treats it as a
+    // child that never arrives (a miss: its parent stays drawn, §4.2) and its subtree is never
+    // visited, so never requested. Strict runs stop at the first one instead.
+    uint32_t reportFailures() {
+        std::vector<LoadFailure> failures = loader.takeFailures();
+        for (const LoadFailure& f : failures) {
+            if (options.strictLoads) throw FormatError(f.what);
+            if (options.onLoadFailure) options.onLoadFailure(f);
+        }
+        return uint32_t(failures.size());
     }
 
     void markResident(uint32_t id, bool on) {
@@ -174,7 +196,7 @@ struct Player::Impl {
         s.targetMs = c.targetTimeMs;
         s.hlod0ShareMs = share;
         if (!options.threadedLoader) loader.step(options.syncLoadsPerFrame);
-        if (std::string e = loader.error(); !e.empty()) throw FormatError(e);
+        s.failedLoads = reportFailures();
         s.loads = uploadReady();
 
         updateVelocity(camera, timeSeconds);

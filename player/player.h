@@ -7,16 +7,16 @@
 #include "formats/constants.h"
 #include "formats/db.h"
 #include "player/feedback.h"
+#include "player/node_source.h"
 #include "player/renderer.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
 
 namespace hlod {
-
-class NodeSource;
 
 struct PlayerOptions {
     uint64_t memoryBudget = 0;          // --memory BYTES (§4.3 maxMemory); 0 = no limit
@@ -34,6 +34,10 @@ struct PlayerOptions {
     double initialVTime = 0;            // ms per unit of cost; 0: measured at start (all hlod0 drawn)
     double overheadMs = -1;             // fixed overhead; < 0: measured at start with drawing off
     FrameOptions frameOptions;          // passed to Renderer::drawFrame
+    // A node below hlod0 that cannot be read or decoded: false (default) skips it for good (its
+    // parent stays drawn, onLoadFailure is told once); true (`--strict`) makes frame() throw.
+    bool strictLoads = false;
+    std::function<void(const LoadFailure&)> onLoadFailure;  // called from frame(), render thread
 };
 
 // Everything logged for one frame (columns of the CSV, player/STATS.md).
@@ -58,6 +62,7 @@ struct FrameStats {
     double memoryEstimatePct = 0;    // 100 * memoryEstimateBytes / maxMemory (Fig. 6.1); NaN without a budget
     uint32_t loads = 0;              // nodes uploaded this frame
     uint32_t evictions = 0;          // nodes evicted this frame
+    uint32_t failedLoads = 0;        // nodes whose load failed (reported this frame, never retried)
     uint32_t misses = 0;             // visible nodes wanted (cumHyst >= 0) but not loaded
     uint32_t refused = 0;            // sibling sets, all loaded, refused because cumHyst < 0
     double stallMs = 0;              // longest render-thread wait on the loader's lock
@@ -68,7 +73,7 @@ class Player {
 public:
     // Loads the skeleton's hlod0 nodes (decode + upload) before returning, measures the
     // fixed overhead and v_time unless given, then starts the loading thread.
-    // Throws FormatError when an hlod0 node cannot be read or decoded.
+    // Throws FormatError when an hlod0 node cannot be read or decoded (hlod0 is never skipped).
     Player(const Database& db, const Constants& constants, Renderer& renderer, const PlayerOptions& options);
     Player(std::shared_ptr<const NodeSource> source, const Constants& constants, Renderer& renderer,
            const PlayerOptions& options);
@@ -77,7 +82,7 @@ public:
     Player& operator=(const Player&) = delete;
 
     // One frame: uploads (bounded), selection, eviction, draw, feedback loops, loader priorities.
-    // Throws FormatError if the loading thread met a corrupt node.
+    // With strictLoads, throws FormatError when a node failed to load (either loader mode).
     FrameStats frame(const Camera& camera, double timeSeconds);
 
     const Skeleton& skeleton() const;

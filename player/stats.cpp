@@ -37,11 +37,11 @@ void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels) {
     uint64_t tris = 0;
     for (uint32_t n : s.nodesPerLevel) nodes += n;
     for (uint64_t t : s.trianglesPerLevel) tris += t;
-    std::snprintf(buf, sizeof buf, "%llu,%.6f,%.4f,%.3f,%.4f,%.4f,%.4f,%.6g,%.4f,%u,%llu,%u,%u,%u,%u,%llu,%.0f,%.3f,%u,%u,%u,%u,%.4f,%.4f",
+    std::snprintf(buf, sizeof buf, "%llu,%.6f,%.4f,%.3f,%.4f,%.4f,%.4f,%.6g,%.4f,%u,%llu,%u,%u,%u,%u,%llu,%.0f,%.3f,%u,%u,%u,%u,%u,%.4f,%.4f",
                   (unsigned long long)s.frame, s.timeSeconds, s.distance, s.targetMs, s.estimateNoFeedbackMs, s.estimateMs,
                   s.actualMs, s.vTime, s.hlod0ShareMs, nodes, (unsigned long long)tris, s.upToggles, s.downToggles,
                   s.reversals, s.residentNodes, (unsigned long long)s.residentBytes, s.memoryEstimateBytes, s.memoryEstimatePct, s.loads, s.evictions,
-                  s.misses, s.refused, s.stallMs, s.selectionMs);
+                  s.failedLoads, s.misses, s.refused, s.stallMs, s.selectionMs);
     os << buf;
     for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.nodesPerLevel.size() ? s.nodesPerLevel[l] : 0);
     for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.trianglesPerLevel.size() ? s.trianglesPerLevel[l] : 0);
@@ -81,6 +81,7 @@ StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames
         s.peakMemoryEstimateBytes = std::max(s.peakMemoryEstimateBytes, f.memoryEstimateBytes);
         s.loads += f.loads;
         s.evictions += f.evictions;
+        s.failedLoads += f.failedLoads;
         s.misses += f.misses;
         s.longestStallMs = std::max(s.longestStallMs, f.stallMs);
         if (i < s.warmupFrames) continue;
@@ -132,7 +133,7 @@ void printSummary(std::ostream& os, const StatsSummary& s) {
                   "toggles per unit of distance %.4f over %.1f; per %llu frames: mean %.2f min %.0f max %.0f (%llu windows)\n"
                   "hlod0 share at its lower bound %.1f %% of frames, at its upper bound %.1f %%\n"
                   "peak resident bytes %llu, peak c_memory estimate %.0f\n"
-                  "loads %llu, evictions %llu, misses %llu, longest render-thread stall %.3f ms\n",
+                  "loads %llu, evictions %llu, failed loads %llu, misses %llu, longest render-thread stall %.3f ms\n",
                   (unsigned long long)s.frames, (unsigned long long)s.warmupFrames, s.frameMs.mean, s.frameMs.sd,
                   s.frameMs.p99, s.frameMs.max, s.errorMs.mean, s.errorMs.sd, s.errorMs.p99, s.estimateErrorPct.mean,
                   s.estimateErrorPct.sd, s.estimateNoFbErrorPct.mean, s.estimateNoFbErrorPct.sd, s.togglesPerFrame,
@@ -140,7 +141,8 @@ void printSummary(std::ostream& os, const StatsSummary& s) {
                   s.togglesPerDistance, s.distance, (unsigned long long)kToggleWindow, s.windowTogglesMean,
                   s.windowTogglesMin, s.windowTogglesMax, (unsigned long long)s.toggleWindows, s.shareAtMinPct,
                   s.shareAtMaxPct, (unsigned long long)s.peakResidentBytes, s.peakMemoryEstimateBytes,
-                  (unsigned long long)s.loads, (unsigned long long)s.evictions, (unsigned long long)s.misses,
+                  (unsigned long long)s.loads, (unsigned long long)s.evictions, (unsigned long long)s.failedLoads,
+                  (unsigned long long)s.misses,
                   s.longestStallMs);
     os << buf;
 }
@@ -171,6 +173,7 @@ std::string summaryJson(const StatsSummary& s, const Constants& c) {
                         {"peak_memory_estimate_bytes", s.peakMemoryEstimateBytes},
                         {"loads", s.loads},
                         {"evictions", s.evictions},
+                        {"failed_loads", s.failedLoads},
                         {"misses", s.misses},
                         {"longest_stall_ms", s.longestStallMs},
                         {"constants", constants}};

@@ -18,7 +18,7 @@ namespace hlod {
 inline constexpr const char* kStatsColumns[] = {
     "frame", "time_s", "distance", "target_ms", "est_nofb_ms", "est_ms", "actual_ms", "v_time", "hlod0_share_ms",
     "nodes_drawn", "tris_drawn", "up_toggles", "down_toggles", "reversals", "resident_nodes", "resident_bytes",
-    "memory_estimate_bytes", "memory_estimate_pct", "loads", "evictions", "misses", "refused", "stall_ms", "selection_ms"};
+    "memory_estimate_bytes", "memory_estimate_pct", "loads", "evictions", "failed_loads", "misses", "refused", "stall_ms", "selection_ms"};
 
 std::vector<std::string> statsHeader(uint32_t levels);
 
@@ -53,7 +53,7 @@ struct StatsSummary {
     double shareAtMinPct = 0, shareAtMaxPct = 0;  // % of counted frames with the hlod0 share at a bound
     uint64_t peakResidentBytes = 0;
     double peakMemoryEstimateBytes = 0;
-    uint64_t loads = 0, evictions = 0, misses = 0;
+    uint64_t loads = 0, evictions = 0, failedLoads = 0, misses = 0;
     double longestStallMs = 0;
 };
 

@@ -110,6 +110,7 @@ int runPlay(PlayArgs& a) {
     a.model.msPerUntexturedTriangle = a.flatRate ? *a.flatRate : consistentUntexturedRate(a.model.msPerTexturedTriangle,
                                                                                            databaseCTextured(db));
     std::unique_ptr<Renderer> renderer = makeRenderer(a);
+    a.player.onLoadFailure = [&db](const LoadFailure& f) { warnLoadFailure("play", db, f); };
     Player player(db, c, *renderer, a.player);
     if (!a.framesDir.empty()) std::filesystem::create_directories(a.framesDir);
 
@@ -123,6 +124,7 @@ int runPlay(PlayArgs& a) {
         {"memory_budget_bytes", std::to_string(a.player.memoryBudget)},
         {"loader", a.syncLoader ? "synchronous" : "thread"},
         {"require_loaded_children", a.player.requireLoadedChildren ? "yes" : "no"},
+        {"failed_load", a.player.strictLoads ? "fatal (--strict)" : "skipped, parent drawn"},
         {"overhead_ms", std::to_string(player.overheadMs())},
         {"initial_v_time", std::to_string(player.vTime())},
         {"lookahead_s", std::to_string(a.player.lookaheadSeconds)},
@@ -166,6 +168,11 @@ int runPlay(PlayArgs& a) {
 
 }  // namespace
 
+void warnLoadFailure(const std::string& command, const Database& db, const LoadFailure& failure) {
+    std::cerr << "hlod " << command << ": warning: " << db.path() << ": node " << failure.node << ": " << failure.problem
+              << '\n';
+}
+
 void addPlay(CLI::App& app, int& status) {
     auto a = std::make_shared<PlayArgs>();
     CLI::App* sub = app.add_subcommand("play", "replay a camera path through the HLOD engine (thesis Chapter 4)");
@@ -176,6 +183,9 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--stats", a->stats, "per-frame CSV to write (player/STATS.md)");
     sub->add_option("--json", a->json, "write the summary as JSON to FILE ('-': stdout)");
     sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none); lowest-priority nodes are evicted");
+    sub->add_flag("--strict", a->player.strictLoads,
+                  "a node that cannot be read or decoded ends the run (exit 1); by default it is skipped with "
+                  "one warning, its parent stays drawn and failed_loads counts it");
     sub->add_flag("--require-loaded-children", a->player.requireLoadedChildren,
                   "switch to children only when all of them are loaded (thesis §5.2)");
     sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path)");

@@ -3,6 +3,13 @@
 
 #include "formats/cli/command.h"
 
+#include <string>
+
+namespace hlod {
+class Database;
+struct LoadFailure;
+}  // namespace hlod
+
 namespace hlod::cli {
 
 // `hlod play DB --path FILE`: replays a camera path through the Chapter 4 engine, writes the
@@ -12,6 +19,9 @@ void addPlay(CLI::App& app, int& status);
 void addPath(CLI::App& app, int& status);
 // `hlod view DB`: interactive 6-DOF window on a database, optional path recording.
 void addView(CLI::App& app, int& status);
+// The one line `hlod play` and `hlod view` print on stderr for a node they skip because it
+// cannot be read or decoded: "hlod COMMAND: warning: DB: node N: problem".
+void warnLoadFailure(const std::string& command, const Database& db, const LoadFailure& failure);
 // `hlod calibrate`: measures the render-time model with OpenGL and writes a calibration file.
 void addCalibrate(CLI::App& app, int& status);
 

@@ -29,6 +29,7 @@ struct ViewArgs {
     ConstantOptions constants{"view", kUsedByPlayer};
     uint64_t memoryBudget = 0;
     bool colorByLevel = false;
+    bool strict = false;
     double speed = 0;        // m/s; 0: a twentieth of the model's diagonal per second
     std::string up = "z";
 };
@@ -135,6 +136,8 @@ int runView(const ViewArgs& args) {
     PlayerOptions options;
     options.memoryBudget = args.memoryBudget;
     options.frameOptions.colorByLevel = args.colorByLevel;
+    options.strictLoads = args.strict;
+    options.onLoadFailure = [&db](const LoadFailure& f) { warnLoadFailure("view", db, f); };
     Player player(db, constants, *renderer, options);
     const Box3f bounds = modelBounds(db.skeleton());
     Camera camera = startCamera(bounds, args.up == "y" ? 1 : 2, static_cast<double>(args.gl.width) / args.gl.height);
@@ -184,6 +187,9 @@ void addView(CLI::App& app, int& status) {
     sub->add_option("--height", args->gl.height, "window height")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_option("--memory", args->memoryBudget, "memory budget in bytes (thesis §4.3); 0 = none")->capture_default_str();
     sub->add_flag("--color-by-level", args->colorByLevel, "shade nodes by level (grey levels)");
+    sub->add_flag("--strict", args->strict,
+                  "a node that cannot be read or decoded ends the session (exit 1); by default it is skipped "
+                  "with one warning and its parent stays drawn");
     sub->add_option("--speed", args->speed, "initial speed in m/s (default: model diagonal / 20)")->check(CLI::NonNegativeNumber);
     sub->add_option("--up", args->up, "up axis of the model")->check(CLI::IsMember({"y", "z"}))->capture_default_str();
     addConstantOptions(*sub, args->constants);

@@ -1,6 +1,7 @@
 // `hlod path` and `hlod play` as a user runs them: outputs (CSV with the documented header,
 // JSON summary, path file) and, for each class of bad input, one line naming the file,
-// a non-zero status and no half-written output.
+// a non-zero status and no half-written output; a corrupt node below hlod0 is a warning.
+#include "formats/db.h"
 #include "player/stats.h"
 #include "tests/support/run_hlod.h"
 #include "tests/support/synthetic.h"
@@ -9,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -167,4 +169,68 @@ TEST_F(Cli, CalibrationFileSetsInitialVTimeAndOverhead) {
     r = runHlod({"play", db, "--path", path, "--calibration", notCal});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.err.find("notcal.conf:2: ms_per_cost '-1' is not a finite non-negative number"), std::string::npos) << r.err;
+}
+
+// One flipped byte in one node's blob does not end a replay: one warning line naming the
+// database, node and problem, exit 0, the statistics written with failed_loads 1. --strict
+// makes it fatal: exit 1, one error line, no CSV.
+TEST_F(Cli, CorruptNodeIsSkippedWithOneWarningUnlessStrict) {
+    uint32_t node = 0, blob = 0;
+    {
+        const Database database = Database::open(db);
+        node = database.skeleton().children(database.skeleton().roots()[0])[0];
+        blob = database.skeleton().nodes[node].firstBlob;
+        const BlobRef& ref = database.skeleton().blobs[blob];
+        std::fstream f(db, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(std::streamoff(ref.offset + ref.size / 2));
+        char x = char(f.get() ^ 0xff);
+        f.seekp(std::streamoff(ref.offset + ref.size / 2));
+        f.put(x);
+    }
+    std::string path = (dir / "fly.path").string();
+    ASSERT_EQ(runHlod({"path", db, "--kind", "fly", "--duration", "5", "-o", path}).exitCode, 0);
+    std::string csv = (dir / "fly.csv").string(), json = (dir / "fly.json").string();
+    const std::vector<std::string> args = {"play", db, "--path", path, "--sync-loader", "--frames", "200",
+                                           "--set", "c_targetTime=1000", "--stats", csv};
+    std::vector<std::string> withJson = args;
+    withJson.insert(withJson.end(), {"--json", json});
+    RunResult r = runHlod(withJson);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "hlod play: warning: " + db + ": node " + std::to_string(node) + ": blob " + std::to_string(blob) +
+                         ": checksum mismatch (corrupt data)\n");
+    EXPECT_NE(r.out.find("failed loads 1,"), std::string::npos) << r.out;
+    EXPECT_EQ(nlohmann::json::parse(slurp(json))["failed_loads"], 1);
+    std::istringstream in(slurp(csv));
+    std::string line;
+    std::vector<std::string> header;
+    long column = -1, failed = 0, rows = 0;
+    while (std::getline(in, line)) {
+        if (line.starts_with("#")) continue;
+        std::vector<std::string> fields;
+        std::istringstream cells(line);
+        for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+        if (header.empty()) {
+            header = fields;
+            column = std::find(header.begin(), header.end(), "failed_loads") - header.begin();
+            ASSERT_LT(column, long(header.size()));
+            continue;
+        }
+        failed += std::stol(fields.at(column));
+        ++rows;
+    }
+    EXPECT_EQ(rows, 200);
+    EXPECT_EQ(failed, 1);
+
+    fs::remove(csv);
+    std::vector<std::string> strict = args;
+    strict.push_back("--strict");
+    r = runHlod(strict);
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("hlod play: " + db + " (node " + std::to_string(node) + ", blob " + std::to_string(blob) +
+                              "): checksum mismatch",
+                          0),
+              0u)
+        << r.err;
+    EXPECT_FALSE(fs::exists(csv));
 }

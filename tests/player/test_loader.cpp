@@ -1,5 +1,5 @@
 // The loading thread (thesis §4.3): priority order, incremental preemptible loads, the memory
-// budget with eviction of the lowest-priority unpinned nodes, failures reported not crashed,
+// budget with eviction of the lowest-priority unpinned nodes, failures reported once, not retried,
 // and (threaded) the budget held under an erratic path with no data race (run under TSan).
 #include "player/camera_path.h"
 #include "player/cost_model_renderer.h"
@@ -25,7 +25,7 @@ class HookSource final : public NodeSource {
 public:
     explicit HookSource(Skeleton s) : inner_(memorySource(std::move(s))) {}
     const Skeleton& skeleton() const override { return inner_->skeleton(); }
-    std::string name() const override { return "hook"; }
+    std::string name() const override { return "test.hlod"; }
     uint64_t nodeSize(uint32_t id) const override { return inner_->nodeSize(id); }
     void readChunk(uint32_t id, uint64_t offset, std::span<uint8_t> out) const override {
         ++chunks;
@@ -33,7 +33,7 @@ public:
         inner_->readChunk(id, offset, out);
     }
     DecodedNode decode(uint32_t id, std::span<const uint8_t> data) const override {
-        if (id == corrupt) throw FormatError("test.hlod (node " + std::to_string(id) + "): corrupt geometry");
+        if (id == corrupt) throw FormatError("test.hlod (node " + std::to_string(id) + ", blob 7): corrupt geometry");
         return inner_->decode(id, data);
     }
     uint64_t expectedBytes(uint32_t id) const override { return inner_->expectedBytes(id); }
@@ -145,36 +145,62 @@ TEST(Loader, PreemptsForMoreUrgentNodeAndResumes) {
     EXPECT_EQ(src->chunks.load(), 16u + 16u);  // node 1 resumed, not re-read
 }
 
-TEST(Loader, CorruptNodeIsReportedAndNotRetried) {
+TEST(Loader, CorruptNodeIsReportedOnceAndNotRetried) {
     auto src = std::make_shared<HookSource>(test::gridSkeleton(1, 1, 3));
     src->corrupt = 2;
     Loader loader(src, {});
     std::vector<PriorityUpdate> u{{2, 9.0}, {3, 1.0}};
     loader.updateAndEvict(u, {}, kNothingPinned);
     loader.step(5);
-    EXPECT_EQ(loader.error(), "test.hlod (node 2): corrupt geometry");
+    std::vector<LoadFailure> failures = loader.takeFailures();
+    ASSERT_EQ(failures.size(), 1u);
+    EXPECT_EQ(failures[0].node, 2u);
+    EXPECT_EQ(failures[0].what, "test.hlod (node 2, blob 7): corrupt geometry");
+    EXPECT_EQ(failures[0].problem, "blob 7: corrupt geometry");
     EXPECT_EQ(loader.residency(2), Residency::Failed);
     EXPECT_EQ(readyIds(loader), std::vector<uint32_t>{3});
     EXPECT_EQ(loader.counters().residentBytes, src->expectedBytes(3));  // node 2's reservation released
+    // Asked for again (still visible, most urgent): never re-read, never reported again.
+    uint64_t chunks = src->chunks.load();
+    loader.updateAndEvict(u, {}, kNothingPinned);
+    EXPECT_EQ(loader.step(5), 0u);
+    EXPECT_EQ(src->chunks.load(), chunks);
+    EXPECT_TRUE(loader.takeFailures().empty());
+    EXPECT_EQ(loader.residency(2), Residency::Failed);
 }
 
-TEST(Loader, PlayerSurfacesLoaderFailureAsFormatError) {
+// The player skips a node that fails to load (counted once in failed_loads, never resident)
+// unless strictLoads makes it fatal.
+TEST(Loader, PlayerSkipsAFailedLoadUnlessStrict) {
     auto src = std::make_shared<HookSource>(test::gridSkeleton(1, 1, 3));
     src->corrupt = 1;
-    CostModelRenderer renderer;
-    PlayerOptions po;
-    po.threadedLoader = false;
-    Constants c;
-    c.targetTimeMs = 1000;  // plenty of time: the player wants the children at once
-    Player player(src, c, renderer, po);
     PathOptions pathOptions;
     pathOptions.kind = PathKind::Fly;
     CameraPath path = generatePath(src->skeleton(), pathOptions);
-    EXPECT_THROW(
-        {
-            for (int f = 0; f < 50; ++f) player.frame(sampleCameraPath(path, f * 0.03), f * 0.03);
-        },
-        FormatError);
+    Constants c;
+    c.targetTimeMs = 1000;  // plenty of time: the player wants the children at once
+    for (bool strict : {false, true}) {
+        CostModelRenderer renderer;
+        PlayerOptions po;
+        po.threadedLoader = false;
+        po.strictLoads = strict;
+        std::vector<uint32_t> told;
+        po.onLoadFailure = [&](const LoadFailure& f) { told.push_back(f.node); };
+        Player player(src, c, renderer, po);
+        auto run = [&] {
+            uint32_t failed = 0;
+            for (int f = 0; f < 50; ++f) failed += player.frame(sampleCameraPath(path, f * 0.03), f * 0.03).failedLoads;
+            return failed;
+        };
+        if (strict) {
+            EXPECT_THROW(run(), FormatError);
+            EXPECT_TRUE(told.empty());
+            continue;
+        }
+        EXPECT_EQ(run(), 1u);
+        EXPECT_EQ(told, std::vector<uint32_t>{1});
+        EXPECT_FALSE(player.resident(1));
+    }
 }
 
 // A tight budget (hlod0 + 16 nodes): eviction must spare every node on the front's path, the
