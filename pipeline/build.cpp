@@ -94,8 +94,8 @@ Inputs streamBlocks(const std::string& input, const BuildOptions& options, const
         raw.spillTo(rawDir);
         raw.progress = &progress;
         progress.beginStage("read", fs::file_size(input), "B");
-        if (extensionOf(input) == ".ply") parsePly(input, raw);
-        else parseObj(input, raw);
+        if (extensionOf(input) == ".ply") parsePly(input, raw, options.read);
+        else parseObj(input, raw, options.read);
         progress.endStage();
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
@@ -119,12 +119,15 @@ Inputs findBlocks(const std::string& input, const BuildOptions& options, const s
             if (entry.is_regular_file() && isMeshFile(entry.path())) files.push_back(entry.path());
         std::sort(files.begin(), files.end());
         if (files.empty()) throw InputError(input + ": folder has no .ply, .obj, .gltf or .glb files");
-        for (const auto& f : files) in.blocks.push_back({f.string(), false, 0});
+        for (const auto& f : files) {
+            resolveReference(input, input, f.filename().string(), "mesh", options.read);  // a link may not leave the folder
+            in.blocks.push_back({f.string(), false, 0});
+        }
         return in;
     }
     if (isStreamable(input)) return streamBlocks(input, options, tempDir, progress);
     progress.beginStage("read", 0);
-    SourceMesh source = readMesh(input);
+    SourceMesh source = readMesh(input, options.read);
     progress.advance(source.piece.mesh.triangleCount());
     progress.endStage();
     reportRead(input, source.stats, progress);
@@ -175,7 +178,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
         mesh.piece = loadPiece(source.file);
         mesh.materials = materials;
     } else {
-        mesh = readMesh(source.file);
+        mesh = readMesh(source.file, options.read);
     }
     const GateTicket ticket(gate, blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh)));
     BlockRecordWriter records(blockRecordPath(dir, index));

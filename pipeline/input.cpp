@@ -1,6 +1,7 @@
 // Input checks shared by every reader: non-finite attributes and
 // out-of-range indices are errors, degenerate triangles are dropped and counted, texture paths
-// may not leave the input's folder, missing textures are warnings. readMesh picks the reader.
+// and every other reference stay inside the input's folder (resolveReference), missing textures
+// are warnings. readMesh picks the reader.
 #include "pipeline/pipeline.h"
 
 #include <cmath>
@@ -36,12 +37,28 @@ bool zeroArea(const float* a, const float* b, const float* c) {
     return n[0] == 0 && n[1] == 0 && n[2] == 0;
 }
 
-std::string resolveTexturePath(const std::string& meshPath, const std::string& texture) {
-    const fs::path folder = fs::weakly_canonical(fs::absolute(fs::path(meshPath)).parent_path());
-    const fs::path resolved = fs::weakly_canonical(folder / fs::path(texture));
-    const auto [f, r] = std::mismatch(folder.begin(), folder.end(), resolved.begin(), resolved.end());
-    if (f != folder.end())
-        throw InputError(meshPath + ": texture '" + texture + "' points outside the input's folder (refused)");
+std::string folderOf(const std::string& meshPath) {
+    const fs::path parent = fs::path(meshPath).parent_path();
+    return parent.empty() ? "." : parent.string();
+}
+
+std::string resolveReference(const std::string& input, const std::string& folder, const std::string& reference,
+                             const std::string& kind, const ReadOptions& options) {
+    const fs::path ref(reference);
+    const fs::path base = fs::weakly_canonical(fs::absolute(fs::path(folder)));
+    const fs::path resolved = fs::weakly_canonical(base / ref);
+    if (options.allowOutsideInput) return resolved.string();
+    const auto refuse = [&](const std::string& why) {
+        throw InputError(input + ": " + kind + " '" + reference + "' " + why +
+                         " (refused; --allow-outside-input allows it)");
+    };
+    if (reference.empty()) refuse("is empty");
+    if (ref.is_absolute()) refuse("is an absolute path");
+    for (const fs::path& part : ref)
+        if (part == "..") refuse("has a '..' component");
+    const auto b = std::mismatch(base.begin(), base.end(), resolved.begin(), resolved.end()).first;
+    if (b != base.end())
+        refuse("resolves outside the input's folder (to " + resolved.string() + ", through a symbolic link)");
     return resolved.string();
 }
 
@@ -89,13 +106,13 @@ void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const st
     }
 }
 
-SourceMesh readMesh(const std::string& path) {
+SourceMesh readMesh(const std::string& path, const ReadOptions& options) {
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (!fs::exists(path)) throw InputError(path + ": no such file");
-    if (ext == ".ply") return readPly(path);
-    if (ext == ".obj") return readObj(path);
-    if (ext == ".gltf" || ext == ".glb") return readGltf(path);
+    if (ext == ".ply") return readPly(path, options);
+    if (ext == ".obj") return readObj(path, options);
+    if (ext == ".gltf" || ext == ".glb") return readGltf(path, options);
     throw InputError(path + ": unsupported format '" + ext + "' (expected .ply, .obj, .gltf or .glb)");
 }
 
