@@ -258,8 +258,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
 
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const BuildOptions& options = request.options;
-    if (options.constants.levelFactor < 2 || options.constants.desiredTris < 1)
-        throw std::invalid_argument("c_levelFactor must be >= 2 and c_desiredTris >= 1");
+    validateConstants(options.constants, kUsedByBuild);
     const fs::path outputParent = fs::absolute(request.output).parent_path();
     TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
     const Inputs inputs = findBlocks(request.input, options, temp.path, progress);
