@@ -5,6 +5,8 @@
 // -j, and building subsets of blocks as shards and merging them gives the same bytes.
 #include "pipeline/pipeline.h"
 
+#include "formats/temp_files.h"
+
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -56,7 +58,9 @@ bool isMeshFile(const fs::path& p) {
 struct TempDir {
     std::string path;
     explicit TempDir(const std::string& parent) {
-        std::string pattern = (fs::path(parent) / "hlod-build-XXXXXX").string();
+        const std::string prefix = (fs::path(parent) / "hlod-build").string();
+        removeStaleTemporaries(prefix);  // of builds killed before they removed theirs
+        std::string pattern = temporaryPattern(prefix);
         if (!mkdtemp(pattern.data())) throw std::runtime_error(parent + ": cannot create a temporary folder");
         path = pattern;
     }
