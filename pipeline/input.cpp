@@ -44,21 +44,28 @@ std::string folderOf(const std::string& meshPath) {
 
 std::string resolveReference(const std::string& input, const std::string& folder, const std::string& reference,
                              const std::string& kind, const ReadOptions& options) {
-    const fs::path ref(reference);
-    const fs::path base = fs::weakly_canonical(fs::absolute(fs::path(folder)));
-    const fs::path resolved = fs::weakly_canonical(base / ref);
-    if (options.allowOutsideInput) return resolved.string();
-    const auto refuse = [&](const std::string& why) {
-        throw InputError(input + ": " + kind + " '" + reference + "' " + why +
-                         " (refused; --allow-outside-input allows it)");
+    std::string shown = reference;  // one line whatever the reference holds (a glTF URI may hold "\n")
+    for (char& c : shown)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    const auto fail = [&](const std::string& why, bool refusal) {
+        throw InputError(input + ": " + kind + " '" + shown + "' " + why +
+                         (refusal ? " (refused; --allow-outside-input allows it)" : ""));
     };
-    if (reference.empty()) refuse("is empty");
-    if (ref.is_absolute()) refuse("is an absolute path");
-    for (const fs::path& part : ref)
-        if (part == "..") refuse("has a '..' component");
+    const fs::path ref(reference);
+    if (!options.allowOutsideInput) {
+        if (reference.empty()) fail("is empty", true);
+        if (ref.is_absolute()) fail("is an absolute path", true);
+        for (const fs::path& part : ref)
+            if (part == "..") fail("has a '..' component", true);
+    }
+    std::error_code error;
+    const fs::path base = fs::weakly_canonical(fs::absolute(fs::path(folder), error), error);
+    const fs::path resolved = error ? fs::path() : fs::weakly_canonical(base / ref, error);
+    if (error) fail("cannot be resolved (" + error.message() + ")", false);  // e.g. a name longer than 255 bytes
+    if (options.allowOutsideInput) return resolved.string();
     const auto b = std::mismatch(base.begin(), base.end(), resolved.begin(), resolved.end()).first;
     if (b != base.end())
-        refuse("resolves outside the input's folder (to " + resolved.string() + ", through a symbolic link)");
+        fail("resolves outside the input's folder (to " + resolved.string() + ", through a symbolic link)", true);
     return resolved.string();
 }
 

@@ -113,6 +113,20 @@ TEST(Confine, SymbolicLinkOutRefused) {
     EXPECT_EQ(readMesh(l.in("m.obj")).materials[0].texturePath, fs::canonical(l.in("real.png")).string());
 }
 
+// Found by fuzz_obj: a reference with a name longer than the file system allows made
+// std::filesystem throw past the reader (a crash in `hlod build`); it is now an InputError. A
+// control character in a reference (a glTF URI may hold "\n") keeps the error on one line.
+TEST(Confine, UnresolvableOrMultiLineReferenceIsOneLineInputError) {
+    Layout l;
+    const std::string longName(300, 'x');
+    std::ofstream(l.in("m.obj")) << "mtllib " << longName << "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    for (const ReadOptions& options : {ReadOptions{}, kAllow})
+        EXPECT_EQ(errorOf([&] { readMesh(l.in("m.obj"), options); }),
+                  l.in("m.obj") + ": material library '" + longName + "' cannot be resolved (File name too long)");
+    std::ofstream(l.in("n.gltf")) << triangleGltf("../a\\nb.bin");
+    expectRefused(errorOf([&] { readMesh(l.in("n.gltf")); }), l.in("n.gltf"), "../a?b.bin");
+}
+
 TEST(Confine, DataUrisKeepWorking) {
     Layout l;
     const std::string png = "data:image/png;base64," + base64(encodeTexture(testImage(4, 4), Codec::Png).bytes);
