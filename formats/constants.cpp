@@ -66,6 +66,23 @@ void setConstant(Constants& c, const std::string& name, const std::string& value
     throw std::invalid_argument("unknown constant '" + name + "' (known: " + known + ")");
 }
 
+void validateConstants(const Constants& c, ConstantUse use) {
+    const auto check = [&](ConstantUse by, const char* name, double value, bool ok, const std::string& rule) {
+        if ((by & use) && !ok) throw std::invalid_argument(std::string(name) + " = " + format(value) + ": must be " + rule);
+    };
+    check(kUsedByBuild, "c_desiredTris", c.desiredTris, c.desiredTris >= 1, ">= 1");
+    check(kUsedByBuild, "c_levelFactor", c.levelFactor, c.levelFactor >= 2 && c.levelFactor <= 64,
+          "in [2, 64] (children per node)");
+    check(kUsedByBuild, "c_textured", c.textured, c.textured > 0 && c.textured <= 1, "in (0, 1]");
+    check(kUsedByPlayer, "c_vis", c.vis, c.vis >= 0, ">= 0");
+    check(kUsedByPlayer, "c_fore", c.fore, c.fore >= 0, ">= 0");
+    check(kUsedByPlayer, "c_targetTime", c.targetTimeMs, c.targetTimeMs > 0, "> 0 (milliseconds)");
+    check(kUsedByPlayer, "c_hystSwitch", c.hystSwitch, c.hystSwitch > 0, "> 0");
+    check(kUsedByPlayer, "c_hystSwitch", c.hystSwitch, c.hystSwitch <= c.hystLimit,
+          "<= c_hystLimit = " + format(c.hystLimit) + " (the counter could never reach it)");
+    check(kUsedByPlayer, "c_memory", c.memory, c.memory > 0, "> 0 (bytes per unit of cost)");
+}
+
 void setConstantAssignment(Constants& c, const std::string& assignment) {
     auto eq = assignment.find('=');
     if (eq == std::string::npos)

@@ -2,6 +2,7 @@
 // skeleton LAST and the header over the placeholder at offset 0, fsyncs, renames into place
 // and fsyncs the directory (FORMAT.md §Atomic writing). Links follow thesis §3.3 / Fig. 3.1.
 #include "formats/layout.h"
+#include "formats/temp_files.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -57,7 +58,8 @@ struct Writer::Impl {
 Writer::Writer(const std::string& path, double cTextured) : impl_(std::make_unique<Impl>()) {
     impl_->path = path;
     impl_->cTextured = cTextured;
-    std::string tmpl = path + ".tmp-XXXXXX";
+    removeStaleTemporaries(path + ".tmp");  // of writers killed before they renamed theirs
+    std::string tmpl = temporaryPattern(path + ".tmp");
     impl_->fd = ::mkstemp(tmpl.data());
     if (impl_->fd < 0) throw ioError(path, "cannot create temporary file");
     impl_->tmpPath = tmpl;
@@ -142,15 +144,19 @@ void Writer::finish() {
     std::vector<uint8_t> skel = layout::encodeSkeleton(w.skeleton);
     writeAll(w.fd, w.pos, skel, w.tmpPath);
     auto header = layout::encodeHeader(w.pos, skel);
+    // The header without its magic first, synced; the magic only just before the rename, so a
+    // run killed during the (slow) fsync leaves a temporary that never opens as a database
+    // (found by the kill -9 sweep, tests/pipeline/test_kill.cpp).
+    std::vector<uint8_t> magic(header.begin(), header.begin() + layout::kMagic.size());
+    std::fill(header.begin(), header.begin() + layout::kMagic.size(), uint8_t{0});
     writeAll(w.fd, 0, header, w.tmpPath);
     if (::fsync(w.fd) != 0) throw ioError(w.tmpPath, "fsync failed");
-    if (::close(w.fd) != 0) {
-        w.fd = -1;
-        throw ioError(w.tmpPath, "close failed");
-    }
-    w.fd = -1;
+    writeAll(w.fd, 0, magic, w.tmpPath);
     if (::rename(w.tmpPath.c_str(), w.path.c_str()) != 0) throw ioError(w.path, "rename failed");
     w.finished = true;
+    const int synced = ::fsync(w.fd), closed = ::close(w.fd);
+    w.fd = -1;
+    if (synced != 0 || closed != 0) throw ioError(w.path, "fsync failed");
     int dir = ::open(directoryOf(w.path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dir >= 0) {
         ::fsync(dir);

@@ -5,6 +5,8 @@
 // -j, and building subsets of blocks as shards and merging them gives the same bytes.
 #include "pipeline/pipeline.h"
 
+#include "formats/temp_files.h"
+
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -56,7 +58,9 @@ bool isMeshFile(const fs::path& p) {
 struct TempDir {
     std::string path;
     explicit TempDir(const std::string& parent) {
-        std::string pattern = (fs::path(parent) / "hlod-build-XXXXXX").string();
+        const std::string prefix = (fs::path(parent) / "hlod-build").string();
+        removeStaleTemporaries(prefix);  // of builds killed before they removed theirs
+        std::string pattern = temporaryPattern(prefix);
         if (!mkdtemp(pattern.data())) throw std::runtime_error(parent + ": cannot create a temporary folder");
         path = pattern;
     }
@@ -94,8 +98,8 @@ Inputs streamBlocks(const std::string& input, const BuildOptions& options, const
         raw.spillTo(rawDir);
         raw.progress = &progress;
         progress.beginStage("read", fs::file_size(input), "B");
-        if (extensionOf(input) == ".ply") parsePly(input, raw);
-        else parseObj(input, raw);
+        if (extensionOf(input) == ".ply") parsePly(input, raw, options.read);
+        else parseObj(input, raw, options.read);
         progress.endStage();
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
@@ -119,12 +123,15 @@ Inputs findBlocks(const std::string& input, const BuildOptions& options, const s
             if (entry.is_regular_file() && isMeshFile(entry.path())) files.push_back(entry.path());
         std::sort(files.begin(), files.end());
         if (files.empty()) throw InputError(input + ": folder has no .ply, .obj, .gltf or .glb files");
-        for (const auto& f : files) in.blocks.push_back({f.string(), false, 0});
+        for (const auto& f : files) {
+            resolveReference(input, input, f.filename().string(), "mesh", options.read);  // a link may not leave the folder
+            in.blocks.push_back({f.string(), false, 0});
+        }
         return in;
     }
     if (isStreamable(input)) return streamBlocks(input, options, tempDir, progress);
     progress.beginStage("read", 0);
-    SourceMesh source = readMesh(input);
+    SourceMesh source = readMesh(input, options.read);
     progress.advance(source.piece.mesh.triangleCount());
     progress.endStage();
     reportRead(input, source.stats, progress);
@@ -175,7 +182,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
         mesh.piece = loadPiece(source.file);
         mesh.materials = materials;
     } else {
-        mesh = readMesh(source.file);
+        mesh = readMesh(source.file, options.read);
     }
     const GateTicket ticket(gate, blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh)));
     BlockRecordWriter records(blockRecordPath(dir, index));
@@ -255,8 +262,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
 
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const BuildOptions& options = request.options;
-    if (options.constants.levelFactor < 2 || options.constants.desiredTris < 1)
-        throw std::invalid_argument("c_levelFactor must be >= 2 and c_desiredTris >= 1");
+    validateConstants(options.constants, kUsedByBuild);
     const fs::path outputParent = fs::absolute(request.output).parent_path();
     TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
     const Inputs inputs = findBlocks(request.input, options, temp.path, progress);

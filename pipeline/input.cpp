@@ -1,6 +1,7 @@
 // Input checks shared by every reader: non-finite attributes and
 // out-of-range indices are errors, degenerate triangles are dropped and counted, texture paths
-// may not leave the input's folder, missing textures are warnings. readMesh picks the reader.
+// and every other reference stay inside the input's folder (resolveReference), missing textures
+// are warnings. readMesh picks the reader.
 #include "pipeline/pipeline.h"
 
 #include <cmath>
@@ -36,12 +37,35 @@ bool zeroArea(const float* a, const float* b, const float* c) {
     return n[0] == 0 && n[1] == 0 && n[2] == 0;
 }
 
-std::string resolveTexturePath(const std::string& meshPath, const std::string& texture) {
-    const fs::path folder = fs::weakly_canonical(fs::absolute(fs::path(meshPath)).parent_path());
-    const fs::path resolved = fs::weakly_canonical(folder / fs::path(texture));
-    const auto [f, r] = std::mismatch(folder.begin(), folder.end(), resolved.begin(), resolved.end());
-    if (f != folder.end())
-        throw InputError(meshPath + ": texture '" + texture + "' points outside the input's folder (refused)");
+std::string folderOf(const std::string& meshPath) {
+    const fs::path parent = fs::path(meshPath).parent_path();
+    return parent.empty() ? "." : parent.string();
+}
+
+std::string resolveReference(const std::string& input, const std::string& folder, const std::string& reference,
+                             const std::string& kind, const ReadOptions& options) {
+    std::string shown = reference;  // one line whatever the reference holds (a glTF URI may hold "\n")
+    for (char& c : shown)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    const auto fail = [&](const std::string& why, bool refusal) {
+        throw InputError(input + ": " + kind + " '" + shown + "' " + why +
+                         (refusal ? " (refused; --allow-outside-input allows it)" : ""));
+    };
+    const fs::path ref(reference);
+    if (!options.allowOutsideInput) {
+        if (reference.empty()) fail("is empty", true);
+        if (ref.is_absolute()) fail("is an absolute path", true);
+        for (const fs::path& part : ref)
+            if (part == "..") fail("has a '..' component", true);
+    }
+    std::error_code error;
+    const fs::path base = fs::weakly_canonical(fs::absolute(fs::path(folder), error), error);
+    const fs::path resolved = error ? fs::path() : fs::weakly_canonical(base / ref, error);
+    if (error) fail("cannot be resolved (" + error.message() + ")", false);  // e.g. a name longer than 255 bytes
+    if (options.allowOutsideInput) return resolved.string();
+    const auto b = std::mismatch(base.begin(), base.end(), resolved.begin(), resolved.end()).first;
+    if (b != base.end())
+        fail("resolves outside the input's folder (to " + resolved.string() + ", through a symbolic link)", true);
     return resolved.string();
 }
 
@@ -89,13 +113,13 @@ void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const st
     }
 }
 
-SourceMesh readMesh(const std::string& path) {
+SourceMesh readMesh(const std::string& path, const ReadOptions& options) {
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (!fs::exists(path)) throw InputError(path + ": no such file");
-    if (ext == ".ply") return readPly(path);
-    if (ext == ".obj") return readObj(path);
-    if (ext == ".gltf" || ext == ".glb") return readGltf(path);
+    if (ext == ".ply") return readPly(path, options);
+    if (ext == ".obj") return readObj(path, options);
+    if (ext == ".gltf" || ext == ".glb") return readGltf(path, options);
     throw InputError(path + ": unsupported format '" + ext + "' (expected .ply, .obj, .gltf or .glb)");
 }
 

@@ -78,8 +78,14 @@ struct RawMesh {
     void seal();  // parsing done
     size_t positionCount() const { return positions.size() / 3; }
 };
-void parsePly(const std::string& path, RawMesh& raw);
-void parseObj(const std::string& path, RawMesh& raw);
+// What readers may open besides the input itself (README "Reliability"): every file an input
+// refers to stays inside the input's folder unless allowOutsideInput (hlod build
+// --allow-outside-input) is set.
+struct ReadOptions {
+    bool allowOutsideInput = false;
+};
+void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
+void parseObj(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
 // Welds the corners (OBJ: by position/texcoord/normal index triple, in first-use order) into
 // an indexed SourceMesh and sanitizes it.
 SourceMesh toSourceMesh(const RawMesh& raw, const std::string& name);
@@ -92,12 +98,16 @@ struct Corner {
 bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& name);
 
 // Readers. Throw InputError("FILE: problem") on a missing, truncated or corrupt file.
-// Texture paths outside the folder of `path` are refused (InputError); missing textures give a
-// warning and untextured triangles.
-SourceMesh readPly(const std::string& path);
-SourceMesh readObj(const std::string& path);
-SourceMesh readGltf(const std::string& path);
-SourceMesh readMesh(const std::string& path);  // by extension
+// References outside the folder of `path` are refused (resolveReference); missing textures give
+// a warning and untextured triangles.
+SourceMesh readPly(const std::string& path, const ReadOptions& options = {});
+SourceMesh readObj(const std::string& path, const ReadOptions& options = {});
+SourceMesh readGltf(const std::string& path, const ReadOptions& options = {});
+// A glTF (binary: GLB) held in memory, named `path` (its external buffers and images resolve
+// from the folder of `path`): what readGltf reads, and the fuzz targets' entry point.
+SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const std::string& path,
+                         const ReadOptions& options = {});
+SourceMesh readMesh(const std::string& path, const ReadOptions& options = {});  // by extension
 
 // input.cpp: rejects NaN/Inf attributes, out-of-range indices and empty meshes (InputError
 // naming `name`), drops degenerate triangles (counted in stats), turns missing textures into
@@ -107,8 +117,16 @@ void sanitize(SourceMesh& source, const std::string& name);
 bool zeroArea(const float* a, const float* b, const float* c);
 // Missing texture files, or no texture coordinates: a warning, and the material is untextured.
 void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const std::string& name, ReadStats& stats);
-// Resolves `texture` relative to the folder of `meshPath`; throws InputError when it leaves it.
-std::string resolveTexturePath(const std::string& meshPath, const std::string& texture);
+// The one confinement rule for every file an input refers to (MTL libraries and their
+// textures, PLY TextureFile comments, glTF buffers and images, the meshes of a folder input):
+// `reference` (a `kind`, e.g. "texture") is resolved against `folder` (the input's folder) and
+// returned resolved; unless options.allowOutsideInput, an absolute path, a '..' component or a
+// path that resolves (after symlinks) outside `folder` throws InputError
+// "INPUT: KIND 'REFERENCE' ... (refused; --allow-outside-input allows it)".
+std::string resolveReference(const std::string& input, const std::string& folder, const std::string& reference,
+                             const std::string& kind, const ReadOptions& options);
+// The folder of a mesh file (its parent; "." for a bare name), the base of its references.
+std::string folderOf(const std::string& meshPath);
 
 // cut.cpp (Fig. 3.2): splits by the plane x[axis] = position. Triangles crossing it become three
 // with two new vertices on the plane, attributes interpolated linearly. `below` gets x <= p.
@@ -201,6 +219,7 @@ struct BuildOptions {
     uint64_t memoryLimit = 1ull << 30;
     int jobs = 0;                  // 0 = all cores
     std::string tempDir;           // empty = next to the output
+    ReadOptions read;              // --allow-outside-input
 };
 
 // progress.cpp: per-stage figures and, on a terminal, a live line (stage, percent, items/s,

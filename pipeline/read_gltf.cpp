@@ -4,17 +4,22 @@
 // the inverse transpose, normalised) and COLOR_0 (RGB or RGBA, float or normalised integers, to
 // 8 bits) as the PLY reader reads them: an attribute is kept when every primitive has it.
 // Mirroring transforms reverse the winding back. Base-colour textures: embedded images
-// decoded by stb_image, external ones by path (resolved inside the input's folder, loaded later
-// through OpenImageIO). Every accessor is checked against its buffer view and buffer before it
-// is read: corrupt files give InputError("FILE: problem").
+// decoded by stb_image, external ones by path (loaded later through OpenImageIO). External
+// images and buffers are confined to the input's folder (resolveReference). Every accessor is
+// checked against its buffer view and buffer before it is read: corrupt files give
+// InputError("FILE: problem").
 #define TINYGLTF_IMPLEMENTATION
 #include "pipeline/tiny_gltf_config.h"
 
 #include "pipeline/pipeline.h"
 
 #include <array>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 namespace hlod {
 namespace {
@@ -70,6 +75,7 @@ double determinant(const Matrix& m) {
 struct Context {
     const tinygltf::Model& model;
     const std::string& path;
+    const ReadOptions& options;
     SourceMesh& out;
     std::vector<uint32_t> materialOfGltf;  // glTF material -> index in out.materials
     bool allNormals = true, allColors = true;
@@ -291,8 +297,8 @@ void addMaterials(Context& cx) {
                 const tinygltf::Image& img = cx.model.images[static_cast<size_t>(source)];
                 if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0)
                     out.image = decodedImage(cx, img, static_cast<size_t>(source));
-                else if (!img.uri.empty())
-                    out.texturePath = resolveTexturePath(cx.path, img.uri);
+                else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
+                    out.texturePath = resolveReference(cx.path, folderOf(cx.path), img.uri, "image", cx.options);
             }
         }
         cx.materialOfGltf.push_back(static_cast<uint32_t>(cx.out.materials.size()));
@@ -301,19 +307,74 @@ void addMaterials(Context& cx) {
     cx.out.materials.push_back({"default", "", nullptr});
 }
 
+// tinygltf's file callbacks, confined: an external buffer is looked up as FOLDER/URI (tinygltf
+// then also tries ./URI, which is never accepted) and resolved by resolveReference; a refusal
+// is kept and thrown once tinygltf returns.
+struct BufferFiles {
+    const std::string& path;
+    const std::string folder;
+    const ReadOptions& options;
+    std::string refused;
+};
+
+std::string expandPath(const std::string& file, void*) { return file; }
+
+// The buffer `file` (FOLDER/URI as tinygltf joins them) resolved, or "" (refusal kept).
+std::string bufferPath(const std::string& file, BufferFiles& files) {
+    const std::string prefix = files.folder + "/";
+    if (file.rfind(prefix, 0) != 0) return "";
+    try {
+        return resolveReference(files.path, files.folder, file.substr(prefix.size()), "buffer", files.options);
+    } catch (const InputError& e) {
+        if (files.refused.empty()) files.refused = e.what();
+        return "";
+    }
+}
+
+bool bufferExists(const std::string& file, void* user) {
+    const std::string resolved = bufferPath(file, *static_cast<BufferFiles*>(user));
+    return !resolved.empty() && std::filesystem::is_regular_file(resolved);
+}
+
+bool readBuffer(std::vector<unsigned char>* out, std::string* err, const std::string& file, void* user) {
+    std::ifstream in(bufferPath(file, *static_cast<BufferFiles*>(user)), std::ios::binary);
+    if (!in) {
+        *err = "cannot open";
+        return false;
+    }
+    out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in.bad()) return true;
+    *err = "read error";
+    return false;
+}
+
 }  // namespace
 
-SourceMesh readGltf(const std::string& path) {
+SourceMesh readGltf(const std::string& path, const ReadOptions& options) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
+    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw InputError(path + ": read error");
+    std::string extension = std::filesystem::path(path).extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return readGltfBytes(bytes, extension == ".glb", path, options);
+}
+
+SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const std::string& path, const ReadOptions& options) {
+    if (bytes.size() >= UINT32_MAX) throw InputError(path + ": glTF larger than 4 GiB (not supported)");
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
     std::string err, warn;
-    std::string extension = std::filesystem::path(path).extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    const bool ok = extension == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                        : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    BufferFiles files{path, folderOf(path), options, {}};
+    loader.SetFsCallbacks({bufferExists, expandPath, readBuffer, nullptr, &files});
+    const unsigned int length = static_cast<unsigned int>(bytes.size());
+    const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), length, files.folder)
+                           : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                                        length, files.folder);
+    if (!files.refused.empty()) throw InputError(files.refused);
     if (!ok) throw InputError(path + ": corrupt glTF (" + err.substr(0, err.find('\n')) + ")");
     SourceMesh out;
-    Context cx{model, path, out, {}};
+    Context cx{model, path, options, out, {}};
     addMaterials(cx);
     const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;

@@ -37,7 +37,8 @@ std::string_view token(Line& l) {
 
 class ObjParser {
 public:
-    ObjParser(const std::string& path, RawMesh& raw) : path_(path), raw_(raw) {}
+    ObjParser(const std::string& path, RawMesh& raw, const ReadOptions& options)
+        : path_(path), folder_(folderOf(path)), raw_(raw), options_(options) {}
 
     void parse() {
         std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path_.c_str(), "rb"), &std::fclose);
@@ -122,7 +123,7 @@ private:
 
     void materialLibrary(Line& l) {
         for (std::string_view name = token(l); !name.empty(); name = token(l)) {
-            const std::string file = resolveTexturePath(path_, std::string(name));
+            const std::string file = resolveReference(path_, folder_, std::string(name), "material library", options_);
             std::ifstream in(file);
             if (!in) {
                 raw_.stats.warnings.push_back(path_ + ": material library '" + std::string(name) + "' not found");
@@ -135,7 +136,8 @@ private:
             for (const tinyobj::material_t& m : materials) {
                 byName_[m.name] = static_cast<uint32_t>(raw_.materials.size());
                 raw_.materials.push_back(
-                    {m.name, m.diffuse_texname.empty() ? "" : resolveTexturePath(path_, m.diffuse_texname), nullptr});
+                    {m.name, m.diffuse_texname.empty() ? "" : resolveReference(path_, folder_, m.diffuse_texname, "texture", options_),
+                     nullptr});
             }
         }
     }
@@ -164,7 +166,9 @@ private:
     }
 
     const std::string& path_;
+    const std::string folder_;
     RawMesh& raw_;
+    const ReadOptions& options_;
     std::map<std::string, uint32_t> byName_;
     uint32_t material_ = kNone;
     bool everyFaceHasTexcoords_ = true, everyFaceHasNormals_ = true, lastLine_ = false;
@@ -172,14 +176,14 @@ private:
 
 }  // namespace
 
-void parseObj(const std::string& path, RawMesh& raw) {
-    ObjParser(path, raw).parse();
+void parseObj(const std::string& path, RawMesh& raw, const ReadOptions& options) {
+    ObjParser(path, raw, options).parse();
     raw.seal();
 }
 
-SourceMesh readObj(const std::string& path) {
+SourceMesh readObj(const std::string& path, const ReadOptions& options) {
     RawMesh raw;
-    parseObj(path, raw);
+    parseObj(path, raw, options);
     return toSourceMesh(raw, path);
 }
 

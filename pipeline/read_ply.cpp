@@ -272,7 +272,7 @@ void readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
 
 }  // namespace
 
-void parsePly(const std::string& path, RawMesh& raw) {
+void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!f) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
     const PlyHeader header = readHeader(f.get(), path);
@@ -298,13 +298,14 @@ void parsePly(const std::string& path, RawMesh& raw) {
     if (!haveVertices || !haveFaces) throw InputError(path + ": PLY has no " + (haveVertices ? "faces" : "vertices"));
     raw.sharedIndices = true;
     raw.materials.push_back({"ply", "", nullptr});
-    if (!header.textures.empty() && raw.hasTexcoords) raw.materials[0].texturePath = resolveTexturePath(path, header.textures[0]);
+    if (!header.textures.empty() && raw.hasTexcoords)
+        raw.materials[0].texturePath = resolveReference(path, folderOf(path), header.textures[0], "texture", options);
     raw.seal();
 }
 
-SourceMesh readPly(const std::string& path) {
+SourceMesh readPly(const std::string& path, const ReadOptions& options) {
     RawMesh raw;
-    parsePly(path, raw);
+    parsePly(path, raw, options);
     return toSourceMesh(raw, path);
 }
 

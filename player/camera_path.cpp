@@ -48,9 +48,13 @@ CameraKey parseKey(const std::vector<std::string>& f, const std::string& name, s
     for (int i = 0; i < 9; ++i) v[i] = number(f[i], name, line, names[i]);
     CameraKey k;
     k.time = v[0];
+    if (std::abs(k.time) > kMaxCameraTime) fail(name, line, "time " + f[0] + " s is beyond one day (limit 86400 s)");
     std::copy(v + 1, v + 4, k.position);
+    for (int i = 1; i < 4; ++i)
+        if (std::abs(v[i]) > kMaxCameraCoordinate) fail(name, line, std::string(names[i]) + " " + f[i] + " is beyond 1e15");
     double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
-    if (std::abs(norm - 1) > 0.01) fail(name, line, "orientation quaternion is not unit length (|q| = " + f[4] + "...)");
+    if (!(std::abs(norm - 1) <= 0.01))
+        fail(name, line, "orientation quaternion is not unit length (|q| = " + std::to_string(norm) + ")");
     for (int i = 0; i < 4; ++i) k.orientation[i] = v[4 + i] / norm;
     k.vfovDegrees = v[8];
     if (!(k.vfovDegrees > 0 && k.vfovDegrees < 180)) fail(name, line, "vertical field of view must be in (0, 180) degrees");
@@ -63,7 +67,9 @@ CameraPath parseCameraPath(std::istream& in, const std::string& name) {
     CameraPath path;
     bool header = false;
     size_t lineNo = 0;
-    for (std::string line; std::getline(in, line);) {
+    char buffer[kMaxCameraLine + 1];
+    while (in.getline(buffer, sizeof buffer)) {
+        std::string line(buffer, static_cast<size_t>(in.gcount()) - (in.eof() ? 0 : 1));  // without the newline
         ++lineNo;
         if (auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
         auto f = fields(line);
@@ -76,9 +82,11 @@ CameraPath parseCameraPath(std::istream& in, const std::string& name) {
         }
         CameraKey k = parseKey(f, name, lineNo);
         if (!path.keys.empty() && !(k.time > path.keys.back().time)) fail(name, lineNo, "times must increase strictly");
+        if (path.keys.size() == kMaxCameraKeys) fail(name, lineNo, "more than 1000000 keys (the limit)");
         path.keys.push_back(k);
     }
     if (in.bad()) throw InputError(name + ": read error");
+    if (in.fail() && !in.eof()) fail(name, lineNo + 1, "line longer than 1024 bytes");
     if (!header) throw InputError(name + ": empty file (expected 'hlod-camera-path 1')");
     if (path.keys.empty()) throw InputError(name + ": camera path has no keys");
     return path;

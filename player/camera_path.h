@@ -25,8 +25,16 @@ struct CameraPath {
     double duration() const { return keys.empty() ? 0 : keys.back().time; }
 };
 
+// Limits of a camera path (player/CAMERA_PATH.md "Limits"): the reader streams line by line and
+// holds at most kMaxCameraKeys keys (72 B each, 72 MB) of lines up to kMaxCameraLine bytes, so a
+// hostile file fails at the first line past a limit instead of allocating what it claims.
+inline constexpr size_t kMaxCameraKeys = 1'000'000;  // 4.6 hours of keys at 60 Hz
+inline constexpr size_t kMaxCameraLine = 1024;       // bytes, comments included
+inline constexpr double kMaxCameraTime = 86400;      // |time| in seconds: one day of replay
+inline constexpr double kMaxCameraCoordinate = 1e15; // |px|, |py|, |pz|
+
 // Throws InputError "NAME:LINE: problem" (bad header, field count, number, time order,
-// quaternion, field of view) or "NAME: ..." for an unreadable or empty file.
+// quaternion, field of view, a limit exceeded) or "NAME: ..." for an unreadable or empty file.
 CameraPath parseCameraPath(std::istream& in, const std::string& name);
 CameraPath readCameraPath(const std::string& path);
 void writeCameraPath(std::ostream& out, const CameraPath& path);

@@ -29,21 +29,14 @@ cmake --build build-tsan -j "$jobs" --target test_player
 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
   build-tsan/tests/player/test_player --gtest_filter='Loader*:PlayerEndToEnd.ThreadedLoaderHoldsTarget'
 
-# libFuzzer smoke run of the database readers (tests/fuzz/README.md): the skeleton and blob
-# fuzzers, built with clang + ASan/UBSan, 15 s each from the generated seed corpus; any crash,
-# leak in hlod code or sanitizer report fails the script.
+# libFuzzer smoke run of every reader (tests/fuzz/README.md, scripts/fuzz.sh): the database
+# skeleton and blobs, PLY, OBJ, MTL, glTF, GLB, camera path, constants and calibration files,
+# built with clang + ASan/UBSan, 15 s each (2.5 minutes in all) from freshly generated seed
+# corpora; any crash, leak in hlod code or sanitizer report fails the script.
 if command -v clang++ >/dev/null; then
-  CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHLOD_FUZZ=ON \
-    -DHLOD_TESTS=OFF -DHLOD_BENCH=OFF >/dev/null
-  cmake --build build-fuzz -j "$jobs" --target fuzz_skeleton fuzz_blob fuzz_corpus
-  rm -rf build-fuzz/corpus && build-fuzz/tests/fuzz/fuzz_corpus build-fuzz/corpus
-  # fuzz_blob: leak checks off, OpenImageIO 2.4's PNG reader leaks on truncated files (not hlod's code).
-  for fuzzer in "skeleton 1 -max_len=8192" "blob 0 -max_len=16384"; do
-    set -- $fuzzer
-    log=build-fuzz/fuzz_$1.log
-    ASAN_OPTIONS=detect_leaks=$2 build-fuzz/tests/fuzz/fuzz_$1 -max_total_time=15 -detect_leaks="$2" "$3" \
-      -artifact_prefix=build-fuzz/ "build-fuzz/corpus/$1" > "$log" 2>&1 || { tail -n 40 "$log"; echo "fuzz_$1: FAILED"; exit 1; }
-    echo "fuzz_$1: $(grep -m1 '^Done' "$log")"
+  rm -rf build-fuzz/corpus
+  for target in skeleton blob ply obj mtl gltf glb camera_path constants calibration; do
+    bash scripts/fuzz.sh "$target" 15
   done
 fi
 

@@ -83,6 +83,7 @@ void applyConstantOptions(const ConstantOptions& options, Constants& c, std::ost
         checkUsed(options, s);
         setConstantAssignment(c, s);
     }
+    validateConstants(c, options.use);
 }
 
 }  // namespace hlod::cli

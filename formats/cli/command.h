@@ -46,8 +46,9 @@ struct ConstantOptions {
     std::vector<std::string> sets;
 };
 void addConstantOptions(CLI::App& sub, ConstantOptions& options);
-// Folds the options into `c`; notes go to `out`. Throws std::invalid_argument (usage) or
-// InputError (the constants file).
+// Folds the options into `c` and checks the result (validateConstants); notes go to `out`.
+// Throws std::invalid_argument (usage: a bad --set, or a value out of range) or InputError (the
+// constants file).
 void applyConstantOptions(const ConstantOptions& options, Constants& c, std::ostream& out);
 
 }  // namespace hlod::cli

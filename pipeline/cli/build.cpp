@@ -138,6 +138,9 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_option("--blocks", a->blocks, "build only blocks FIRST:LAST (LAST excluded), for sharding");
     sub->add_flag("--shard", a->request.shard, "write a shard folder (merge shards with `hlod merge`)");
     sub->add_option("--temp-dir", o.tempDir, "folder for temporary files (default: next to the output)");
+    sub->add_flag("--allow-outside-input", o.read.allowOutsideInput,
+                  "let an input refer to files outside its folder (absolute paths, '..', symbolic links): MTL "
+                  "textures, glTF buffers and images, the meshes of a folder input");
     sub->add_option("--calibration", a->calibration, "calibration file of `hlod calibrate`: sets c_textured (eq. 3.1)");
     addConstantOptions(*sub, a->constants);
     sub->callback([a, &status] { status = runGuarded("build", [&] { return runBuildCommand(*a); }); });

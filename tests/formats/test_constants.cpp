@@ -33,6 +33,39 @@ TEST(Constants, BadValuesAndNames) {
     EXPECT_EQ(c.vis, Constants{}.vis);
 }
 
+// Absurd values (README "Reliability"): each violated range is one line naming the constant; a
+// constant the use does not read is not checked.
+TEST(Constants, AbsurdValuesAreRefusedForTheirUse) {
+    const auto error = [](const char* assignment, ConstantUse use) -> std::string {
+        Constants c;
+        setConstantAssignment(c, assignment);
+        try {
+            validateConstants(c, use);
+        } catch (const std::invalid_argument& e) {
+            return e.what();
+        }
+        return "";
+    };
+    EXPECT_EQ(error("c_targetTime=-5", kUsedByPlayer), "c_targetTime = -5: must be > 0 (milliseconds)");
+    EXPECT_EQ(error("c_targetTime=0", kUsedByPlayer), "c_targetTime = 0: must be > 0 (milliseconds)");
+    EXPECT_EQ(error("c_levelFactor=1", kUsedByBuild), "c_levelFactor = 1: must be in [2, 64] (children per node)");
+    EXPECT_EQ(error("c_levelFactor=0", kUsedByBuild), "c_levelFactor = 0: must be in [2, 64] (children per node)");
+    EXPECT_EQ(error("c_levelFactor=1e300", kUsedByBuild), "c_levelFactor = 1e+300: must be in [2, 64] (children per node)");
+    EXPECT_EQ(error("c_desiredTris=0.5", kUsedByBuild), "c_desiredTris = 0.5: must be >= 1");
+    EXPECT_EQ(error("c_textured=-1", kUsedByBuild), "c_textured = -1: must be in (0, 1]");
+    EXPECT_EQ(error("c_hystSwitch=5000", kUsedByPlayer),
+              "c_hystSwitch = 5000: must be <= c_hystLimit = 4510 (the counter could never reach it)");
+    EXPECT_EQ(error("c_hystSwitch=0", kUsedByPlayer), "c_hystSwitch = 0: must be > 0");
+    EXPECT_EQ(error("c_vis=-1", kUsedByPlayer), "c_vis = -1: must be >= 0");
+    EXPECT_EQ(error("c_fore=-0.1", kUsedByPlayer), "c_fore = -0.1: must be >= 0");
+    EXPECT_EQ(error("c_memory=0", kUsedByPlayer), "c_memory = 0: must be > 0 (bytes per unit of cost)");
+    EXPECT_EQ(error("c_targetTime=-5", kUsedByBuild), "");  // not the build's
+    EXPECT_EQ(error("c_levelFactor=1", kUsedByPlayer), "");
+    EXPECT_EQ(error("c_vis=0", kUsedByPlayer), "");
+    Constants defaults;
+    EXPECT_NO_THROW(validateConstants(defaults, kUsedByAny));
+}
+
 TEST(Constants, ConfigFile) {
     TempDir dir;
     const std::string path = dir.file("c.conf");

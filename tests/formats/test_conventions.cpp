@@ -136,6 +136,27 @@ TEST_F(Conventions, ConstantsAreAcceptedOnlyWhereUsed) {
     EXPECT_EQ(r.out.find("c_desiredTris="), std::string::npos) << r.out;  // prints only what it uses
 }
 
+// Absurd constants (README "Reliability") are a usage error of the subcommand that uses them:
+// status 2, one line, before any work; from --set or a constants file alike.
+TEST_F(Conventions, AbsurdConstantsAreStatusTwoWithOneLine) {
+    RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--set", "c_targetTime=-5"});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, "hlod play: c_targetTime = -5: must be > 0 (milliseconds)\n");
+    const std::string conf = dir.file("hyst.conf");
+    std::ofstream(conf) << "c_hystSwitch = 5000\nc_hystLimit = 100\nc_levelFactor = 1\n";
+    r = runHlod({"play", db, "--path", path, "--sync-loader", "--config", conf});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, "hlod play: c_hystSwitch = 5000: must be <= c_hystLimit = 100 (the counter could never reach it)\n");
+    writeFile(dir.file("t.ply"), {});
+    r = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--set", "c_levelFactor=1"});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, "hlod build: c_levelFactor = 1: must be in [2, 64] (children per node)\n");
+    r = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--config", conf});  // c_hyst* are play's
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, "hlod build: c_levelFactor = 1: must be in [2, 64] (children per node)\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.file("t.hlod")));
+}
+
 TEST_F(Conventions, HelpAndVersionAreStatusZero) {
     EXPECT_EQ(runHlod({"--help"}).exitCode, 0);
     EXPECT_EQ(runHlod({"--version"}).exitCode, 0);

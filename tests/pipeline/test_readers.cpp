@@ -190,7 +190,7 @@ TEST(BadInput, TextureOutsideTheInputFolderIsRefused) {
     TempDir dir;
     std::filesystem::create_directories(dir.path / "in");
     writeObj(dir.file("in/m.obj"), terrain(4), "../secret.png");
-    EXPECT_NE(errorOf([&] { readMesh(dir.file("in/m.obj")); }).find("outside the input's folder"), std::string::npos);
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("in/m.obj")); }).find("texture '../secret.png' has a '..' component"), std::string::npos);
 }
 
 TEST(BadInput, CorruptGltf) {

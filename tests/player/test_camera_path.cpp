@@ -66,6 +66,51 @@ TEST(CameraPath, BadInputGivesOneLineNamingFileAndLine) {
     EXPECT_THROW(readCameraPath("/nonexistent/walk.path"), std::runtime_error);
 }
 
+// Hostile paths (README "Reliability"): NaN/Inf, zero quaternions, decreasing times, absurd
+// values and sizes fail at the first offending line, without reading or holding more.
+TEST(CameraPath, HostileInputFailsFastWithOneLine) {
+    const std::string h = "hlod-camera-path 1\n";
+    EXPECT_EQ(parseError(h + "inf 0 0 0 0 0 0 1 60\n"), "walk.path:2: bad time 'inf' (expected a finite number)");
+    EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 1 -nan\n"), "walk.path:2: bad vfov '-nan' (expected a finite number)");
+    EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 0 60\n"), "walk.path:2: orientation quaternion is not unit length (|q| = 0.000000)");
+    EXPECT_EQ(parseError(h + "0 0 0 0 1e300 1e300 0 0 60\n"),
+              "walk.path:2: orientation quaternion is not unit length (|q| = inf)");
+    EXPECT_EQ(parseError(h + "2 0 0 0 0 0 0 1 60\n1 0 0 0 0 0 0 1 60\n"), "walk.path:3: times must increase strictly");
+    EXPECT_EQ(parseError(h + "1e9 0 0 0 0 0 0 1 60\n"), "walk.path:2: time 1e9 s is beyond one day (limit 86400 s)");
+    EXPECT_EQ(parseError(h + "0 0 -1e300 0 0 0 0 1 60\n"), "walk.path:2: py -1e300 is beyond 1e15");
+    EXPECT_EQ(parseError(h + std::string(5000, ' ') + "\n"), "walk.path:2: line longer than 1024 bytes");
+    EXPECT_EQ(parseError(h + std::string(5u << 20, '#')), "walk.path:2: line longer than 1024 bytes");
+    EXPECT_EQ(parseError(h + std::string("0 0 0 0 0 0 0 1 60\0 junk\n", 25)),  // a NUL byte does not end the line
+              "walk.path:2: expected 9 fields (time px py pz qx qy qz qw vfov), found 10");
+}
+
+// A path of 10^9 keys (a stream that never ends) stops at key 1,000,001 (kMaxCameraKeys):
+// bounded time and memory.
+TEST(CameraPath, TooManyKeysStopsAtTheLimit) {
+    struct Endless : std::streambuf {
+        std::string line = "hlod-camera-path 1\n";
+        uint64_t keys = 0;
+        bool started = false;
+        int_type underflow() override {
+            if (started) {
+                if (keys == 1'000'000'000) return traits_type::eof();
+                line = std::to_string(keys++) + "e-2 0 0 0 0 0 0 1 60\n";  // 100 keys per second
+            }
+            started = true;
+            setg(line.data(), line.data(), line.data() + line.size());
+            return traits_type::to_int_type(line[0]);
+        }
+    } endless;
+    std::istream in(&endless);
+    try {
+        parseCameraPath(in, "walk.path");
+        FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()), "walk.path:1000002: more than 1000000 keys (the limit)");
+    }
+    EXPECT_EQ(endless.keys, 1'000'001u);
+}
+
 TEST(CameraPath, GeneratedWalkAndDriveHaveTheirSpeeds) {
     Skeleton s = test::gridSkeleton(4, 4, 2, 16, 50);
     for (auto [kind, speed] : {std::pair{PathKind::Walk, 1.5}, std::pair{PathKind::Drive, 15.0}}) {

@@ -1,0 +1,169 @@
+// The one confinement rule (resolveReference, README "Reliability"): every file an input refers
+// to — MTL libraries and textures, glTF images and buffers, the meshes of a folder input — must
+// resolve (after symbolic links) inside the input's folder; absolute paths, '..' and links out
+// are refused with one line naming the input and the reference, unless --allow-outside-input.
+// data: URIs are not files and keep working.
+#include "helpers.h"
+
+#include "formats/codec.h"
+#include "tests/support/run_hlod.h"
+
+namespace hlod::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const ReadOptions kAllow{true};
+
+// One triangle as glTF 2.0 JSON: its 36-byte POSITION buffer at `bufferUri`, and when `imageUri`
+// is given a base-colour texture (with TEXCOORD_0 from the same buffer's second half).
+std::string triangleGltf(const std::string& bufferUri, const std::string& imageUri = "") {
+    const std::string textured = imageUri.empty() ? "" : R"(, "TEXCOORD_0": 1)";
+    std::string json = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0)" + textured + R"(}, "material": 0}]}],
+  "materials": [{"pbrMetallicRoughness": {)" + (imageUri.empty() ? "" : R"("baseColorTexture": {"index": 0})") + R"(}}],
+  "buffers": [{"uri": ")" + bufferUri + R"(", "byteLength": 60}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}])";
+    if (!imageUri.empty()) json += R"(, "textures": [{"source": 0}], "images": [{"uri": ")" + imageUri + R"("}])";
+    return json + "}\n";
+}
+
+std::vector<uint8_t> triangleBuffer() {
+    const float values[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
+    const auto* p = reinterpret_cast<const uint8_t*>(values);
+    return {p, p + sizeof values};
+}
+
+// A folder `in/` inside the test's folder, and a file outside it (`secret.bin`, `secret.png`).
+struct Layout {
+    TempDir dir;
+    Layout() {
+        fs::create_directories(dir.path / "in");
+        writeFile(dir.file("secret.bin"), triangleBuffer());
+        writeFile(dir.file("secret.png"), encodeTexture(testImage(4, 4), Codec::Png).bytes);
+    }
+    std::string in(const std::string& name) const { return dir.file("in/" + name); }
+};
+
+void expectRefused(const std::string& error, const std::string& input, const std::string& reference) {
+    EXPECT_NE(error.find(input + ": "), std::string::npos) << error;
+    EXPECT_NE(error.find("'" + reference + "'"), std::string::npos) << error;
+    EXPECT_NE(error.find("(refused; --allow-outside-input allows it)"), std::string::npos) << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+}
+
+TEST(Confine, MtlTextureDotDotAndAbsoluteRefusedUnlessAllowed) {
+    Layout l;
+    for (const std::string& texture : {std::string("../secret.png"), l.dir.file("secret.png")}) {
+        writeObj(l.in("m.obj"), terrain(4), texture);
+        expectRefused(errorOf([&] { readMesh(l.in("m.obj")); }), l.in("m.obj"), texture);
+        const SourceMesh s = readMesh(l.in("m.obj"), kAllow);
+        EXPECT_EQ(s.materials[0].texturePath, fs::canonical(l.dir.file("secret.png")).string());
+    }
+}
+
+TEST(Confine, MaterialLibraryOutsideRefused) {
+    Layout l;
+    writeObj(l.dir.file("m.obj"), terrain(4), "");
+    std::ofstream(l.in("m.obj")) << "mtllib ../m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    expectRefused(errorOf([&] { readMesh(l.in("m.obj")); }), l.in("m.obj"), "../m.mtl");
+    EXPECT_EQ(readMesh(l.in("m.obj"), kAllow).piece.mesh.triangleCount(), 1u);
+}
+
+TEST(Confine, GltfImageOutsideRefused) {
+    Layout l;
+    writeFile(l.in("t.bin"), triangleBuffer());
+    std::ofstream(l.in("t.gltf")) << triangleGltf("t.bin", "../secret.png");
+    expectRefused(errorOf([&] { readMesh(l.in("t.gltf")); }), l.in("t.gltf"), "../secret.png");
+    EXPECT_EQ(readMesh(l.in("t.gltf"), kAllow).materials[0].texturePath, fs::canonical(l.dir.file("secret.png")).string());
+}
+
+TEST(Confine, GltfBufferOutsideRefusedAndNeverRead) {
+    Layout l;
+    for (const std::string& uri : {std::string("../secret.bin"), std::string("../../../../etc/passwd"), l.dir.file("secret.bin")}) {
+        std::ofstream(l.in("b.gltf")) << triangleGltf(uri);
+        expectRefused(errorOf([&] { readMesh(l.in("b.gltf")); }), l.in("b.gltf"), uri);
+    }
+    std::ofstream(l.in("b.gltf")) << triangleGltf("../secret.bin");
+    EXPECT_EQ(readMesh(l.in("b.gltf"), kAllow).piece.mesh.triangleCount(), 1u);
+    // Inside the folder (also in a subfolder) a buffer is read as before.
+    fs::create_directories(l.in("sub"));
+    writeFile(l.in("sub/t.bin"), triangleBuffer());
+    std::ofstream(l.in("b.gltf")) << triangleGltf("sub/t.bin");
+    EXPECT_EQ(readMesh(l.in("b.gltf")).piece.mesh.triangleCount(), 1u);
+}
+
+TEST(Confine, SymbolicLinkOutRefused) {
+    Layout l;
+    fs::create_symlink(l.dir.file("secret.bin"), l.in("link.bin"));
+    std::ofstream(l.in("b.gltf")) << triangleGltf("link.bin");
+    const std::string error = errorOf([&] { readMesh(l.in("b.gltf")); });
+    expectRefused(error, l.in("b.gltf"), "link.bin");
+    EXPECT_NE(error.find("symbolic link"), std::string::npos) << error;
+    EXPECT_EQ(readMesh(l.in("b.gltf"), kAllow).piece.mesh.triangleCount(), 1u);
+    fs::create_symlink(l.dir.file("secret.png"), l.in("link.png"));
+    writeObj(l.in("m.obj"), terrain(4), "link.png");
+    expectRefused(errorOf([&] { readMesh(l.in("m.obj")); }), l.in("m.obj"), "link.png");
+    // A link that stays inside the folder is fine.
+    writeFile(l.in("real.png"), readFile(l.dir.file("secret.png")));
+    fs::create_symlink("real.png", l.in("inside.png"));
+    writeObj(l.in("m.obj"), terrain(4), "inside.png");
+    EXPECT_EQ(readMesh(l.in("m.obj")).materials[0].texturePath, fs::canonical(l.in("real.png")).string());
+}
+
+// Found by fuzz_obj: a reference with a name longer than the file system allows made
+// std::filesystem throw past the reader (a crash in `hlod build`); it is now an InputError. A
+// control character in a reference (a glTF URI may hold "\n") keeps the error on one line.
+TEST(Confine, UnresolvableOrMultiLineReferenceIsOneLineInputError) {
+    Layout l;
+    const std::string longName(300, 'x');
+    std::ofstream(l.in("m.obj")) << "mtllib " << longName << "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    for (const ReadOptions& options : {ReadOptions{}, kAllow})
+        EXPECT_EQ(errorOf([&] { readMesh(l.in("m.obj"), options); }),
+                  l.in("m.obj") + ": material library '" + longName + "' cannot be resolved (File name too long)");
+    std::ofstream(l.in("n.gltf")) << triangleGltf("../a\\nb.bin");
+    expectRefused(errorOf([&] { readMesh(l.in("n.gltf")); }), l.in("n.gltf"), "../a?b.bin");
+}
+
+TEST(Confine, DataUrisKeepWorking) {
+    Layout l;
+    const std::string png = "data:image/png;base64," + base64(encodeTexture(testImage(4, 4), Codec::Png).bytes);
+    std::ofstream(l.in("d.gltf")) << triangleGltf("data:application/octet-stream;base64," + base64(triangleBuffer()), png);
+    const SourceMesh s = readMesh(l.in("d.gltf"));
+    EXPECT_EQ(s.piece.mesh.triangleCount(), 1u);
+    ASSERT_TRUE(s.materials[0].image);
+    EXPECT_EQ(s.materials[0].image->width, 4u);
+}
+
+TEST(Confine, BuildRefusesFolderMeshLinkedOutUnlessAllowed) {
+    Layout l;
+    fs::create_directories(l.dir.path / "blocks");
+    writePly(l.dir.file("blocks/a.ply"), terrain(4).mesh, true);
+    writePly(l.dir.file("elsewhere.ply"), terrain(4).mesh, true);
+    fs::create_symlink(l.dir.file("elsewhere.ply"), l.dir.file("blocks/b.ply"));
+    const RunResult r = runHlod({"build", l.dir.file("blocks"), "-o", l.dir.file("x.hlod")});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_NE(r.outAndErr().find("hlod build: " + l.dir.file("blocks") + ": mesh 'b.ply' resolves outside the input's folder"),
+              std::string::npos)
+        << r.outAndErr();
+    EXPECT_FALSE(fs::exists(l.dir.file("x.hlod")));
+    const RunResult ok = runHlod({"build", l.dir.file("blocks"), "-o", l.dir.file("x.hlod"), "--allow-outside-input"});
+    EXPECT_EQ(ok.exitCode, 0) << ok.outAndErr();
+}
+
+TEST(Confine, BuildRefusesOutsideTextureWithOneLine) {
+    Layout l;
+    writeObj(l.in("m.obj"), terrain(4), l.dir.file("secret.png"));
+    const RunResult r = runHlod({"build", l.in("m.obj"), "-o", l.dir.file("m.hlod")});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_NE(r.err.find("hlod build: " + l.in("m.obj") + ": texture '" + l.dir.file("secret.png") + "' is an absolute path"),
+              std::string::npos)
+        << r.outAndErr();
+    const RunResult ok = runHlod({"build", l.in("m.obj"), "-o", l.dir.file("m.hlod"), "--allow-outside-input"});
+    EXPECT_EQ(ok.exitCode, 0) << ok.outAndErr();
+}
+
+}  // namespace
+}  // namespace hlod::test
