@@ -184,12 +184,8 @@ EncodedBlob encodeGeometry(const MeshData& m, const DracoOptions& o) {
 }
 
 MeshData decodeGeometry(std::span<const uint8_t> bytes, const std::string& name) {
-    draco::DecoderBuffer buffer;
-    buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    draco::Decoder decoder;
-    auto result = decoder.DecodeMeshFromBuffer(&buffer);
-    if (!result.ok()) throw FormatError(name + ": bad Draco geometry: " + result.status().error_msg_string());
-    const draco::Mesh& mesh = *result.value();
+    const std::unique_ptr<draco::Mesh> decoded = decodeDracoMesh(bytes, name);
+    const draco::Mesh& mesh = *decoded;
     using GA = draco::GeometryAttribute;
     const draco::PointAttribute* pos = checkedDracoAttribute(mesh, GA::POSITION, draco::DT_FLOAT32, 3, 3, name);
     if (!pos) throw FormatError(name + ": Draco geometry has no positions");
@@ -221,6 +217,15 @@ const draco::PointAttribute* checkedDracoAttribute(const draco::Mesh& mesh, drac
     if (a && (a->data_type() != dataType || a->num_components() < minComponents || a->num_components() > maxComponents))
         throw FormatError(name + ": Draco geometry has an attribute of unexpected type or size");
     return a;
+}
+
+std::unique_ptr<draco::Mesh> decodeDracoMesh(std::span<const uint8_t> bytes, const std::string& name) {
+    draco::DecoderBuffer buffer;
+    buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    draco::Decoder decoder;
+    auto result = decoder.DecodeMeshFromBuffer(&buffer);
+    if (!result.ok()) throw FormatError(name + ": bad Draco geometry: " + result.status().error_msg_string());
+    return std::move(result).value();
 }
 
 }  // namespace hlod

@@ -36,12 +36,8 @@ struct DracoFacts {
 };
 
 DracoFacts dracoFacts(const std::vector<uint8_t>& bytes, const BlobRef& record, const std::string& name) {
-    draco::DecoderBuffer buffer;
-    buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    draco::Decoder decoder;
-    auto result = decoder.DecodeMeshFromBuffer(&buffer);
-    if (!result.ok()) throw FormatError(name + ": bad Draco geometry: " + result.status().error_msg_string());
-    const draco::Mesh& mesh = *result.value();
+    const std::unique_ptr<draco::Mesh> decoded = decodeDracoMesh(bytes, name);
+    const draco::Mesh& mesh = *decoded;
     using GA = draco::GeometryAttribute;
     DracoFacts f;
     f.points = mesh.num_points();
