@@ -11,7 +11,7 @@ namespace hlod {
 struct ValidateOptions {
     bool quick = false;                 // skip reading and decoding blobs
     double boundsTolerance = 1e-4;      // relative to the parent's diagonal
-    double cTextured = -1;              // < 0: from the database's c_textured meta (default 0.127)
+    double cTextured = -1;              // < 0: from the database's c_textured meta (default: Constants{}.textured)
 };
 
 struct Violation {

@@ -3,6 +3,7 @@
 // of selection algorithms are exact and repeatable.
 #pragma once
 
+#include "formats/constants.h"
 #include "player/renderer.h"
 
 #include <cstdint>
@@ -14,7 +15,7 @@ namespace hlod {
 struct CostModel {
     double overheadMs = 2.0;              // fixed per-frame cost (clear, swap, state)
     double msPerTexturedTriangle = 2e-4;  // ~130 k textured triangles in 28 ms (llvmpipe, 2 threads)
-    double msPerUntexturedTriangle = 2e-4 * (1 - 0.127) / 0.127;  // consistentWith(c_textured 0.127)
+    double msPerUntexturedTriangle = 2e-4 * (1 - Constants{}.textured) / Constants{}.textured;  // eq. 3.1 weights
     double noise = 0.02;                  // relative sd of the Gaussian noise on each frame
     double nodeError = 0;                 // each node's true cost is off by a fixed factor in [-e, e]
     uint64_t seed = 1;
