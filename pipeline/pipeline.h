@@ -108,6 +108,9 @@ SourceMesh readGltf(const std::string& path, const ReadOptions& options = {});
 SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const std::string& path,
                          const ReadOptions& options = {});
 SourceMesh readMesh(const std::string& path, const ReadOptions& options = {});  // by extension
+// The largest texture decoded (a 16K x 16K atlas, 768 MiB as RGB): a header claiming more is an
+// error (texture files) or leaves the material untextured with a warning (embedded glTF images).
+inline constexpr uint64_t kMaxTextureTexels = 16384ull * 16384ull;
 
 // input.cpp: rejects NaN/Inf attributes, out-of-range indices and empty meshes (InputError
 // naming `name`), drops degenerate triangles (counted in stats), turns missing textures into

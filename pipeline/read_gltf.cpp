@@ -348,6 +348,37 @@ bool readBuffer(std::vector<unsigned char>* out, std::string* err, const std::st
     return false;
 }
 
+// Embedded images are decoded by stb_image inside tinygltf; a few hundred bytes of PNG can claim
+// 20000 x 16000 texels (a decompression bomb). The header is read first: an image above
+// kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, leaves its
+// material untextured with a warning, as a missing texture file does (README "Inputs").
+struct ImageCheck {
+    std::string path;
+    std::vector<std::string> warnings;
+};
+
+bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
+                      const unsigned char* bytes, int size, void* user) {
+    auto* check = static_cast<ImageCheck*>(user);
+    const std::string what = check->path + ": image " + std::to_string(index);
+    int w = 0, h = 0, components = 0;
+    if (!stbi_info_from_memory(bytes, size, &w, &h, &components)) {
+        check->warnings.push_back(what + " cannot be decoded (" + stbi_failure_reason() + "): its material is untextured");
+        return true;
+    }
+    if (uint64_t(w) * uint64_t(h) > kMaxTextureTexels) {
+        check->warnings.push_back(what + " claims " + std::to_string(w) + "x" + std::to_string(h) + " texels (more than " +
+                                  std::to_string(kMaxTextureTexels) + "): not decoded, its material is untextured");
+        return true;
+    }
+    std::string decodeError;
+    if (tinygltf::LoadImageData(image, index, &decodeError, warn, width, height, bytes, size, nullptr)) return true;
+    (void)err;
+    check->warnings.push_back(what + " cannot be decoded: its material is untextured");
+    *image = tinygltf::Image{};
+    return true;
+}
+
 }  // namespace
 
 SourceMesh readGltf(const std::string& path, const ReadOptions& options) {
@@ -367,6 +398,8 @@ SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const s
     std::string err, warn;
     BufferFiles files{path, folderOf(path), options, {}};
     loader.SetFsCallbacks({bufferExists, expandPath, readBuffer, nullptr, &files});
+    ImageCheck images{path, {}};
+    loader.SetImageLoader(loadImageChecked, &images);
     const unsigned int length = static_cast<unsigned int>(bytes.size());
     const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), length, files.folder)
                            : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
@@ -374,6 +407,7 @@ SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const s
     if (!files.refused.empty()) throw InputError(files.refused);
     if (!ok) throw InputError(path + ": corrupt glTF (" + err.substr(0, err.find('\n')) + ")");
     SourceMesh out;
+    out.stats.warnings = std::move(images.warnings);
     Context cx{model, path, options, out, {}};
     addMaterials(cx);
     const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
