@@ -16,6 +16,7 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <iosfwd>
 #include <memory>
@@ -96,6 +97,9 @@ struct Corner {
     uint8_t color[4];
 };
 bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& name);
+// The read buffer of the PLY and OBJ parsers: the file's size (+1, at least 4 KiB), at most
+// 1 MiB, so that small files (and the fuzzers' many small inputs) do not pay for a large one.
+size_t readBufferBytes(std::FILE* file);
 
 // Readers. Throw InputError("FILE: problem") on a missing, truncated or corrupt file.
 // References outside the folder of `path` are refused (resolveReference); missing textures give
