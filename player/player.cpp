@@ -59,6 +59,7 @@ struct Player::Impl {
     uint64_t frameIndex = 0;
     bool havePrevious = false;
     double previousPosition[3] = {0, 0, 0}, previousTime = 0, velocity[3] = {0, 0, 0};
+    bool frontSkips = false;  // PolicyFront::skipsBlocks of the last frame
     double distance = 0;  // camera path length so far, teleports excluded (toggles per metre, §6.5)
 
     Impl(std::shared_ptr<const NodeSource> src, const Constants& constants, Renderer& r, const PlayerOptions& o)
@@ -89,6 +90,12 @@ struct Player::Impl {
             renderer.upload(loadRoot(root));
             markResident(root, true);
         }
+        if (options.preload)
+            for (const Node& n : skeleton.nodes)
+                if (!resident[n.id]) {
+                    renderer.upload(loader.loadPinned(n.id));
+                    markResident(n.id, true);
+                }
         calibrate();
         if (options.threadedLoader) loader.start();
     }
@@ -263,6 +270,7 @@ struct Player::Impl {
         s.benefit = frontBenefit(skeleton, account.items, projection, visible);
         s.optimisationMs = sel.optimisationMs >= 0 ? sel.optimisationMs : s.selectionMs;
         s.iterations = sel.iterations;
+        frontSkips = sel.skipsBlocks;
         s.leftoverMs = s.targetMs - s.estimateMs;
         front = std::move(account.items);
         ++frameIndex;
@@ -287,5 +295,6 @@ double Player::vTime() const { return impl_->vTime; }
 double Player::overheadMs() const { return impl_->overhead; }
 double Player::hlod0ShareMs() const { return impl_->share; }
 bool Player::resident(uint32_t node) const { return impl_->resident[node]; }
+bool Player::frontSkipsBlocks() const { return impl_->frontSkips; }
 
 }  // namespace hlod
