@@ -3,7 +3,8 @@
 // cost-model seed; optional fixed step, so that frame i is the same viewpoint for every policy,
 // and preload, everything resident, as Funkhouser & Séquin 1993 §7 ran) and writes one table
 // (player/compare.h) as text, CSV and JSON, a per-frame CSV, and gnuplot PNGs: frame time per
-// policy (FS Fig. 7 style) and the benefit gap to the oracle over time. player/POLICIES.md.
+// policy (FS Fig. 7 style), visible vs displayed triangles (Gobbetti & Bouvier 1999) and the
+// benefit gap to the oracle over time. player/POLICIES.md.
 #include "player/cli/subcommands.h"
 
 #include "formats/constants.h"
@@ -105,15 +106,21 @@ std::string framesCsv(const std::vector<PolicyRun>& runs, const PolicyRun* oracl
 }
 
 // gnuplot script with the data inline ($dN datablocks): one frame-time panel per policy (FS
-// Fig. 7) and, with an oracle, the gap of each policy over time. Returns false if gnuplot fails.
+// Fig. 7), visible vs displayed triangles per policy (GB 1999) and, with an oracle, the gap of
+// each policy over time. Returns false if gnuplot fails.
 bool plot(const std::string& prefix, const std::vector<PolicyRun>& runs, const PolicyRun* oracle) {
     std::ostringstream gp;
     for (size_t k = 0; k < runs.size(); ++k) {
         std::vector<double> gaps = oracle ? benefitGaps(runs[k], *oracle) : std::vector<double>();
         gp << "$d" << k << " << EOD\n";
-        for (size_t i = 0; i < runs[k].frames.size(); ++i)
-            gp << i << ' ' << runs[k].frames[i].actualMs << ' ' << runs[k].frames[i].targetMs << ' '
-               << (oracle && !std::isnan(gaps[i]) ? std::to_string(gaps[i]) : "NaN") << '\n';
+        for (size_t i = 0; i < runs[k].frames.size(); ++i) {
+            const FrameStats& f = runs[k].frames[i];
+            uint64_t tris = 0;
+            for (uint64_t t : f.trianglesPerLevel) tris += t;
+            gp << i << ' ' << f.actualMs << ' ' << f.targetMs << ' '
+               << (oracle && !std::isnan(gaps[i]) ? std::to_string(gaps[i]) : "NaN") << ' ' << tris << ' '
+               << f.visibleTriangles << '\n';
+        }
         gp << "EOD\n";
     }
     gp << "set terminal pngcairo size 900," << 160 * runs.size() + 80 << " font ',9'\n"
@@ -125,6 +132,15 @@ bool plot(const std::string& prefix, const std::vector<PolicyRun>& runs, const P
            << (k + 1 == runs.size() ? "set xlabel 'frame'\n" : "unset xlabel\n")
            << "plot $d" << k << " using 1:2 with lines lc rgb '#1f4e9a', $d" << k
            << " using 1:3 with lines dt 2 lc rgb '#b00000'\n";
+    gp << "unset multiplot\n";
+    // Gobbetti & Bouvier's "visible vs displayed triangles": full detail of the drawn visible
+    // nodes against what was drawn.
+    gp << "set output '" << prefix << "-triangles.png'\n"
+       << "set multiplot layout " << runs.size() << ",1 title 'triangles per frame: visible at full detail (grey), displayed (blue)'\n";
+    for (size_t k = 0; k < runs.size(); ++k)
+        gp << "set ylabel '" << runs[k].policy << "'\n"
+           << (k + 1 == runs.size() ? "set xlabel 'frame'\n" : "unset xlabel\n")
+           << "plot $d" << k << " using 1:6 with lines lc rgb '#999999', $d" << k << " using 1:5 with lines lc rgb '#1f4e9a'\n";
     gp << "unset multiplot\n";
     if (oracle) {
         gp << "set terminal pngcairo size 900,420 font ',9'\nset output '" << prefix << "-gap.png'\n"
@@ -189,7 +205,7 @@ int runCompare(CompareArgs& a) {
         std::cout << "wrote " << a.prefix << ".txt, .csv, .json, -frames.csv\n";
         if (a.plots) {
             if (plot(a.prefix, runs, oracle))
-                std::cout << "wrote " << a.prefix << "-frame-time.png" << (oracle ? ", -gap.png" : "") << '\n';
+                std::cout << "wrote " << a.prefix << "-frame-time.png, -triangles.png" << (oracle ? ", -gap.png" : "") << '\n';
             else
                 std::cerr << "hlod compare: warning: gnuplot failed or is missing (Debian gnuplot-nox): no PNG plots\n";
         }
@@ -208,7 +224,7 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_option("--policy-set", a->policySettings, "policy setting P.NAME=VALUE (repeatable; player/POLICIES.md)");
     sub->add_option("--step-ms", a->stepMs, "fixed step: frame i sampled at i x this (ms); 0 (default): simulated time as `hlod play`");
     sub->add_flag("--preload", a->preload, "decode and upload every node at start, never evict (everything resident)");
-    sub->add_option("-o,--output", a->prefix, "write PREFIX.txt, .csv, .json, -frames.csv, -frame-time.png, -gap.png");
+    sub->add_option("-o,--output", a->prefix, "write PREFIX.txt, .csv, .json, -frames.csv, -frame-time.png, -triangles.png, -gap.png");
     sub->add_flag("!--no-plots", a->plots, "skip the gnuplot PNGs");
     sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path)");
     sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half)");

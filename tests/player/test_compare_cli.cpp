@@ -97,6 +97,7 @@ TEST_F(CompareCli, WritesOneRowPerPolicyInEveryForm) {
     EXPECT_EQ(frames.size(), 1 + names.size() * 201);
     EXPECT_TRUE(fs::exists(prefix + "-frame-time.png"));
     EXPECT_GT(fs::file_size(prefix + "-frame-time.png"), 1000u);
+    EXPECT_GT(fs::file_size(prefix + "-triangles.png"), 1000u);
 }
 
 TEST_F(CompareCli, UnknownPolicyOrSettingIsAUsageError) {
