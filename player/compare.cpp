@@ -46,7 +46,9 @@ std::vector<CompareRow> compareRows(std::span<const PolicyRun> runs, const Polic
             for (uint64_t t : f.trianglesPerLevel) triangles += double(t);
             if (oracle && !std::isnan(frameGaps[i])) gap += frameGaps[i], ++gaps;
         }
-        r.relErrorP99 = distributionOf(relError).p99;
+        Distribution rel = distributionOf(relError);
+        r.relErrorP99 = rel.p99;
+        r.relErrorMean = rel.mean;
         r.selectionMs = distributionOf(selection);
         if (r.counted) {
             r.benefitMean = benefit / r.counted;
@@ -72,14 +74,14 @@ std::string number(double v, const char* format, const char* missing) {
 
 void writeCompareText(std::ostream& os, std::span<const CompareRow> rows) {
     char buf[512];
-    std::snprintf(buf, sizeof buf, "%-14s %7s %8s %8s %8s %8s %8s %11s %8s %9s %9s %6s %8s %8s %8s %6s\n", "policy",
-                  "frames", "mean_ms", "max_ms", "sd_ms", "p99_ms", "relerr99", "benefit", "gap", "tog/frame",
+    std::snprintf(buf, sizeof buf, "%-14s %7s %8s %8s %8s %8s %8s %8s %11s %8s %9s %9s %6s %8s %8s %8s %6s\n", "policy",
+                  "frames", "mean_ms", "max_ms", "sd_ms", "p99_ms", "relerr99", "relerr", "benefit", "gap", "tog/frame",
                   "tog/m", "revers", "sel_ms", "selmax", "tris", "badcut");
     os << buf;
     for (const CompareRow& r : rows) {
-        std::snprintf(buf, sizeof buf, "%-14s %7llu %8.3f %8.3f %8.3f %8.3f %8.4f %11.5g %8s %9.4f %9.4f %6llu %8.4f %8.4f %8.0f %6llu\n",
+        std::snprintf(buf, sizeof buf, "%-14s %7llu %8.3f %8.3f %8.3f %8.3f %8.4f %8.4f %11.5g %8s %9.4f %9.4f %6llu %8.4f %8.4f %8.0f %6llu\n",
                       r.policy.c_str(), (unsigned long long)r.counted, r.frameMs.mean, r.frameMs.max, r.frameMs.sd,
-                      r.frameMs.p99, r.relErrorP99, r.benefitMean, number(r.gapMean, "%.4f", "-").c_str(),
+                      r.frameMs.p99, r.relErrorP99, r.relErrorMean, r.benefitMean, number(r.gapMean, "%.4f", "-").c_str(),
                       r.togglesPerFrame, r.togglesPerMetre, (unsigned long long)r.reversals, r.selectionMs.mean,
                       r.selectionMs.max, r.trianglesMean, (unsigned long long)r.invalidCuts);
         os << buf;
@@ -87,14 +89,14 @@ void writeCompareText(std::ostream& os, std::span<const CompareRow> rows) {
 }
 
 void writeCompareCsv(std::ostream& os, std::span<const CompareRow> rows) {
-    os << "policy,frames,counted_frames,frame_ms_mean,frame_ms_max,frame_ms_sd,frame_ms_p99,rel_error_p99,benefit_mean,"
+    os << "policy,frames,counted_frames,frame_ms_mean,frame_ms_max,frame_ms_sd,frame_ms_p99,rel_error_p99,rel_error_mean,benefit_mean,"
           "gap_mean,toggles_per_frame,toggles_per_metre,reversals,selection_ms_mean,selection_ms_max,"
           "optimisation_ms_mean,tris_mean,invalid_cuts\n";
     char buf[512];
     for (const CompareRow& r : rows) {
-        std::snprintf(buf, sizeof buf, "%s,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.5f,%.6g,%s,%.5f,%.5f,%llu,%.5f,%.5f,%.5f,%.1f,%llu\n",
+        std::snprintf(buf, sizeof buf, "%s,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.6g,%s,%.5f,%.5f,%llu,%.5f,%.5f,%.5f,%.1f,%llu\n",
                       r.policy.c_str(), (unsigned long long)r.frames, (unsigned long long)r.counted, r.frameMs.mean,
-                      r.frameMs.max, r.frameMs.sd, r.frameMs.p99, r.relErrorP99, r.benefitMean,
+                      r.frameMs.max, r.frameMs.sd, r.frameMs.p99, r.relErrorP99, r.relErrorMean, r.benefitMean,
                       number(r.gapMean, "%.5f", "").c_str(), r.togglesPerFrame, r.togglesPerMetre,
                       (unsigned long long)r.reversals, r.selectionMs.mean, r.selectionMs.max, r.optimisationMsMean,
                       r.trianglesMean, (unsigned long long)r.invalidCuts);
@@ -115,6 +117,7 @@ std::string compareJson(std::span<const CompareRow> rows, const std::vector<std:
                                  {"counted_frames", r.counted},
                                  {"frame_ms", dist(r.frameMs)},
                                  {"rel_error_p99", r.relErrorP99},
+                                 {"rel_error_mean", r.relErrorMean},
                                  {"benefit_mean", r.benefitMean},
                                  {"gap_mean", std::isnan(r.gapMean) ? nlohmann::json(nullptr) : nlohmann::json(r.gapMean)},
                                  {"toggles_per_frame", r.togglesPerFrame},

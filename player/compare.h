@@ -1,7 +1,7 @@
 // `hlod compare`'s table (player/POLICIES.md "hlod compare"): the per-frame statistics of each
 // policy's replay of one path reduced to one row per policy, beside the exact optimum when the
 // `oracle` policy ran: frame time (Funkhouser & Séquin 1993 Table 1: mean, max, sd; plus p99),
-// p99 of |actual - target| / target, mean common benefit and mean gap to the oracle, toggles per
+// p99 and mean of |actual - target| / target (RH Table 2), mean common benefit and mean gap to the oracle, toggles per
 // frame and per metre and reversals (thesis §6.5), selection time.
 #pragma once
 
@@ -28,6 +28,7 @@ struct CompareRow {
     uint64_t frames = 0, counted = 0;  // all frames, frames after the warm-up
     Distribution frameMs;
     double relErrorP99 = 0;            // p99 of |actual - target| / target
+    double relErrorMean = 0;           // its mean: Robin Hood Table 2's "AvgErr"
     double benefitMean = 0;
     double gapMean = NAN;              // mean of (B_oracle - B) / B_oracle over aligned frames; NaN without oracle
     double togglesPerFrame = 0, togglesPerMetre = 0;

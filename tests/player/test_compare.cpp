@@ -73,6 +73,7 @@ TEST(Compare, RowsAndGapsToTheOracle) {
     EXPECT_NEAR(a.frameMs.mean, 32.0 / 3, 1e-12);
     EXPECT_EQ(a.frameMs.max, 12);
     EXPECT_NEAR(a.relErrorP99, 0.2, 1e-12);  // |12 - 10| / 10
+    EXPECT_NEAR(a.relErrorMean, 0.4 / 3, 1e-12);
     EXPECT_NEAR(a.benefitMean, 190.0 / 3, 1e-12);
     EXPECT_NEAR(a.gapMean, 0.25, 1e-12);  // frames 1 and 3
     EXPECT_NEAR(a.togglesPerFrame, 1.0 / 3, 1e-12);

@@ -68,7 +68,7 @@ TEST_F(CompareCli, WritesOneRowPerPolicyInEveryForm) {
     std::vector<std::string> csv = splitLines(slurp(prefix + ".csv"));
     ASSERT_EQ(csv.size(), names.size() + 1);
     EXPECT_EQ(csv[0].rfind("policy,frames,counted_frames,frame_ms_mean,frame_ms_max,frame_ms_sd,frame_ms_p99,rel_error_p99,"
-                           "benefit_mean,gap_mean,toggles_per_frame,toggles_per_metre,reversals,selection_ms_mean",
+                           "rel_error_mean,benefit_mean,gap_mean,toggles_per_frame,toggles_per_metre,reversals,selection_ms_mean",
                            0),
               0u);
     for (size_t i = 0; i < names.size(); ++i) {
