@@ -3,7 +3,8 @@
 # then the threaded player tests under ThreadSanitizer (build-tsan/).
 # Then AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/, Debug): by default a
 # representative subset, test_formats (every database reader and writer, and every subcommand's
-# bad-input paths through an instrumented `hlod`) and test_player (selection, loader, faults);
+# bad-input paths through an instrumented `hlod`) and the player's (selection, policies,
+# loader, faults, `hlod play`/`compare`);
 # HLOD_SANITIZE=1 runs the whole suite instead (except tests labelled `slow`), which on 2 cores
 # takes about as long again as the first pass.
 set -euo pipefail
@@ -48,8 +49,8 @@ if [ "${HLOD_SANITIZE:-0}" = 1 ]; then
   cmake --build build-asan -j "$jobs"
   ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE slow
 else
-  cmake --build build-asan -j "$jobs" --target test_formats test_player
-  build-asan/tests/formats/test_formats --gtest_brief=1
-  build-asan/tests/player/test_player --gtest_brief=1
-  echo "asan+ubsan: test_formats and test_player passed (HLOD_SANITIZE=1 runs the whole suite)"
+  cmake --build build-asan -j "$jobs" --target test_formats test_player test_player_cli
+  ctest --test-dir build-asan/tests/formats --output-on-failure -j "$jobs"
+  ctest --test-dir build-asan/tests/player --output-on-failure -j "$jobs"
+  echo "asan+ubsan: the formats and player tests passed (HLOD_SANITIZE=1 runs the whole suite)"
 fi
