@@ -50,7 +50,7 @@ if [ "${HLOD_SANITIZE:-0}" = 1 ]; then
   ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE slow
 else
   cmake --build build-asan -j "$jobs" --target test_formats test_player test_player_cli
-  ctest --test-dir build-asan/tests/formats --output-on-failure -j "$jobs"
-  ctest --test-dir build-asan/tests/player --output-on-failure -j "$jobs"
+  ctest --test-dir build-asan/tests/formats --output-on-failure -j "$jobs" -LE slow
+  ctest --test-dir build-asan/tests/player --output-on-failure -j "$jobs" -LE slow
   echo "asan+ubsan: the formats and player tests passed (HLOD_SANITIZE=1 runs the whole suite)"
 fi
