@@ -9,6 +9,11 @@ namespace hlod {
 std::unique_ptr<SelectionPolicy> makeThesisPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeThesisRhPolicy(const PolicyOptions& options);
 // Baselines and screen-space error (player/policy_baselines.cpp, player/policy_sse.cpp).
+std::unique_ptr<SelectionPolicy> makeNonePolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeStaticPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeFeedbackPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeSsePolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeSseBudgetPolicy(const PolicyOptions& options);
 
 // Solvers over blocks x levels (player/choice.h): declare their factories below this line.
 std::unique_ptr<SelectionPolicy> makeFsGreedyPolicy(const PolicyOptions& options);
@@ -25,6 +30,11 @@ const PolicyInfo kPolicies[] = {
     {"thesis-rh", "thesis with unused slices passed on to the next siblings (§6.6 future work; Robin Hood §5)", "",
      makeThesisRhPolicy},
     // Baselines and screen-space error.
+    {"none", "everything at full detail: every visible leaf (FS 1993 §7 a)", "", makeNonePolicy},
+    {"static", "highest level whose average triangle covers >= N pixels (FS 1993 §7 b)", "pixels", makeStaticPolicy},
+    {"feedback", "static with N scaled by last frame's actual / target (FS 1993 §7 c)", "pixels", makeFeedbackPolicy},
+    {"sse", "refine while projected geometric error > tolerance pixels (3D Tiles, Nexus)", "tolerance", makeSsePolicy},
+    {"sse-budget", "sse with the tolerance scaled by sqrt(actual / target) each frame", "tolerance", makeSseBudgetPolicy},
 
     // Solvers over blocks x levels (player/choice.h): their rows go below this line.
     {"fs-greedy", "Funkhouser & Sequin 1993 §6 greedy by value over blocks x cuts, + best single tuple",

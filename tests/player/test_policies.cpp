@@ -195,3 +195,130 @@ TEST(Policies, ThesisRhPassesRemaindersInOrderAndConservesTime) {
     for (int i = 0; i < 4; ++i) EXPECT_EQ(g.drawn[i].node, uint32_t(i + 1));
     for (uint32_t id = 1; id < 5; ++id) EXPECT_EQ(plain.nodes[id].received, 0);
 }
+
+namespace {
+
+// A camera 120 m above the centre of a 3 x 3 grid of 50 m blocks looking down: all in view.
+Camera overhead(double height = 120) {
+    Camera cam;
+    cam.position[0] = 75;
+    cam.position[1] = 75;
+    cam.position[2] = height;
+    return cam;
+}
+
+struct OneFrame {
+    PolicyFront front;
+    SelectionState state;
+    std::vector<uint8_t> refined;  // ancestors of drawn nodes
+    uint64_t triangles = 0;
+};
+
+// One frame of `policy` with everything resident; `observe` frames first report `actualMs`.
+OneFrame runOnce(const Skeleton& s, SelectionPolicy& policy, const Camera& cam, int observe = 0, double actualMs = 30) {
+    Harness h(s);
+    h.resident.assign(s.nodes.size(), 1);
+    OneFrame r{{}, SelectionState(s), std::vector<uint8_t>(s.nodes.size(), 0), 0};
+    for (int i = 0; i < observe; ++i) policy.observe(FrameOutcome{actualMs, actualMs, 30, 0, h.vTime});
+    h.withFrame(cam, 0, [&](const PolicyFrame& pf, const Evaluate&, auto& visible) {
+        r.front = policy.select(pf, r.state);
+        EXPECT_EQ(checkCut(s, r.front.drawn, h.resident, visible, false), "");
+    });
+    for (const DrawnNode& d : r.front.drawn) {
+        r.triangles += s.nodes[d.node].triangles();
+        for (uint32_t p = s.nodes[d.node].parent; p != kNone; p = s.nodes[p].parent) r.refined[p] = 1;
+    }
+    return r;
+}
+
+}  // namespace
+
+TEST(Policies, NoneDrawsEveryVisibleLeaf) {
+    Skeleton s = errorGrid(3, 3, 4);
+    auto policy = makePolicy("none");
+    OneFrame r = runOnce(s, *policy, overhead());
+    ASSERT_FALSE(r.front.drawn.empty());
+    for (const DrawnNode& d : r.front.drawn) EXPECT_EQ(s.nodes[d.node].firstChild, kNone) << "node " << d.node;
+    EXPECT_EQ(r.front.drawn.size(), 9u * 64u);  // the whole grid is in view from above
+}
+
+// static: a node is refined exactly when its visible children's average triangle covers at least
+// N projected pixels; N = 0 is full detail and a huge N keeps hlod0.
+TEST(Policies, StaticRefinesWhileChildrenTrianglesCoverNPixels) {
+    Skeleton s = errorGrid(3, 3, 4);
+    Camera cam = overhead(60);
+    Projection p = makeProjection(cam, 720);
+    double velocity[3] = {0, 0, 0};
+    View view = makeView(cam, velocity, 0.5);
+    for (double pixels : {0.0, 20.0, 80.0, 320.0, 1e9}) {
+        PolicyOptions o;
+        o.values["static.pixels"] = pixels;
+        auto policy = makePolicy("static", o);
+        OneFrame r = runOnce(s, *policy, cam);
+        auto childrenPx = [&](uint32_t id) {
+            double area = 0, tris = 0;
+            for (uint32_t c : s.children(id))
+                if (frustumVis(view, s.nodes[c].bounds) >= 1) area += projectedAreaPx(s.nodes[c], p), tris += s.nodes[c].triangles();
+            return area / tris;
+        };
+        uint32_t maxLevel = 0;
+        for (const DrawnNode& d : r.front.drawn) {
+            maxLevel = std::max(maxLevel, s.nodes[d.node].level);
+            if (s.nodes[d.node].firstChild != kNone) {
+                EXPECT_LT(childrenPx(d.node), pixels) << "node " << d.node;
+            }
+        }
+        for (uint32_t id = 0; id < s.nodes.size(); ++id)
+            if (r.refined[id]) {
+                EXPECT_GE(childrenPx(id), pixels) << "node " << id;
+            }
+        if (pixels == 0) {
+            EXPECT_EQ(maxLevel, 3u);
+        }
+        if (pixels == 1e9) {
+            EXPECT_EQ(r.front.drawn.size(), 9u);  // hlod0 only
+        }
+    }
+}
+
+// sse: a node is refined exactly when its projected geometric error exceeds the tolerance.
+TEST(Policies, SseRefinesExactlyTheNodesOverTolerance) {
+    Skeleton s = errorGrid(3, 3, 5);
+    Camera cam = overhead(40);
+    Projection p = makeProjection(cam, 720);
+    for (double tolerance : {4.0, 8.0, 16.0}) {
+        PolicyOptions o;
+        o.values["sse.tolerance"] = tolerance;
+        auto policy = makePolicy("sse", o);
+        OneFrame r = runOnce(s, *policy, cam);
+        uint32_t over = 0;
+        for (uint32_t id = 0; id < s.nodes.size(); ++id)
+            if (r.refined[id]) {
+                EXPECT_GT(projectedErrorPx(s.nodes[id], p), tolerance) << "node " << id;
+            }
+        for (const DrawnNode& d : r.front.drawn) {
+            EXPECT_LE(projectedErrorPx(s.nodes[d.node], p), tolerance) << "node " << d.node;
+            over += d.reason == DrawReason::Hysteresis;
+        }
+        EXPECT_GT(over, 0u);  // the tolerance, not the leaves, ended some refinement
+    }
+}
+
+// feedback and sse-budget: slow frames raise the threshold (fewer triangles), fast ones lower it.
+TEST(Policies, FeedbackPoliciesFollowTheMeasuredFrameTime) {
+    Skeleton s = errorGrid(3, 3, 5);
+    Camera cam = overhead(40);
+    for (const char* name : {"feedback", "sse-budget"}) {
+        PolicyOptions o;
+        o.values["feedback.pixels"] = 40;
+        o.values["sse-budget.tolerance"] = 8;
+        auto base = makePolicy(name, o), slow = makePolicy(name, o), fast = makePolicy(name, o);
+        uint64_t t0 = runOnce(s, *base, cam).triangles;
+        uint64_t tSlow = runOnce(s, *slow, cam, 3, 60).triangles;  // frames twice the 30 ms target
+        uint64_t tFast = runOnce(s, *fast, cam, 3, 15).triangles;  // half the target
+        EXPECT_LT(tSlow, t0) << name;
+        EXPECT_GT(tFast, t0) << name;
+        auto steady = makePolicy(name, o);
+        EXPECT_EQ(runOnce(s, *steady, cam, 5, 30).triangles, t0) << name;  // on target: unchanged
+    }
+}
