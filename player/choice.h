@@ -9,7 +9,8 @@
 //                  Detail") §5, eqs 1-11 (robin_hood.cpp)
 //   gbBarrier      Gobbetti & Bouvier 1999 ("Time-Critical Multiresolution Scene Rendering") §4-5,
 //                  continuous resolutions by a barrier method (gb_barrier.cpp)
-//   oracleChoice   the exact optimum by branch-and-bound with an LP bound (choice_oracle.cpp)
+//   oracleChoice   the exact optimum by dynamic programming over non-dominated states with an
+//                  LP bound (choice_oracle.cpp)
 // Objects are blocks (their hlod0 roots); an object's options are its cuts at each depth (the
 // faithful FS mapping, "levels of detail"), option 0 the block's hlod0 alone. The mapping from a
 // skeleton and a view is in choice_map.cpp. No threads, no I/O, deterministic.
@@ -50,7 +51,7 @@ struct Choice {
     std::vector<int32_t> level;
     double cost = 0;
     double benefit = 0;
-    uint32_t iterations = 0;  // the solver's unit of work (tuples taken, Newton steps, B&B nodes)
+    uint32_t iterations = 0;  // the solver's unit of work (tuples considered, Newton steps, DP states)
 };
 
 // Totals of `level` over `problem` (a skipped object adds nothing).
@@ -178,11 +179,11 @@ double gbObjective(const ChoiceProblem& problem, std::span<const double> resolut
 
 // ---- the exact optimum ----
 struct OracleOptions {
-    uint64_t maxNodes = 20'000'000;  // branch-and-bound nodes before giving up the proof
+    size_t maxStates = 1'000'000;  // non-dominated states kept per object before giving up the proof
 };
 struct OracleResult {
-    Choice choice;
-    bool proven = true;    // false: the node limit was hit; choice is the best found
+    Choice choice;          // iterations: states kept in all
+    bool proven = true;     // false: the state limit was hit; choice is the best found
     double upperBound = 0; // LP bound at the root (>= the optimum)
 };
 OracleResult oracleChoice(const ChoiceProblem& problem, const OracleOptions& options = {});

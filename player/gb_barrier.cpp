@@ -181,7 +181,10 @@ GbResult gbBarrier(const ChoiceProblem& p, std::span<const double> warm, const G
         }
         ++res.outerSteps;
         double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        // stop: (2n+1) mu under the accuracy (the certified sub-optimality), the time budget or the step cap
+        // stop: (2n+1) mu under the accuracy, the time budget or the step cap. REBUILT (§5): at the
+        // central point of weight mu the duality gap is exactly (m = 2n+1) x mu (Boyd & Vandenberghe
+        // §11.2.2), so from mu0 with factor gamma the accuracy eps takes ceil(log(m mu0 / eps) /
+        // log gamma) outer steps ("converges to accuracy ... in exactly ... log ... steps").
         if (m * mu <= opt.accuracy * wsum || res.newtonSteps >= opt.maxNewton ||
             (opt.timeBudgetMs > 0 && elapsed >= opt.timeBudgetMs))
             break;

@@ -45,8 +45,8 @@ const PolicyInfo kPolicies[] = {
      "allow_skip pixel_ms value c logic_ms", makeRhPolicy},
     {"gb", "Gobbetti & Bouvier 1999: continuous resolutions by a barrier method, rounded onto the cuts",
      "allow_skip pixel_ms opt_ms accuracy max_newton", makeGbPolicy},
-    {"oracle", "the exact optimum of blocks x cuts (branch-and-bound, LP bound): a yardstick",
-     "allow_skip pixel_ms max_nodes", makeOraclePolicy},
+    {"oracle", "the exact optimum of blocks x cuts (dynamic programming over non-dominated states, LP bound): a yardstick",
+     "allow_skip pixel_ms max_states", makeOraclePolicy},
 
 };
 

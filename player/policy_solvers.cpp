@@ -194,7 +194,7 @@ private:
 class OraclePolicy final : public SolverPolicy {
 public:
     explicit OraclePolicy(const PolicyOptions& o) : SolverPolicy("oracle", o) {
-        oracle_.maxNodes = uint64_t(o.get("oracle.max_nodes", 2e7));
+        oracle_.maxStates = size_t(o.get("oracle.max_states", 1e6));
     }
 
 private:

@@ -133,7 +133,7 @@ TEST(FsGreedy, AtLeastHalfTheOptimumWithTheBestSingleTuple) {
 }
 
 // FS §6's literal reading (tuples by their own Benefit / Cost, the larger-benefit tuple kept)
-// falls to about a third: a cheap good tuple of object 0 is replaced by a dear one of slightly
+// falls to 0.35 of the optimum: a cheap good tuple of object 0 is replaced by a dear one of slightly
 // larger benefit, and the budget it takes is lost to many fair tuples of other objects.
 TEST(FsGreedy, LiteralReadingHasNoHalfBound) {
     ChoiceProblem p;
@@ -142,11 +142,13 @@ TEST(FsGreedy, LiteralReadingHasNoHalfBound) {
     p.objects.push_back(object({{0.01, 9.9}, {51, 10}}));  // values 990 and 0.196
     p.objects.push_back(object({{50, 9.5}}));               // value 0.19: does not fit after 51
     for (int k = 0; k < 99; ++k) p.objects.push_back(object({{1, 0.18}}));
-    double opt = oracleChoice(p).choice.benefit;
+    OracleResult o = oracleChoice(p);  // 99 identical objects: the non-dominated states stay few
+    ASSERT_TRUE(o.proven);
+    double opt = o.choice.benefit;
     Choice literal = fsGreedy(p, {.literal = true, .bestSingle = true});
     Choice hull = fsGreedy(p);
     EXPECT_NEAR(literal.benefit, 10, 1e-9);
-    EXPECT_LT(literal.benefit, 0.4 * opt);
+    EXPECT_LT(literal.benefit, 0.36 * opt);
     EXPECT_GE(hull.benefit, 0.5 * opt);
     EXPECT_NEAR(hull.benefit, 9.9 + 9.5 + 49 * 0.18, 1e-9);
 }
@@ -188,7 +190,9 @@ TEST(RobinHood, ConservesTimeAndPassesRemaindersInOrder) {
         for (size_t k = 0; k < trace.size(); ++k) {
             const RhTrace& t = trace[k];
             const ChoiceObject& o = p.objects[t.object];
-            if (k > 0) EXPECT_LE(p.objects[trace[k - 1].object].complexity, o.complexity);  // simple to complex
+            if (k > 0) {
+                EXPECT_LE(p.objects[trace[k - 1].object].complexity, o.complexity);  // simple to complex
+            }
             EXPECT_NEAR(t.remainingBefore, tr, 1e-9 * (1 + p.budget));  // every remainder passed on
             double v = rhValue(opt.value, o.pixels, o.distance, o.importance);
             EXPECT_NEAR(t.share, v * tr / vRest, 1e-9 * (1 + p.budget));  // eq. 2 over what is left
