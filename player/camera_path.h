@@ -43,7 +43,9 @@ void writeCameraPathFile(const std::string& path, const CameraPath& cameraPath);
 // Position and field of view interpolated linearly, orientation by slerp; clamped at the ends.
 Camera sampleCameraPath(const CameraPath& path, double time, double aspect = 16.0 / 9.0);
 
-enum class PathKind { Walk, Drive, Fly, Erratic };
+// Line and Zigzag: the linear and zigzag camera paths of Hernández & Beneš (Robin Hood, §6
+// Fig. 2, Table 2), across the model at walking speed (player/CAMERA_PATH.md).
+enum class PathKind { Walk, Drive, Fly, Erratic, Line, Zigzag };
 PathKind parsePathKind(const std::string& text);  // throws std::invalid_argument
 
 struct PathOptions {

@@ -13,6 +13,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace hlod {
 namespace {
@@ -129,7 +130,9 @@ PathKind parsePathKind(const std::string& text) {
     if (text == "drive") return PathKind::Drive;
     if (text == "fly") return PathKind::Fly;
     if (text == "erratic") return PathKind::Erratic;
-    throw std::invalid_argument("unknown path kind '" + text + "' (walk, drive, fly or erratic)");
+    if (text == "line") return PathKind::Line;
+    if (text == "zigzag") return PathKind::Zigzag;
+    throw std::invalid_argument("unknown path kind '" + text + "' (walk, drive, fly, erratic, line or zigzag)");
 }
 
 Box3f modelBounds(const Skeleton& skeleton) {
@@ -215,8 +218,32 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
         return path;
     }
 
-    double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
     GroundIndex ground(skeleton, f, lo[f.up]);
+    if (o.kind == PathKind::Line || o.kind == PathKind::Zigzag) {
+        // Waypoints inset 15 % in the bounds: a line from one corner to the opposite one; a zigzag
+        // of four legs between the two long sides, so that the view turns sharply three times.
+        auto at = [&](double u, double v) {
+            return Vector3d(center + unit(f.a) * (u - 0.5) * 0.7 * std::max(extentA, minRoute) +
+                            unit(f.b) * (v - 0.5) * 0.7 * std::max(extentB, minRoute));
+        };
+        std::vector<Vector3d> points = o.kind == PathKind::Line
+                                           ? std::vector<Vector3d>{at(0, 0), at(1, 1)}
+                                           : std::vector<Vector3d>{at(0, 0), at(0.25, 1), at(0.5, 0), at(0.75, 1), at(1, 0)};
+        double length = 0;
+        for (size_t i = 1; i < points.size(); ++i) length += (points[i] - points[i - 1]).norm();
+        double duration = o.duration > 0 ? o.duration : length / plan.speed;
+        for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
+            double s = std::min(t * plan.speed, length);
+            size_t leg = 1;
+            for (; leg + 1 < points.size() && s > (points[leg] - points[leg - 1]).norm(); ++leg) s -= (points[leg] - points[leg - 1]).norm();
+            Vector3d dir = points[leg] - points[leg - 1];
+            Vector3d p = points[leg - 1] + dir.normalized() * std::min(s, dir.norm());
+            p[f.up] = (plan.object ? lo[f.up] : ground.at(p[f.a], p[f.b])) + plan.eyeHeight;
+            path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : dir, up));
+        }
+        return path;
+    }
+    double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
     std::mt19937 rng(o.seed);
     std::uniform_real_distribution<double> gap(2.0, 5.0), angle(0, 2 * M_PI), coin(0, 1);
     double theta = 0, direction = 1, nextEvent = gap(rng);

@@ -47,7 +47,6 @@ struct Player::Impl {
     Loader loader;
     SelectionState selection;
     std::unique_ptr<SelectionPolicy> policy;
-    std::vector<uint64_t> leafTriangles;  // triangles of the leaves under each node (visible_tris)
     std::vector<uint8_t> resident;
     std::vector<uint64_t> visitedStamp;  // frame number + 1 of the last visit
     std::vector<uint32_t> lastVisited;
@@ -59,6 +58,7 @@ struct Player::Impl {
     uint64_t frameIndex = 0;
     bool havePrevious = false;
     double previousPosition[3] = {0, 0, 0}, previousTime = 0, velocity[3] = {0, 0, 0};
+    bool frontSkips = false;  // PolicyFront::skipsBlocks of the last frame
     double distance = 0;  // camera path length so far, teleports excluded (toggles per metre, §6.5)
 
     Impl(std::shared_ptr<const NodeSource> src, const Constants& constants, Renderer& r, const PlayerOptions& o)
@@ -70,25 +70,19 @@ struct Player::Impl {
           loader(source, LoaderOptions{o.memoryBudget, o.chunkBytes, 64, 8}),
           selection(skeleton),
           policy(makePolicy(o.policy, o.policyOptions)),
-          leafTriangles(skeleton.nodes.size(), 0),
           resident(skeleton.nodes.size(), 0),
           visitedStamp(skeleton.nodes.size(), 0) {
         for (const Node& n : skeleton.nodes) levels = std::max(levels, n.level + 1);
-        // Parents before children (top-down order), then summed bottom-up.
-        std::vector<uint32_t> order(selection.roots);
-        for (size_t i = 0; i < order.size(); ++i)
-            for (uint32_t ch = skeleton.nodes[order[i]].firstChild; ch != kNone && skeleton.nodes[ch].parent == order[i];
-                 ch = skeleton.nodes[ch].nextSibling)
-                order.push_back(ch);
-        for (size_t i = order.size(); i-- > 0;) {
-            const Node& n = skeleton.nodes[order[i]];
-            if (n.firstChild == kNone) leafTriangles[n.id] += n.triangles();
-            if (n.parent != kNone) leafTriangles[n.parent] += leafTriangles[n.id];
-        }
         for (uint32_t root : selection.roots) {
             renderer.upload(loadRoot(root));
             markResident(root, true);
         }
+        if (options.preload)
+            for (const Node& n : skeleton.nodes)
+                if (!resident[n.id]) {
+                    renderer.upload(loader.loadPinned(n.id));
+                    markResident(n.id, true);
+                }
         calibrate();
         if (options.threadedLoader) loader.start();
     }
@@ -206,6 +200,21 @@ struct Player::Impl {
         return uint32_t(evicted.size());
     }
 
+    // Triangles full detail would draw for a visible node: its visible children's, recursively; a
+    // leaf's or a node's with no visible child, its own (what the `none` policy draws).
+    template <class Visible>
+    uint64_t fullDetailTriangles(uint32_t id, const Visible& visible) const {
+        uint64_t sum = 0;
+        bool anyVisible = false;
+        for (uint32_t ch = skeleton.nodes[id].firstChild; ch != kNone && skeleton.nodes[ch].parent == id;
+             ch = skeleton.nodes[ch].nextSibling)
+            if (visible(ch)) {
+                anyVisible = true;
+                sum += fullDetailTriangles(ch, visible);
+            }
+        return anyVisible ? sum : skeleton.nodes[id].triangles();
+    }
+
     FrameStats frame(const Camera& camera, double timeSeconds) {
         FrameStats s;
         s.frame = frameIndex;
@@ -246,7 +255,7 @@ struct Player::Impl {
         for (const DrawItem& d : account.items) {
             ++s.nodesPerLevel[d.level];
             s.trianglesPerLevel[d.level] += skeleton.nodes[d.node].triangles();
-            if (visible(d.node)) s.visibleTriangles += leafTriangles[d.node];
+            if (visible(d.node)) s.visibleTriangles += fullDetailTriangles(d.node, visible);
         }
         s.upToggles = account.upToggles;
         s.downToggles = account.downToggles;
@@ -263,6 +272,7 @@ struct Player::Impl {
         s.benefit = frontBenefit(skeleton, account.items, projection, visible);
         s.optimisationMs = sel.optimisationMs >= 0 ? sel.optimisationMs : s.selectionMs;
         s.iterations = sel.iterations;
+        frontSkips = sel.skipsBlocks;
         s.leftoverMs = s.targetMs - s.estimateMs;
         front = std::move(account.items);
         ++frameIndex;
@@ -287,5 +297,6 @@ double Player::vTime() const { return impl_->vTime; }
 double Player::overheadMs() const { return impl_->overhead; }
 double Player::hlod0ShareMs() const { return impl_->share; }
 bool Player::resident(uint32_t node) const { return impl_->resident[node]; }
+bool Player::frontSkipsBlocks() const { return impl_->frontSkips; }
 
 }  // namespace hlod

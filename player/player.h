@@ -37,7 +37,10 @@ struct PlayerOptions {
     FrameOptions frameOptions;          // passed to Renderer::drawFrame
     std::string policy = "thesis";      // selection policy by name (player/policy.h, player/POLICIES.md)
     PolicyOptions policyOptions;        // its settings ("policy.setting" -> value)
-    double viewportHeight = 720;        // pixels: the common benefit and pixel thresholds (player/benefit.h)
+    double viewportHeight = 720;
+    // Every node decoded and uploaded at start and never evicted (Funkhouser & Séquin 1993 §7 ran
+    // from memory): `hlod compare --preload`. A node that cannot load then ends the start-up.
+    bool preload = false;        // pixels: the common benefit and pixel thresholds (player/benefit.h)
     // A node below hlod0 that cannot be read or decoded: false (default) skips it for good (its
     // parent stays drawn, onLoadFailure is told once); true (`--strict`) makes frame() throw.
     bool strictLoads = false;
@@ -103,6 +106,7 @@ public:
     double overheadMs() const;
     double hlod0ShareMs() const;
     bool resident(uint32_t node) const;
+    bool frontSkipsBlocks() const;            // the last front left visible blocks out on purpose
 
 private:
     struct Impl;

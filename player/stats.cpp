@@ -51,9 +51,7 @@ void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels) {
     os << buf;
 }
 
-namespace {
-
-Distribution distribution(std::vector<double> v) {
+Distribution distributionOf(std::vector<double> v) {
     Distribution d;
     if (v.empty()) return d;
     double sum = 0;
@@ -67,6 +65,8 @@ Distribution distribution(std::vector<double> v) {
     d.max = v.back();
     return d;
 }
+
+namespace {
 
 nlohmann::json toJson(const Distribution& d) { return {{"mean", d.mean}, {"sd", d.sd}, {"p99", d.p99}, {"max", d.max}}; }
 
@@ -103,10 +103,10 @@ StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames
         if (f.estimateMs > 0) est.push_back(100 * (f.actualMs - f.estimateMs) / f.estimateMs);  // §6.3 footnote 2
         if (f.estimateNoFeedbackMs > 0) estNoFb.push_back(100 * (f.actualMs - f.estimateNoFeedbackMs) / f.estimateNoFeedbackMs);
     }
-    s.frameMs = distribution(ms);
-    s.errorMs = distribution(err);
-    s.estimateErrorPct = distribution(est);
-    s.estimateNoFbErrorPct = distribution(estNoFb);
+    s.frameMs = distributionOf(ms);
+    s.errorMs = distributionOf(err);
+    s.estimateErrorPct = distributionOf(est);
+    s.estimateNoFbErrorPct = distributionOf(estNoFb);
     size_t counted = frames.size() - s.warmupFrames;
     const double toggles = double(s.upToggles + s.downToggles);
     s.togglesPerFrame = counted ? toggles / counted : 0;
@@ -114,7 +114,7 @@ StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames
     s.togglesPerDistance = s.distance > 0 ? toggles / s.distance : 0;
     s.toggleWindows = windows.size();
     if (!windows.empty()) {
-        Distribution w = distribution(windows);
+        Distribution w = distributionOf(windows);
         s.windowTogglesMean = w.mean;
         s.windowTogglesMin = *std::min_element(windows.begin(), windows.end());
         s.windowTogglesMax = w.max;

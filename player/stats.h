@@ -35,6 +35,8 @@ void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels);
 struct Distribution {
     double mean = 0, sd = 0, p99 = 0, max = 0;
 };
+// Mean, sample sd, nearest-rank p99 and max (all 0 when empty).
+Distribution distributionOf(std::vector<double> values);
 
 // Toggles counted over consecutive windows of kToggleWindow frames after the warm-up (the thesis
 // shows 400 frames of its walk-through with 3 toggles, §6.5 Fig. 6.6a).
