@@ -84,7 +84,7 @@ double fsAccuracy(double samples, double pixels, const FsBenefitFactors& f) {
 
 // FS §5: Benefit = Size(O) x Accuracy(O, L, R) x Importance(O) x Focus(O) x Motion(O) x
 // Hysteresis(O, L, R), each qualitative factor a multiplier in [0, 1] "reducing the benefit by an
-// amount proportional to" its quantity (forms: player/POLICIES.md).
+// amount proportional to" its quantity (forms: player/SOLVERS.md).
 double fsBenefit(const FsObjectView& o, double samples, int32_t level, int32_t previousLevel, int32_t levels,
                  const FsBenefitFactors& f) {
     auto unit = [](double x) { return std::clamp(x, 0.0, 1.0); };

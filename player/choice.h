@@ -2,7 +2,7 @@
 // "Adaptive Display Algorithm for Interactive Frame Rates During Visualization of Complex
 // Virtual Environments", SIGGRAPH 1993, §3 eq. 1: maximise the sum of Benefit subject to the
 // sum of Cost <= TargetFrameTime, one tuple per object), as plain data, and the solvers of the
-// seed papers over it (player/POLICIES.md "Solvers (fs, rh, gb, oracle)"):
+// seed papers over it (player/SOLVERS.md):
 //   fsGreedy       FS §6 greedy by value (fs_greedy.cpp)
 //   fsIncremental  FS §6 incremental raise/lower from last frame's choice (fs_incremental.cpp)
 //   robinHood      Hernández & Beneš 2005 ("Robin Hood's Algorithm for Time-Critical Level of
@@ -136,7 +136,7 @@ struct RhOptions {
     RhValue value = RhValue::Eq8;  // the paper's §7.1 runs use eq. 8
     double frameMs = 0;            // t_f; 0: t_r = problem.budget (no logic-time estimate)
     double logicMs = 0;            // t_l
-    double c = 1;                  // eq. 7 constant (player/POLICIES.md: what was fitted)
+    double c = 1;                  // eq. 7 constant (player/SOLVERS.md "rh": what was fitted)
 };
 struct RhTrace {                   // per object in processing order, for tests and plots
     uint32_t object;
@@ -168,7 +168,7 @@ struct GbResult {
 // maximise sum importance_i x (1 - 1 / sqrt(r_i n_i)) subject to sum cost <= budget.
 GbResult gbBarrier(const ChoiceProblem& problem, std::span<const double> warmStart, const GbOptions& options = {});
 // Maps the resolutions onto the options: floor (the finest option whose cost <= r x finest
-// cost), then a greedy fill of the leftover by the largest fractional part (player/POLICIES.md).
+// cost), then a greedy fill of the leftover by the largest fractional part (player/SOLVERS.md "gb").
 Choice gbRound(const ChoiceProblem& problem, std::span<const double> resolution);
 // GB accuracy, REBUILT: 1 - 1 / sqrt(r n) (diminishing returns; "distance between samples").
 double gbAccuracy(double resolution, double maxSamples);

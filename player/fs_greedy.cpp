@@ -2,7 +2,7 @@
 // Interactive Frame Rates During Visualization of Complex Virtual Environments", SIGGRAPH 1993,
 // §6: "add object tuples to S in descending order of Value (Benefit / Cost) until the maximum
 // cost is completely claimed ... only the object tuple with the maximum benefit of the two is
-// retained". Two readings (player/POLICIES.md "fs-greedy"):
+// retained". Two readings (player/SOLVERS.md "fs-greedy"):
 // - hull (default): each object's tuples reduced to the upper convex hull of (cost, benefit)
 //   above its base (the cheapest option, or nothing when skipping is allowed), the increments
 //   taken in descending value until the first that does not fit. With the best single tuple also

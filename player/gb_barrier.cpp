@@ -2,7 +2,7 @@
 // Multiresolution Scene Rendering", IEEE Visualization 1999, §4-5 (seed 001). Our copy of the
 // paper lost its digits and formulas; every formula marked REBUILT is reconstructed from the
 // surviving words and standard barrier-method theory (S. Boyd and L. Vandenberghe, Convex
-// Optimization, 2004, §11.2-11.3; player/POLICIES.md "gb" lists each with its evidence).
+// Optimization, 2004, §11.2-11.3; player/SOLVERS.md "gb" lists each with its evidence).
 // Per visible object i: resolution r_i, cost linear in r_i above r_min_i (§4.1), benefit =
 // importance_i x accuracy(r_i) with diminishing returns (§4.2); maximised subject to the frame's
 // cost by sequential unconstrained minimisation of a logarithmic barrier with Newton steps (§5),
@@ -267,7 +267,7 @@ Choice gbRound(const ChoiceProblem& p, std::span<const double> r) {
         }
     }
     // GB never skips an object; where skipping is allowed and even r_min does not fit, the
-    // objects of least importance per ms are dropped until it does (FS's skip, player/POLICIES.md).
+    // objects of least importance per ms are dropped until it does (FS's skip, player/SOLVERS.md).
     if (p.allowSkip && used > p.budget) {
         std::vector<uint32_t> drop;
         for (uint32_t i = 0; i < p.objects.size(); ++i)

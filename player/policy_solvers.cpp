@@ -5,7 +5,7 @@
 //   rh                         Hernández & Beneš 2005 §5 eqs 1-11 (robin_hood.cpp)
 //   gb                         Gobbetti & Bouvier 1999 §4-5, then rounded onto the tree (gb_barrier.cpp)
 //   oracle                     the exact optimum (choice_oracle.cpp), a yardstick for `hlod compare`
-// Settings (player/POLICIES.md "Solvers (fs, rh, gb, oracle)"): every one takes allow_skip
+// Settings (player/SOLVERS.md): every one takes allow_skip
 // (FS skips objects; default 0: hlod0 is always drawn, as in the thesis) and pixel_ms (FS §4 C3,
 // GB t_pix; default 0, the cost-model renderer has no per-pixel term).
 #include "player/choice_map.h"
@@ -159,7 +159,7 @@ public:
 
 private:
     Choice solve(const PolicyFrame&, ChoiceProblem& p, const std::vector<int32_t>&) override {
-        rh_.frameMs = p.budget;  // t_f: the objects' budget; eq. 7 with t_l and C (POLICIES.md)
+        rh_.frameMs = p.budget;  // t_f: the objects' budget; eq. 7 with t_l and C (player/SOLVERS.md "rh")
         return robinHood(p, rh_);
     }
     RhOptions rh_;

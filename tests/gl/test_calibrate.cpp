@@ -130,7 +130,7 @@ TEST(Calibrate, RecoversThePerPixelCost) {
     EXPECT_EQ(renderer.resident(), 0u);
 }
 
-// Why the solver policies' pixel_ms is 0 on the cost model (player/POLICIES.md "Per-pixel term"):
+// Why the solver policies' pixel_ms is 0 on the cost model (player/SOLVERS.md "Per-pixel term"):
 // its frame time never depends on what a node covers.
 TEST(Calibrate, CostModelRendererHasNoPerPixelTerm) {
     CostModel model;
