@@ -136,7 +136,17 @@ public:
 
 private:
     Choice solve(const PolicyFrame& f, ChoiceProblem& p, const std::vector<int32_t>& previous) override {
-        if (fsBenefit_) useFsBenefit(f, p, previous, factors_, lastEye_);
+        if (fsBenefit_) {
+            useFsBenefit(f, p, previous, factors_, lastEye_);
+        } else if (factors_.hystWeight > 0) {  // FS §5 Hysteresis factor on the common measure
+            for (size_t i = 0; i < p.objects.size(); ++i) {
+                std::vector<ChoiceOption>& opts = p.objects[i].options;
+                if (previous[i] == kSkipped || opts.size() < 2) continue;
+                for (size_t l = 0; l < opts.size(); ++l)
+                    opts[l].benefit *= std::clamp(
+                        1 - factors_.hystWeight * std::abs(int32_t(l) - previous[i]) / double(opts.size() - 1), 0.0, 1.0);
+            }
+        }
         std::copy(f.view.eye, f.view.eye + 3, lastEye_);
         return incremental_ ? fsIncremental(p, previous) : fsGreedy(p, greedy_);
     }
