@@ -178,7 +178,9 @@ private:
 class GbPolicy final : public SolverPolicy {
 public:
     explicit GbPolicy(const PolicyOptions& o) : SolverPolicy("gb", o) {
-        gb_.timeBudgetMs = o.get("gb.opt_ms", 0.05);
+        // GB's time budget (ms of wall clock) makes a run depend on the machine's load; off by
+        // default so that runs repeat, the work bounded by max_newton instead.
+        gb_.timeBudgetMs = o.get("gb.opt_ms", 0);
         gb_.accuracy = o.get("gb.accuracy", 1e-4);
         gb_.maxNewton = uint32_t(o.get("gb.max_newton", 200));
     }
