@@ -46,7 +46,7 @@ std::vector<std::string> splitNames(const std::string& list) {
         makePolicy(name);  // unknown names are a usage error before any work
         names.push_back(name);
     }
-    if (names.empty()) throw std::invalid_argument("--policies: no policy given");
+    if (names.empty() || list.back() == ',') throw std::invalid_argument("--policies: empty policy name in '" + list + "'");
     return names;
 }
 

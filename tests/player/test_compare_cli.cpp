@@ -109,6 +109,8 @@ TEST_F(CompareCli, UnknownPolicyOrSettingIsAUsageError) {
     EXPECT_EQ(r.exitCode, 2) << r.err;  // a setting of a policy not chosen
     r = runHlod({"compare", db, "--path", path, "--policies", "sse", "--policy-set", "sse.tolerance"});
     EXPECT_EQ(r.exitCode, 2) << r.err;
+    r = runHlod({"compare", db, "--path", path, "--policies", "thesis,"});
+    EXPECT_EQ(r.exitCode, 2) << r.err;
     r = runHlod({"compare", (dir / "missing.hlod").string(), "--path", path, "--policies", "thesis"});
     EXPECT_EQ(r.exitCode, 2) << r.err;
     r = runHlod({"play", db, "--path", path, "--policy", "nonsense"});
