@@ -28,6 +28,7 @@ double* fitField(Calibration& c, const std::string& name) {
     if (name == "untextured_ms_per_tri") return &c.untextured.slope;
     if (name == "textured_intercept_ms") return &c.textured.intercept;
     if (name == "untextured_intercept_ms") return &c.untextured.intercept;
+    if (name == "ms_per_pixel") return &c.msPerPixel;  // optional: files before it read as 0
     return nullptr;
 }
 
@@ -48,10 +49,12 @@ void writeCalibration(const Calibration& c, const std::string& path) {
             << "textured_ms_per_tri = " << c.textured.slope << "\n"
             << "untextured_ms_per_tri = " << c.untextured.slope << "\n"
             << "textured_intercept_ms = " << c.textured.intercept << "\n"
-            << "untextured_intercept_ms = " << c.untextured.intercept << "\n";
+            << "untextured_intercept_ms = " << c.untextured.intercept << "\n"
+            << "ms_per_pixel = " << c.msPerPixel << "\n";
         for (const CalibrationSample& s : c.samples)
             out << "# sample " << (s.textured ? "textured" : "untextured") << " triangles=" << s.triangles
                 << " ms=" << s.ms << "\n";
+        for (const auto& [pixels, ms] : c.pixelSamples) out << "# sample pixels=" << pixels << " ms=" << ms << "\n";
         if (!out.flush()) throw std::runtime_error(path + ": write failed");
     }
     if (std::rename(temporary.c_str(), path.c_str()) != 0) {

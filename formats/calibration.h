@@ -7,12 +7,14 @@
 //
 // The file is "name = value" lines ('#' comments): renderer, c_textured, ms_per_cost,
 // fixed_overhead_ms, textured_ms_per_tri, untextured_ms_per_tri, textured_intercept_ms,
-// untextured_intercept_ms; the measured samples follow as comments. `hlod build --calibration`
+// untextured_intercept_ms, and (optional, 0 when absent) ms_per_pixel; the measured samples
+// follow as comments. `hlod build --calibration`
 // takes c_textured from it, `hlod play --calibration` the initial v_time and the overhead.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hlod {
@@ -33,6 +35,10 @@ struct Calibration {
     LinearFit textured, untextured;   // ms = intercept + slope * triangles
     double cTextured = 0;             // eq. 3.1 weight
     double msPerCost = 0;             // ms per unit of eq. 3.1 cost
+    // Per covered pixel (Funkhouser & Séquin 1993 §4 C3, Gobbetti & Bouvier 1999 t_pix): slope
+    // of ms over the pixels a fixed textured batch covers from several distances, >= 0.
+    double msPerPixel = 0;
+    std::vector<std::pair<double, double>> pixelSamples;  // (covered pixels, median ms), as comments
     std::vector<CalibrationSample> samples;  // written as comments, not read back
 };
 

@@ -16,6 +16,11 @@ std::unique_ptr<SelectionPolicy> makeSsePolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeSseBudgetPolicy(const PolicyOptions& options);
 
 // Solvers over blocks x levels (player/choice.h): declare their factories below this line.
+std::unique_ptr<SelectionPolicy> makeFsGreedyPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeFsIncrementalPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeRhPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeGbPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeOraclePolicy(const PolicyOptions& options);
 
 
 namespace {
@@ -32,6 +37,16 @@ const PolicyInfo kPolicies[] = {
     {"sse-budget", "sse with the tolerance scaled by sqrt(actual / target) each frame", "tolerance", makeSseBudgetPolicy},
 
     // Solvers over blocks x levels (player/choice.h): their rows go below this line.
+    {"fs-greedy", "Funkhouser & Sequin 1993 §6 greedy by value over blocks x cuts, + best single tuple",
+     "allow_skip pixel_ms fs_benefit focus motion hysteresis literal best_single", makeFsGreedyPolicy},
+    {"fs-incremental", "Funkhouser & Sequin 1993 §6 incremental raise/lower from last frame's cuts",
+     "allow_skip pixel_ms fs_benefit focus motion hysteresis", makeFsIncrementalPolicy},
+    {"rh", "Robin Hood (Hernandez & Benes) §5: time shared by value, remainders passed simple to complex",
+     "allow_skip pixel_ms value c logic_ms", makeRhPolicy},
+    {"gb", "Gobbetti & Bouvier 1999: continuous resolutions by a barrier method, rounded onto the cuts",
+     "allow_skip pixel_ms opt_ms accuracy max_newton", makeGbPolicy},
+    {"oracle", "the exact optimum of blocks x cuts (dynamic programming over non-dominated states, LP bound): a yardstick",
+     "allow_skip pixel_ms max_states", makeOraclePolicy},
 
 };
 

@@ -31,6 +31,10 @@ void printCalibration(std::ostream& os, const Calibration& c) {
        << "textured:   " << c.textured.intercept << " ms + " << c.textured.slope * 1e6 << " ns/triangle\n"
        << "untextured: " << c.untextured.intercept << " ms + " << c.untextured.slope * 1e6 << " ns/triangle\n"
        << "c_textured = " << c.cTextured << "  (ms per unit of eq. 3.1 cost: " << c.msPerCost << ")\n";
+    for (const auto& [pixels, ms] : c.pixelSamples)
+        os << "  " << std::setw(10) << "textured" << std::setw(10) << pixels << " pixels    " << std::setw(9) << ms << " ms\n";
+    os << "per pixel:  " << c.msPerPixel * 1e6 << " ns/pixel (FS C3 / GB t_pix: --policy-set P.pixel_ms=" << c.msPerPixel
+       << ")\n";
 }
 
 int runCalibrate(const CalibrateArgs& args) {
@@ -38,7 +42,9 @@ int runCalibrate(const CalibrateArgs& args) {
     std::remove((args.output + ".tmp").c_str());
     std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
     const double aspect = static_cast<double>(args.gl.width) / args.gl.height;
-    const Calibration calibration = calibrate(*renderer, aspect, args.calibration);
+    CalibrationOptions options = args.calibration;
+    options.viewportPixels = double(args.gl.width) * args.gl.height;
+    const Calibration calibration = calibrate(*renderer, aspect, options);
     printCalibration(std::cout, calibration);
     writeCalibration(calibration, args.output);
     std::cout << "wrote " << args.output << "\n";

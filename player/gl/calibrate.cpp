@@ -4,7 +4,10 @@
 // Batches of N textured and N untextured triangles are drawn; a least-squares line
 // time = overhead + perTri * N per kind gives the per-triangle costs, and eq. 3.1's weight
 // follows from their ratio: c_textured / (1 - c_textured) = perTextured / perUntextured.
-// The fixed overhead is an empty frame (thesis §4.2 footnote: rendering disabled).
+// The fixed overhead is an empty frame (thesis §4.2 footnote: rendering disabled). The per-pixel
+// term of Funkhouser & Séquin 1993 §4 (C3 x Pix(O)) and Gobbetti & Bouvier 1999 (t_pix): one
+// textured batch of fixed triangle count drawn from several distances, ms fitted against the
+// pixels it covers.
 #include "player/gl/gl_renderer.h"
 
 #include <Eigen/Dense>
@@ -134,6 +137,23 @@ Calibration calibrate(Renderer& renderer, double aspect, const CalibrationOption
                                  std::to_string(result.untextured.slope) + " ms/tri)");
     result.cTextured = texturedWeight(result.textured.slope, result.untextured.slope);
     result.msPerCost = result.textured.slope + result.untextured.slope;
+    if (options.viewportPixels > 0 && options.pixelDistances.size() >= 2) {
+        DecodedNode node = calibrationBatch(id, options.pixelTriangles, true);
+        renderer.upload(std::move(node));
+        const DrawItem item{id, 0};
+        // the grid spans kCoverage of the view's height and kCoverage x (16/9) / aspect of its width
+        const double covered = kCoverage * std::min(1.0, kCoverage * (16.0 / 9.0) / aspect) * options.viewportPixels;
+        std::vector<double> x, y;
+        for (double k : options.pixelDistances) {
+            Camera far = camera;
+            far.position[2] *= k;
+            x.push_back(covered / (k * k));
+            y.push_back(medianFrame(renderer, far, {&item, 1}, options));
+            result.pixelSamples.emplace_back(x.back(), y.back());
+        }
+        renderer.evict(id++);
+        result.msPerPixel = std::max(0.0, fitLine(x, y).slope);
+    }
     return result;
 }
 

@@ -39,6 +39,11 @@ struct CalibrationOptions {
     std::vector<uint32_t> triangleCounts = {2000, 25000, 50000, 100000, 150000};
     int warmupFrames = 2;
     int frames = 7;  // the median of these is kept per batch
+    // Per-pixel term: a textured batch of pixelTriangles seen from these multiples of the
+    // calibration camera's distance (coverage falls as 1 / k^2). viewportPixels = 0: not measured.
+    std::vector<double> pixelDistances = {1, 1.25, 1.5, 2, 3, 4};
+    uint32_t pixelTriangles = 2000;
+    double viewportPixels = 0;
 };
 
 // Least squares line through (x, y); throws std::invalid_argument for fewer than two
@@ -54,7 +59,8 @@ double texturedWeight(double perTexturedTriMs, double perUntexturedTriMs);
 DecodedNode calibrationBatch(uint32_t id, uint32_t triangles, bool textured);
 Camera calibrationCamera(double aspect);
 
-// Draws the batches on `renderer` (any Renderer) and fits the model. Throws
+// Draws the batches on `renderer` (any Renderer) and fits the model, with the per-pixel slope
+// when options.viewportPixels > 0 (a negative fitted slope, noise, is stored as 0). Throws
 // std::runtime_error when the measurements give no usable (positive) per-triangle cost.
 Calibration calibrate(Renderer& renderer, double aspect, const CalibrationOptions& options);
 

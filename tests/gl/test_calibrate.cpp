@@ -2,6 +2,7 @@
 // fit, the weight derivation, the synthetic batches, the whole procedure against a renderer
 // with a known linear cost, and the constants file it writes.
 #include "formats/constants.h"
+#include "player/cost_model_renderer.h"
 #include "player/gl/gl_renderer.h"
 
 #include <gtest/gtest.h>
@@ -18,7 +19,10 @@ namespace {
 // A renderer whose frame time is exactly overhead + a * textured + b * untextured triangles.
 class LinearRenderer final : public Renderer {
 public:
-    LinearRenderer(double overhead, double a, double b) : overhead_(overhead), a_(a), b_(b) {}
+    // perPixel: ms per pixel the calibration grid covers in a `viewport`-pixel view, from the
+    // camera's distance (it spans 0.8 x 0.8 of a 16:9 view at calibrationCamera's distance).
+    LinearRenderer(double overhead, double a, double b, double perPixel = 0, double viewport = 0)
+        : overhead_(overhead), a_(a), b_(b), perPixel_(perPixel), viewport_(viewport) {}
     std::string name() const override { return "linear test renderer"; }
     void upload(DecodedNode&& node) override {
         double t = 0, u = 0;
@@ -27,18 +31,19 @@ public:
         nodes_[node.id] = {t, u};
     }
     void evict(uint32_t node) override { nodes_.erase(node); }
-    double drawFrame(const Camera&, std::span<const DrawItem> items, const FrameOptions&) override {
+    double drawFrame(const Camera& camera, std::span<const DrawItem> items, const FrameOptions&) override {
         double ms = overhead_;
+        const double k = camera.position[2] / calibrationCamera(16.0 / 9.0).position[2];
         for (const DrawItem& item : items) {
             const auto it = nodes_.find(item.node);
-            if (it != nodes_.end()) ms += a_ * it->second.first + b_ * it->second.second;
+            if (it != nodes_.end()) ms += a_ * it->second.first + b_ * it->second.second + perPixel_ * 0.64 * viewport_ / (k * k);
         }
         return ms;
     }
     size_t resident() const { return nodes_.size(); }
 
 private:
-    double overhead_, a_, b_;
+    double overhead_, a_, b_, perPixel_, viewport_;
     std::map<uint32_t, std::pair<double, double>> nodes_;
 };
 
@@ -113,6 +118,33 @@ TEST(Calibrate, RecoversTheCostsOfALinearRenderer) {
     EXPECT_NEAR(cost * c.msPerCost, 1000 * 3e-4 + 500 * 1e-4, 1e-6);
 }
 
+TEST(Calibrate, RecoversThePerPixelCost) {
+    LinearRenderer renderer(2.0, 3e-4, 1e-4, 2e-6, 320 * 180);
+    CalibrationOptions options;
+    options.frames = 1;
+    options.viewportPixels = 320 * 180;
+    const Calibration c = calibrate(renderer, 16.0 / 9.0, options);
+    EXPECT_NEAR(c.msPerPixel, 2e-6, 1e-12);
+    ASSERT_EQ(c.pixelSamples.size(), options.pixelDistances.size());
+    EXPECT_NEAR(c.pixelSamples[0].first, 0.64 * 320 * 180, 1e-6);  // the grid's coverage at distance 1
+    EXPECT_EQ(renderer.resident(), 0u);
+}
+
+// Why the solver policies' pixel_ms is 0 on the cost model (player/SOLVERS.md "Per-pixel term"):
+// its frame time never depends on what a node covers.
+TEST(Calibrate, CostModelRendererHasNoPerPixelTerm) {
+    CostModel model;
+    model.noise = 0;
+    CostModelRenderer renderer(model);
+    CalibrationOptions options;
+    options.frames = 1;
+    options.viewportPixels = 1280 * 720;
+    const Calibration c = calibrate(renderer, 16.0 / 9.0, options);
+    EXPECT_LT(c.msPerPixel, 1e-15);  // the fit of a constant: zero up to rounding
+    EXPECT_NEAR(c.fixedOverheadMs, model.overheadMs, 1e-9);
+    EXPECT_NEAR(c.textured.slope, model.msPerTexturedTriangle, 1e-12);
+}
+
 TEST(Calibrate, FailsWhenTimeDoesNotGrowWithTriangles) {
     LinearRenderer renderer(5.0, 0, 1e-4);
     EXPECT_THROW(calibrate(renderer, 16.0 / 9.0, {}), std::runtime_error);
@@ -130,7 +162,14 @@ TEST(Calibrate, WritesACalibrationFileThatReadCalibrationReads) {
     EXPECT_NEAR(read.textured.slope, c.textured.slope, 1e-9);
     EXPECT_NEAR(read.untextured.intercept, c.untextured.intercept, 1e-6);
     EXPECT_EQ(read.renderer, c.renderer);
+    EXPECT_EQ(read.msPerPixel, 0);
     EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
+    Calibration withPixels = c;
+    withPixels.msPerPixel = 3.5e-6;
+    writeCalibration(withPixels, path.string());
+    EXPECT_DOUBLE_EQ(readCalibration(path.string()).msPerPixel, 3.5e-6);
+    std::ofstream(path) << "c_textured = 0.5\nms_per_cost = 0.001\nfixed_overhead_ms = 1\nms_per_pixel = -1e-6\n";
+    EXPECT_THROW(readCalibration(path.string()), InputError);  // a per-pixel cost is never negative
 
     std::ofstream(path) << "c_textured = 0.5\nms_per_cost = 0.001\nfixed_overhead_ms = 1\nwhat = 3\n";
     EXPECT_THROW(readCalibration(path.string()), InputError);  // an unknown name

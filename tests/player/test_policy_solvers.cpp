@@ -1,0 +1,137 @@
+// The solver policies (player/policy_solvers.cpp) on hand-built trees: the mapping's cuts are the
+// thesis's cuts at each depth, every solver's front is a valid cut (also when blocks may be
+// skipped), within the budget where the solver promises it, and never better than the oracle's
+// on the same frame.
+#include "player/camera_path.h"
+#include "player/choice_map.h"
+#include "player/front.h"
+#include "player/policy.h"
+#include "tests/support/trees.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace hlod;
+
+namespace {
+
+Skeleton errorGrid(uint32_t bx, uint32_t by, uint32_t levels) {
+    Skeleton s = test::gridSkeleton(bx, by, levels, 512, 50);
+    for (Node& n : s.nodes) n.geometricError = n.firstChild == kNone ? 0.f : std::ldexp(2.f, -int(n.level));
+    return s;
+}
+
+struct Frame {
+    View view;
+    Projection projection;
+    Evaluate evaluate;
+    Frame(const Skeleton& s, const Constants& c, const Camera& cam) {
+        double velocity[3] = {0, 0, 0};
+        view = makeView(cam, velocity, 0.5);
+        projection = makeProjection(cam, 720);
+        evaluate = [&s, &c, this](uint32_t id) {
+            double fv = frustumVis(view, s.nodes[id].bounds);
+            return NodeEval{nodePriority(s.nodes[id], view, c, fv), fv};
+        };
+    }
+};
+
+const char* kSolvers[] = {"fs-greedy", "fs-incremental", "rh", "gb", "oracle"};
+
+}  // namespace
+
+TEST(ChoiceMap, OptionsAreTheCutsAtEachDepth) {
+    Skeleton s = errorGrid(2, 1, 3);  // per block: 1 + 4 + 16 nodes, all visible from above
+    Constants c;
+    Camera cam;
+    cam.position[0] = 50, cam.position[1] = 25, cam.position[2] = 400;  // above the z = 0 ground, looking down
+    Frame fr(s, c, cam);
+    std::vector<uint8_t> resident(s.nodes.size(), 1);
+    SelectionState state(s);
+    ChoiceMap m = mapChoice(s, fr.projection, fr.evaluate, resident, state, {.budgetMs = 10, .vTime = 0.001});
+    ASSERT_EQ(m.problem.objects.size(), 2u);
+    for (size_t i = 0; i < 2; ++i) {
+        const ChoiceObject& o = m.problem.objects[i];
+        ASSERT_EQ(o.options.size(), 3u);
+        for (uint32_t d = 0; d < 3; ++d) {
+            EXPECT_EQ(m.cuts[i][d].size(), size_t(std::pow(4, d)));  // c_levelFactor 4 children a node
+            for (uint32_t id : m.cuts[i][d]) EXPECT_EQ(s.nodes[id].level, d);
+            EXPECT_NEAR(o.options[d].cost, 0.001 * 512 * std::pow(4, d), 1e-9);
+            EXPECT_DOUBLE_EQ(o.options[d].samples, 512 * std::pow(4, d));
+        }
+        EXPECT_LT(o.options[0].benefit, o.options[2].benefit);  // finer cuts: smaller projected error
+    }
+    resident[m.cuts[0][2][5]] = 0;  // one leaf missing: that cut is not available
+    SelectionState st2(s);
+    ChoiceMap m2 = mapChoice(s, fr.projection, fr.evaluate, resident, st2, {.budgetMs = 10, .vTime = 0.001});
+    EXPECT_FALSE(m2.problem.objects[0].options[2].available);
+    EXPECT_TRUE(m2.problem.objects[0].options[1].available);
+    EXPECT_TRUE(m2.problem.objects[1].options[2].available);
+}
+
+TEST(SolverPolicies, ValidCutsWithinBudgetAndNeverAboveTheOracle) {
+    Skeleton s = errorGrid(3, 3, 4);
+    PathOptions po;
+    po.kind = PathKind::Walk;
+    CameraPath path = generatePath(s, po);
+    Constants c;
+    for (bool skip : {false, true}) {
+        PolicyOptions opt;
+        for (const char* n : kSolvers) opt.values[std::string(n) + ".allow_skip"] = skip;
+        std::vector<std::unique_ptr<SelectionPolicy>> policies;
+        std::vector<SelectionState> states;
+        for (const char* n : kSolvers) policies.push_back(makePolicy(n, opt)), states.emplace_back(s);
+        std::vector<uint8_t> resident(s.nodes.size(), 0);  // hlod0 resident, the rest loads as visited
+        for (const Node& n : s.nodes) resident[n.id] = n.parent == kNone;
+        const double vTime = 0.001, overhead = 2, target = skip ? 3 : 12;  // skip: even hlod0 does not fit
+        uint64_t frame = 0, belowOracle = 0;
+        for (double t = 0; t < path.duration() && frame < 400; t += 0.05, ++frame) {
+            Camera cam = sampleCameraPath(path, t, 16.0 / 9.0);
+            Frame fr(s, c, cam);
+            auto visible = [&](uint32_t id) { return frustumVis(fr.view, s.nodes[id].bounds) >= 1; };
+            PolicyFrame pf{s, c, cam, fr.view, fr.projection, fr.evaluate, resident, frame, target, overhead, vTime,
+                           target, false, -c.hystSwitch};
+            std::vector<double> benefit, cost;
+            std::vector<uint32_t> visited;
+            for (size_t k = 0; k < policies.size(); ++k) {
+                PolicyFront f = policies[k]->select(pf, states[k]);
+                ASSERT_EQ(checkCut(s, f.drawn, resident, visible, f.skipsBlocks), "") << kSolvers[k] << " frame " << frame;
+                EXPECT_TRUE(skip || !f.skipsBlocks);
+                FrontAccount a = accountFront(s, states[k], f.drawn);
+                benefit.push_back(frontBenefit(s, a.items, fr.projection, visible));
+                cost.push_back(vTime * a.drawnCost);
+                if (k == 0) visited = f.visited;
+            }
+            double budget = target - overhead, oracle = benefit.back();
+            EXPECT_LE(cost.back(), budget + 1e-9) << frame;
+            for (size_t k = 0; k + 1 < policies.size(); ++k) {
+                if (std::string(kSolvers[k]) != "rh") {  // rh may overrun where hlod0 is forced
+                    EXPECT_LE(cost[k], budget + 1e-9) << kSolvers[k] << " frame " << frame;
+                }
+                if (cost[k] <= budget + 1e-9) {
+                    EXPECT_LE(benefit[k], oracle * (1 + 1e-12)) << kSolvers[k] << " frame " << frame;
+                }
+                belowOracle += benefit[k] < oracle * (1 - 1e-9);
+            }
+            uint32_t loads = 3;  // a stand-in loader: 3 visible nodes a frame, in visit order
+            for (uint32_t id : visited)
+                if (loads && !resident[id] && visible(id)) resident[id] = 1, --loads;
+        }
+        EXPECT_GT(belowOracle, 0u);  // the solvers do fall short of the optimum on some frames
+    }
+}
+
+TEST(SolverPolicies, SettingsAreCheckedAndBadValuesRefused) {
+    std::vector<std::string> names = {"rh"};
+    PolicyOptions bad;
+    bad.values["rh.value"] = 12;
+    EXPECT_THROW(makePolicy("rh", bad), std::invalid_argument);
+    PolicyOptions unknown;
+    unknown.values["gb.nothing"] = 1;
+    std::string gb[] = {"gb"};
+    EXPECT_THROW(checkPolicySettings(gb, unknown), std::invalid_argument);
+    PolicyOptions ok;
+    ok.values["gb.opt_ms"] = 0.2;
+    EXPECT_NO_THROW(checkPolicySettings(gb, ok));
+}
