@@ -124,7 +124,15 @@ public:
     // Index of the original triangle closest to p; kNone when there is none.
     uint32_t closest(const Point& p) {
         if (triangles_.empty()) return kNone;
-        hint_ = hint_ ? tree_.closest_point_and_primitive(p, *hint_) : tree_.closest_point_and_primitive(p);
+        if (hint_) {  // the previous answer's triangle, at its point closest to p: a tight first bound
+            const Triangle& last = *hint_->second;
+            double w[3];
+            closestWeights(last[0], last[1], last[2], p, w);
+            hint_->first = CGAL::barycenter(last[0], w[0], last[1], w[1], last[2], w[2]);
+            hint_ = tree_.closest_point_and_primitive(p, *hint_);
+        } else {
+            hint_ = tree_.closest_point_and_primitive(p);
+        }
         return static_cast<uint32_t>(hint_->second - triangles_.begin());
     }
 
@@ -209,7 +217,10 @@ Layout layoutCharts(const std::vector<FlatChart>& charts, uint64_t texelBudget) 
         }
     double scale = std::sqrt(double(texelBudget) / std::max(area, 1e-300));
     Layout l = shelfPack(charts, scale);
-    for (int i = 0; i < 64 && uint64_t(l.width) * uint64_t(l.height) > texelBudget; ++i) {
+    auto smallest = [](const Layout& l) {
+        return std::all_of(l.rects.begin(), l.rects.end(), [](const Rect& r) { return r.w == kBlock && r.h == kBlock; });
+    };
+    while (uint64_t(l.width) * uint64_t(l.height) > texelBudget && !smallest(l)) {
         scale *= std::min(0.98, std::sqrt(double(texelBudget) / (double(l.width) * l.height)));
         l = shelfPack(charts, scale);
     }
@@ -351,7 +362,8 @@ BakedTexture bakeTexture(const MeshData& input, const std::vector<BakeSource>& o
         const Rgb baked = bilinear(out.image, s.x, s.y);
         for (int k = 0; k < 3; ++k) squared += double(baked.c[k] - s.colour.c[k]) * (baked.c[k] - s.colour.c[k]);
     }
-    const double mse = samples.empty() ? 0 : squared / (3.0 * double(samples.size()));
+    if (samples.empty()) return out;  // psnr 0: nothing measured
+    const double mse = squared / (3.0 * double(samples.size()));
     out.psnr = 10 * std::log10(255.0 * 255.0 / std::max(mse, 255.0 * 255.0 * 1e-10));
     return out;
 }

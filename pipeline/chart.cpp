@@ -10,8 +10,8 @@
 // (scan pieces have holes and several borders) and costs microseconds per chart; the one failure
 // it has, a chart folding over itself (a spiral ramp, a curled leaf), is detected exactly
 // (separating axes on every pair of triangles whose boxes meet) and that chart is grown again
-// with half the cone, down to single triangles, which never overlap. Each chart is rotated to its
-// principal axes (2D PCA) so that its bounding rectangle, which packing uses, is tight.
+// with half the cone, down to single triangles, which never overlap. Each chart is turned to its
+// minimum-area bounding rectangle, which packing uses.
 #include "pipeline/chart.h"
 
 #include <algorithm>
@@ -87,7 +87,49 @@ Faces faceGraph(const MeshData& mesh) {
     return f;
 }
 
-// Projects the chart's faces on `axis`, rotates to principal axes, puts the box at the origin.
+// (cos, sin) of the direction of the minimum-area rectangle around the points (x, y pairs): one of
+// its sides lies on an edge of their convex hull (Freeman & Shapira 1975), so every hull edge
+// (Andrew's monotone chain) is tried.
+std::pair<double, double> tightestDirection(const std::vector<double>& xy) {
+    std::vector<std::pair<double, double>> p(xy.size() / 2), hull(xy.size() + 2);
+    for (size_t i = 0; i < p.size(); ++i) p[i] = {xy[2 * i], xy[2 * i + 1]};
+    std::sort(p.begin(), p.end());
+    p.erase(std::unique(p.begin(), p.end()), p.end());
+    if (p.size() < 3) return {1, 0};
+    auto turn = [](const auto& o, const auto& a, const auto& b) {
+        return (a.first - o.first) * (b.second - o.second) - (a.second - o.second) * (b.first - o.first);
+    };
+    size_t k = 0;
+    for (size_t i = 0; i < p.size(); ++i) {
+        while (k >= 2 && turn(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
+        hull[k++] = p[i];
+    }
+    for (size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {
+        while (k >= lower && turn(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
+        hull[k++] = p[i];
+    }
+    hull.resize(k - 1);
+    std::pair<double, double> best{1, 0};
+    double bestArea = 1e300;
+    for (size_t e = 0; e < hull.size(); ++e) {
+        const auto& a = hull[e];
+        const auto& b = hull[(e + 1) % hull.size()];
+        const double len = std::hypot(b.first - a.first, b.second - a.second);
+        if (len == 0) continue;
+        const double c = (b.first - a.first) / len, s = (b.second - a.second) / len;
+        double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+        for (const auto& q : hull) {
+            const double x = c * q.first + s * q.second, y = -s * q.first + c * q.second;
+            lo[0] = std::min(lo[0], x), hi[0] = std::max(hi[0], x), lo[1] = std::min(lo[1], y), hi[1] = std::max(hi[1], y);
+        }
+        const double area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+        if (area < bestArea * (1 - 1e-9)) bestArea = area, best = {c, s};
+    }
+    return best;
+}
+
+// Projects the chart's faces on `axis`, turns it to its minimum-area rectangle, puts the box at
+// the origin.
 FlatChart project(const MeshData& mesh, std::vector<uint32_t> triangles, const Vec& axis) {
     const int k = std::fabs(axis[0]) <= std::fabs(axis[1]) && std::fabs(axis[0]) <= std::fabs(axis[2]) ? 0
                   : std::fabs(axis[1]) <= std::fabs(axis[2])                                           ? 1
@@ -101,24 +143,16 @@ FlatChart project(const MeshData& mesh, std::vector<uint32_t> triangles, const V
     FlatChart chart;
     chart.triangles = std::move(triangles);
     chart.uv.reserve(6 * chart.triangles.size());
-    double mean[2] = {0, 0};
     for (uint32_t tri : chart.triangles)
         for (int c = 0; c < 3; ++c) {
             const Vec p = position(mesh, mesh.indices[3 * tri + c]);
             chart.uv.push_back(dot(p, t)), chart.uv.push_back(dot(p, b));
-            mean[0] += chart.uv[chart.uv.size() - 2], mean[1] += chart.uv.back();
         }
     const size_t corners = chart.uv.size() / 2;
-    mean[0] /= double(corners), mean[1] /= double(corners);
-    double cxx = 0, cyy = 0, cxy = 0;
-    for (size_t i = 0; i < corners; ++i) {
-        const double x = chart.uv[2 * i] - mean[0], y = chart.uv[2 * i + 1] - mean[1];
-        cxx += x * x, cyy += y * y, cxy += x * y;
-    }
-    const double angle = 0.5 * std::atan2(2 * cxy, cxx - cyy), c = std::cos(angle), s = std::sin(angle);
+    const auto [c, s] = tightestDirection(chart.uv);
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
     for (size_t i = 0; i < corners; ++i) {
-        const double x = chart.uv[2 * i] - mean[0], y = chart.uv[2 * i + 1] - mean[1];
+        const double x = chart.uv[2 * i], y = chart.uv[2 * i + 1];
         chart.uv[2 * i] = c * x + s * y, chart.uv[2 * i + 1] = -s * x + c * y;  // rotation by -angle
         for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], chart.uv[2 * i + a]), hi[a] = std::max(hi[a], chart.uv[2 * i + a]);
     }

@@ -10,8 +10,9 @@
 namespace hlod {
 
 // Normal-cone half-angle of a chart: every face's normal is within this angle of the chart's seed
-// normal, the projection direction (pipeline/BAKE.md: chart count and PSNR for 30-60 degrees).
-inline constexpr double kChartConeDegrees = 50;
+// normal, the projection direction (pipeline/BAKE.md: chart count, coverage and PSNR for 30-70
+// degrees, measured on the banana scan).
+inline constexpr double kChartConeDegrees = 60;
 
 // One chart flattened: its triangles (indices into the mesh's triangles) and, per triangle, the
 // 2D positions of its three corners in world units (6 doubles), with the chart's bounding box

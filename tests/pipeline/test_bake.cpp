@@ -117,8 +117,10 @@ TEST(Bake, TerrainChartsAreValidAndColoursFaithful) {
     // The baked atlas uses most of its budget; positions are the simplified ones.
     EXPECT_GE(baked.coveredTexels, budget / 3);
     EXPECT_NEAR(meshArea(baked.mesh), meshArea(f.simplified), 1e-3 * meshArea(f.simplified));
-    // Smooth textures at ~1 baked texel per 2 source texels: measured 39.9 dB.
-    EXPECT_GE(baked.psnr, 35.0);
+    // Smooth textures, ~1 baked texel per 4 source texels: measured 42.3 dB (a transposed or
+    // shifted lookup gives < 20 dB).
+    EXPECT_GE(baked.psnr, 38.0);
+    std::printf("terrain: %llu covered texels, PSNR %.2f dB\n", static_cast<unsigned long long>(baked.coveredTexels), baked.psnr);
 }
 
 TEST(Bake, IsDeterministic) {
@@ -190,9 +192,10 @@ TEST(Bake, UntexturedSphereUsesVertexColours) {
     const std::vector<BakeSource> source = {{&sphere, nullptr}};
     const BakedTexture baked = bakeTexture(coarse, source, 128 * 128);
     expectValidAtlas(baked, 128 * 128, coarse);
-    // A closed surface needs several charts (a 50-degree cone covers at most 100 degrees).
+    // A closed surface needs several charts (a 60-degree cone covers at most 120 degrees).
     EXPECT_GE(flattenCharts(coarse).size(), 4u);
-    EXPECT_GE(baked.psnr, 30.0);
+    EXPECT_GE(baked.psnr, 45.0);  // measured 56.8 dB
+    std::printf("sphere: %llu covered texels, PSNR %.2f dB\n", static_cast<unsigned long long>(baked.coveredTexels), baked.psnr);
     // A red-dominated texel near the +z pole, blue near -z: sample at the vertex closest to each pole.
     for (int pole : {1, -1}) {
         size_t best = 0;
