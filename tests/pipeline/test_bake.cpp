@@ -117,8 +117,7 @@ TEST(Bake, TerrainChartsAreValidAndColoursFaithful) {
     // The baked atlas uses most of its budget; positions are the simplified ones.
     EXPECT_GE(baked.coveredTexels, budget / 3);
     EXPECT_NEAR(meshArea(baked.mesh), meshArea(f.simplified), 1e-3 * meshArea(f.simplified));
-    // Smooth textures, ~1 baked texel per 4 source texels: measured 42.3 dB (a transposed or
-    // shifted lookup gives < 20 dB).
+    // Smooth textures, ~1 baked texel per 4 source texels: measured 42.3 dB.
     EXPECT_GE(baked.psnr, 38.0);
     std::printf("terrain: %llu covered texels, PSNR %.2f dB\n", static_cast<unsigned long long>(baked.coveredTexels), baked.psnr);
 }
