@@ -1,13 +1,16 @@
 // Texture baking (pipeline/bake.cpp, chart.cpp): a wavy terrain split into two materials with
-// smooth procedural textures, simplified 8x, baked: charts never overlap (checked by rasterising
-// every UV triangle at 4x the atlas resolution), UVs in [0, 1], no zero-area UV triangle, the
+// smooth procedural textures, simplified 8x, baked: charts never overlap and no 8 x 8 JPEG block
+// holds two charts (checked by rasterising every UV triangle at 4x the atlas resolution), UVs in
+// [0, 1], no zero-area UV triangle, the
 // atlas within its budget, the baked colours close to the source (PSNR), a constant source baked
 // exactly, vertex colours on an untextured sphere, and a folded surface split into charts.
 #include "helpers.h"
 
 #include "pipeline/chart.h"
 
+#include <array>
 #include <cmath>
+#include <map>
 
 namespace hlod::test {
 namespace {
@@ -52,12 +55,39 @@ std::vector<BakeSource> sources(const Fixture& f, const std::vector<Image>& imag
     return s;
 }
 
-// Number of sample points (a grid at `fine` x the atlas resolution) strictly inside more than one
-// UV triangle: 0 when no two triangles of the atlas overlap.
-size_t overlappingSamples(const MeshData& m, uint32_t width, uint32_t height, int fine) {
+// Charts of the baked mesh: triangles connected through vertices equal in position and UV.
+std::vector<uint32_t> chartOfTriangle(const MeshData& m) {
+    std::map<std::array<float, 5>, uint32_t> id;
+    std::vector<uint32_t> parent;
+    auto find = [&](uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    std::vector<uint32_t> corner(m.indices.size());
+    for (size_t i = 0; i < m.indices.size(); ++i) {
+        const uint32_t v = m.indices[i];
+        const std::array<float, 5> key = {m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2], m.texcoords[2 * v],
+                                          m.texcoords[2 * v + 1]};
+        auto [it, added] = id.emplace(key, static_cast<uint32_t>(parent.size()));
+        if (added) parent.push_back(it->second);
+        corner[i] = it->second;
+    }
+    for (size_t t = 0; t < m.triangleCount(); ++t)
+        for (int k = 1; k < 3; ++k) parent[find(corner[3 * t + k])] = find(corner[3 * t]);
+    std::vector<uint32_t> chart(m.triangleCount());
+    for (size_t t = 0; t < chart.size(); ++t) chart[t] = find(corner[3 * t]);
+    return chart;
+}
+
+// Rasterises every UV triangle at `fine` x the atlas resolution (sample points strictly inside):
+// returns the samples inside more than one triangle (0 when no two triangles overlap), and the
+// 8 x 8 atlas blocks holding samples of two charts (0 when JPEG never mixes charts).
+std::pair<size_t, size_t> overlaps(const MeshData& m, uint32_t width, uint32_t height, int fine) {
     const uint32_t w = width * fine, h = height * fine;
     std::vector<uint8_t> count(size_t(w) * h, 0);
-    size_t overlaps = 0;
+    const std::vector<uint32_t> chart = chartOfTriangle(m);
+    std::vector<uint32_t> blockChart(size_t((width + 7) / 8) * ((height + 7) / 8), kNone);
+    size_t samples = 0, blocks = 0;
     for (size_t t = 0; t < m.triangleCount(); ++t) {
         double x[3], y[3];
         for (int k = 0; k < 3; ++k) x[k] = m.texcoords[2 * m.indices[3 * t + k]] * w, y[k] = m.texcoords[2 * m.indices[3 * t + k] + 1] * h;
@@ -73,10 +103,14 @@ size_t overlappingSamples(const MeshData& m, uint32_t width, uint32_t height, in
                     const double e = ((x[b] - x[a]) * (sy - y[a]) - (sx - x[a]) * (y[b] - y[a])) / area;
                     inside = inside && e > 1e-6;
                 }
-                if (inside && ++count[size_t(py) * w + px] == 2) ++overlaps;
+                if (!inside) continue;
+                if (++count[size_t(py) * w + px] == 2) ++samples;
+                uint32_t& owner = blockChart[size_t(py / fine / 8) * ((width + 7) / 8) + px / fine / 8];
+                if (owner == kNone) owner = chart[t];
+                else if (owner != chart[t] && owner != kNone - 1) ++blocks, owner = kNone - 1;
             }
     }
-    return overlaps;
+    return {samples, blocks};
 }
 
 // Triangles of `m` with a non-zero area (bakeTexture drops the others).
@@ -105,7 +139,9 @@ void expectValidAtlas(const BakedTexture& baked, uint64_t budget, const MeshData
         const float* c = &m.texcoords[2 * m.indices[3 * t + 2]];
         EXPECT_NE((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]), 0.0f) << "triangle " << t;
     }
-    EXPECT_EQ(overlappingSamples(m, baked.image.width, baked.image.height, 4), 0u);
+    const auto [samples, blocks] = overlaps(m, baked.image.width, baked.image.height, 4);
+    EXPECT_EQ(samples, 0u);
+    EXPECT_EQ(blocks, 0u);
 }
 
 TEST(Bake, TerrainChartsAreValidAndColoursFaithful) {
