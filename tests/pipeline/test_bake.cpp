@@ -153,7 +153,7 @@ TEST(Bake, TerrainChartsAreValidAndColoursFaithful) {
     // The baked atlas uses most of its budget; positions are the simplified ones.
     EXPECT_GE(baked.coveredTexels, budget / 3);
     EXPECT_NEAR(meshArea(baked.mesh), meshArea(f.simplified), 1e-3 * meshArea(f.simplified));
-    // Smooth textures, ~1 baked texel per 4 source texels: measured 42.3 dB.
+    // Smooth textures, ~1 baked texel per 5 source texels: measured 42.3 dB.
     EXPECT_GE(baked.psnr, 38.0);
     std::printf("terrain: %llu covered texels, PSNR %.2f dB\n", static_cast<unsigned long long>(baked.coveredTexels), baked.psnr);
 }
@@ -229,7 +229,7 @@ TEST(Bake, UntexturedSphereUsesVertexColours) {
     expectValidAtlas(baked, 128 * 128, coarse);
     // A closed surface needs several charts (a 60-degree cone covers at most 120 degrees).
     EXPECT_GE(flattenCharts(coarse).size(), 4u);
-    EXPECT_GE(baked.psnr, 45.0);  // measured 56.8 dB
+    EXPECT_GE(baked.psnr, 45.0);  // measured 57.2 dB
     std::printf("sphere: %llu covered texels, PSNR %.2f dB\n", static_cast<unsigned long long>(baked.coveredTexels), baked.psnr);
     // A red-dominated texel near the +z pole, blue near -z: sample at the vertex closest to each pole.
     for (int pole : {1, -1}) {
