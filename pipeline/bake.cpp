@@ -114,8 +114,9 @@ public:
         if (triangles_.empty()) return;
         tree_.insert(triangles_.begin(), triangles_.end());
         tree_.build();
-        tree_.do_not_accelerate_distance_queries();  // the previous answer is the hint: the k-d tree of
-                                                     // hints costs half of a small node's time, for nothing
+        // The previous answer is the hint: a k-d tree of hints took 7 of the 14.5 CPU-ms fixed cost
+        // of a node with 32 k original triangles (pipeline/BAKE.md).
+        tree_.do_not_accelerate_distance_queries();
     }
 
     // Index of the original triangle closest to p; kNone when there is none.
