@@ -146,7 +146,8 @@ public:
         closestWeights(tri[0], tri[1], tri[2], p, w);
         const uint32_t* i = &m.indices[3 * t];
         const Image* image = sources_[s].texture;
-        if (image && image->width > 0 && image->height > 0 && m.texcoords.size() == 2 * m.vertexCount()) {
+        if (image && image->channels > 0 && image->pixels.size() == size_t(image->width) * image->height * image->channels &&
+            !image->pixels.empty() && m.texcoords.size() == 2 * m.vertexCount()) {
             double u = 0, v = 0;
             for (int k = 0; k < 3; ++k) u += w[k] * m.texcoords[2 * i[k]], v += w[k] * m.texcoords[2 * i[k] + 1];
             return bilinear(*image, u * image->width, v * image->height);

@@ -12,8 +12,8 @@
 //   space left under it, then the leftmost). Concave charts (a banana's crescents) nest. The
 //   atlas width (in blocks) giving the smallest area is chosen among 9 candidates from
 //   sqrt(total blocks) to 2x that.
-// - The scale starts at sqrt(budget / chart area) and shrinks (by >= 2 % a step) until width x
-//   height <= budget, or until every chart is one block.
+// - The scale starts at sqrt(budget / chart area) and shrinks (by 2-50 % a step) until width x
+//   height <= budget, or until every chart is one block (a budget under one block counts as one).
 #include "pipeline/chart.h"
 
 #include <algorithm>
@@ -143,13 +143,14 @@ AtlasLayout packCharts(const std::vector<FlatChart>& charts, uint64_t texelBudge
             const double* p = &c.uv[6 * t];
             area += 0.5 * std::fabs((p[2] - p[0]) * (p[5] - p[1]) - (p[4] - p[0]) * (p[3] - p[1]));
         }
+    texelBudget = std::max<uint64_t>(texelBudget, kJpegBlock * kJpegBlock);
     double scale = std::sqrt(double(texelBudget) / std::max(area, 1e-300));
     AtlasLayout l = packAt(charts, scale);
     auto smallest = [](const AtlasLayout& l) {
         return std::all_of(l.places.begin(), l.places.end(), [](const ChartPlacement& p) { return p.w == kJpegBlock && p.h == kJpegBlock; });
     };
     while (uint64_t(l.width) * uint64_t(l.height) > texelBudget && !smallest(l)) {
-        scale *= std::min(0.98, std::sqrt(double(texelBudget) / (double(l.width) * l.height)));
+        scale *= std::clamp(std::sqrt(double(texelBudget) / (double(l.width) * l.height)), 0.5, 0.98);
         l = packAt(charts, scale);
     }
     return l;

@@ -276,6 +276,19 @@ TEST(Bake, FoldedSurfaceIsSplitIntoNonOverlappingCharts) {
     expectValidAtlas(baked, 64 * 64, ramp);
 }
 
+// A budget below one block per chart: one block per chart, every triangle still mapped; an empty
+// texture counts as none (grey).
+TEST(Bake, TinyBudgetAndEmptyTexture) {
+    const Fixture f = terrainFixture(16, 2);
+    const std::vector<Image> images = {Image{}, Image{}};
+    const BakedTexture baked = bakeTexture(f.simplified, sources(f, images), 0);
+    ASSERT_EQ(baked.mesh.triangleCount(), solidTriangles(f.simplified));
+    EXPECT_EQ(baked.image.width % 8, 0u);
+    EXPECT_EQ(baked.image.height % 8, 0u);
+    EXPECT_GT(baked.coveredTexels, 0u);
+    EXPECT_GE(baked.psnr, 99.0);  // grey everywhere
+}
+
 TEST(Bake, EmptyInputGivesAnEmptyResult) {
     const BakedTexture baked = bakeTexture(MeshData{}, {}, 1024);
     EXPECT_EQ(baked.mesh.triangleCount(), 0u);
