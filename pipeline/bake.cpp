@@ -172,7 +172,8 @@ struct Sample {
     Rgb colour;
 };
 
-// Bakes the chart's covered texels into `atlas` (RGB, float accumulation in `texels`).
+// Bakes the chart's covered texels into `atlas`, marking them 1 in `covered` and adding their
+// sub-samples to `samples`.
 void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLayout& l, const ChartPlacement& r, OriginalSurface& surface,
                std::vector<uint8_t>& covered, Image& atlas, std::vector<Sample>& samples) {
     const double ox = r.x + kChartGutter, oy = r.y + kChartGutter;
