@@ -7,7 +7,10 @@
 //   within kChartGutter of a chart in its own blocks; width x height <= texelBudget.
 // - Baking: the centre of every texel a simplified triangle covers (or, for a triangle that covers
 //   no texel centre, the texel of its centroid) is lifted to the simplified surface and its
-//   closest original triangle found (CGAL AABB tree, the previous texel's answer as the hint).
+//   closest original triangle found (CGAL AABB tree, the previous texel's answer as the hint);
+//   when that triangle faces away from the simplified one (the far side of a thin sheet), the
+//   nearest facing triangle along the simplified normal, both ways, within kFacingReach x the
+//   closest distance, replaces it (Sander et al. 2001 cast along the normal throughout).
 //   The texel's footprint, kSuper x kSuper sub-samples, is projected onto that triangle (clamped
 //   to it), and each sub-sample takes the source colour there: bilinear in the material's
 //   texture at the interpolated source UV (clamped to the edge), else the interpolated vertex
@@ -43,6 +46,7 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 constexpr int kSuper = 2;   // sub-samples per texel side
 constexpr float kUntexturedGrey = 191;
+constexpr double kFacingReach = 8;  // a facing triangle replaces a closer one facing away within this factor
 
 struct Rgb {
     float c[3] = {0, 0, 0};
@@ -109,6 +113,7 @@ public:
                 const Triangle tri(vertex(m, i[0]), vertex(m, i[1]), vertex(m, i[2]));
                 if (tri.is_degenerate()) continue;
                 triangles_.push_back(tri), owner_.push_back({s, t});
+                normals_.push_back(CGAL::cross_product(tri[1] - tri[0], tri[2] - tri[0]));
             }
         }
         if (triangles_.empty()) return;
@@ -119,8 +124,11 @@ public:
         tree_.do_not_accelerate_distance_queries();
     }
 
-    // Index of the original triangle closest to p; kNone when there is none.
-    uint32_t closest(const Point& p) {
+    // Index of the original triangle closest to p (on a simplified triangle of normal n); kNone
+    // when there is none. When that triangle faces away from n (the far side of a thin sheet or
+    // wall), the nearest triangle facing n along the line p + t n within kFacingReach x the
+    // closest distance is taken instead, if there is one.
+    uint32_t closest(const Point& p, const Vector& n) {
         if (triangles_.empty()) return kNone;
         if (hint_) {  // the previous answer's triangle, at its point closest to p: a tight first bound
             const Triangle& last = *hint_->second;
@@ -130,6 +138,15 @@ public:
             hint_ = tree_.closest_point_and_primitive(p, *hint_);
         } else {
             hint_ = tree_.closest_point_and_primitive(p);
+        }
+        const uint32_t found = static_cast<uint32_t>(hint_->second - triangles_.begin());
+        if (normals_[found] * n >= 0) return found;
+        double reach = kFacingReach * std::sqrt(CGAL::squared_distance(p, hint_->first));
+        auto away = [&](Primitive::Id id) { return normals_[id - triangles_.begin()] * n <= 0; };
+        for (const Vector& direction : {n, -n}) {
+            const auto hit = tree_.first_intersection(Kernel::Ray_3(p, direction), away);
+            const Point* q = hit ? boost::get<Point>(&hit->first) : nullptr;
+            if (q && std::sqrt(CGAL::squared_distance(p, *q)) < reach) reach = std::sqrt(CGAL::squared_distance(p, *q)), hint_ = {*q, hit->second};
         }
         return static_cast<uint32_t>(hint_->second - triangles_.begin());
     }
@@ -163,6 +180,7 @@ private:
     const std::vector<BakeSource>& sources_;
     std::vector<Triangle> triangles_;
     std::vector<std::pair<uint32_t, uint32_t>> owner_;  // (source, triangle)
+    std::vector<Vector> normals_;                       // not normalised
     Tree tree_;
     std::optional<Tree::Point_and_primitive_id> hint_;
 };
@@ -185,6 +203,7 @@ void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLa
         if (area == 0) continue;
         const uint32_t* vi = &simplified.indices[3 * chart.triangles[j]];
         const Point p[3] = {vertex(simplified, vi[0]), vertex(simplified, vi[1]), vertex(simplified, vi[2])};
+        const Vector normal = CGAL::cross_product(p[1] - p[0], p[2] - p[0]);
         auto lift = [&](double x, double y) {  // texel coordinates -> point of the simplified triangle's plane
             const double b1 = ((x - tx[0]) * (ty[2] - ty[0]) - (tx[2] - tx[0]) * (y - ty[0])) / area;
             const double b2 = ((tx[1] - tx[0]) * (y - ty[0]) - (x - tx[0]) * (ty[1] - ty[0])) / area;
@@ -201,7 +220,7 @@ void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLa
         auto bake = [&](int x, int y) {
             const size_t at = size_t(y) * atlas.width + x;
             covered[at] = 1;
-            const uint32_t nearest = surface.closest(lift(x + 0.5, y + 0.5));
+            const uint32_t nearest = surface.closest(lift(x + 0.5, y + 0.5), normal);
             Rgb sum;
             for (int sy = 0; sy < kSuper; ++sy)
                 for (int sx = 0; sx < kSuper; ++sx) {

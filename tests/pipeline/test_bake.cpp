@@ -289,6 +289,42 @@ TEST(Bake, TinyBudgetAndEmptyTexture) {
     EXPECT_GE(baked.psnr, 99.0);  // grey everywhere
 }
 
+// A thin sheet: red facing +z at z = 0, blue facing -z at z = -0.01. A simplified square facing +z
+// at z = -0.006 is closer to the blue side; it takes the red side, which faces it.
+TEST(Bake, ThinSheetTakesTheSideItFaces) {
+    auto grid = [](float z, bool up) {
+        MeshData m;
+        const uint32_t n = 8;
+        for (uint32_t j = 0; j <= n; ++j)
+            for (uint32_t i = 0; i <= n; ++i) {
+                m.positions.insert(m.positions.end(), {float(i) / n, float(j) / n, z});
+                m.texcoords.insert(m.texcoords.end(), {float(i) / n, float(j) / n});
+            }
+        for (uint32_t j = 0; j < n; ++j)
+            for (uint32_t i = 0; i < n; ++i) {
+                const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+                if (up) m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+                else m.indices.insert(m.indices.end(), {a, d, b, a, c, d});
+            }
+        return m;
+    };
+    const MeshData front = grid(0, true), back = grid(-0.01f, false);
+    const std::vector<Image> images = {constantTexture(16, 220, 20, 20), constantTexture(16, 20, 20, 220)};
+    MeshData square;
+    square.positions = {0, 0, -0.006f, 1, 0, -0.006f, 1, 1, -0.006f, 0, 1, -0.006f};
+    square.indices = {0, 1, 2, 0, 2, 3};
+    const BakedTexture baked = bakeTexture(square, {{&front, &images[0]}, {&back, &images[1]}}, 64 * 64);
+    expectValidAtlas(baked, 64 * 64, square);
+    EXPECT_GE(baked.psnr, 99.0);
+    for (size_t v = 0; v < baked.mesh.vertexCount(); ++v) {
+        const uint32_t x = std::min(baked.image.width - 1, uint32_t(baked.mesh.texcoords[2 * v] * baked.image.width));
+        const uint32_t y = std::min(baked.image.height - 1, uint32_t(baked.mesh.texcoords[2 * v + 1] * baked.image.height));
+        const uint8_t* p = &baked.image.pixels[3 * (size_t(y) * baked.image.width + x)];
+        EXPECT_EQ(p[0], 220) << "vertex " << v;
+        EXPECT_EQ(p[2], 20) << "vertex " << v;
+    }
+}
+
 TEST(Bake, EmptyInputGivesAnEmptyResult) {
     const BakedTexture baked = bakeTexture(MeshData{}, {}, 1024);
     EXPECT_EQ(baked.mesh.triangleCount(), 0u);
