@@ -1,9 +1,10 @@
-// Texture baking (pipeline/bake.cpp, chart.cpp): a wavy terrain split into two materials with
-// smooth procedural textures, simplified 8x, baked: charts never overlap and no 8 x 8 JPEG block
-// holds two charts (checked by rasterising every UV triangle at 4x the atlas resolution), UVs in
-// [0, 1], no zero-area UV triangle, the
-// atlas within its budget, the baked colours close to the source (PSNR), a constant source baked
-// exactly, vertex colours on an untextured sphere, and a folded surface split into charts.
+// Texture baking (pipeline/bake.cpp, chart.cpp, pack_charts.cpp): a wavy terrain split into two
+// materials with smooth procedural textures, simplified 8x, baked: charts never overlap and no
+// 8 x 8 JPEG block holds two charts (checked by rasterising every UV triangle at 4x the atlas
+// resolution), UVs in [0, 1], no zero-area UV triangle, the atlas within its budget, the baked
+// colours close to the source (PSNR); a constant source baked exactly; determinism; small and
+// zero budgets; vertex colours on an untextured sphere; a folded surface split into charts; a
+// thin sheet baked from the side the simplified surface faces.
 #include "helpers.h"
 
 #include "pipeline/chart.h"
