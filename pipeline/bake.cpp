@@ -1,7 +1,7 @@
 // Baked textures for simplified nodes whose source UVs no longer apply: Cignoni, Montani, Rocchini
-// & Scopigno 1998, "A general method for preserving attribute values on simplified meshes" §3
+// & Scopigno 1998, "A general method for preserving attribute values on simplified meshes"
 // (each texel of the simplified surface takes the attribute of the closest point on the original
-// surface), on the charts of chart.cpp (Sander et al. 2001 §3), packed into one atlas.
+// surface), on the charts of chart.cpp (Sander et al. 2001), packed into one atlas.
 // - Packing (pack_charts.cpp): one scale for all charts, so texel area follows world area; Lévy
 //   et al. 2002's horizon packing on 8 x 8 texel blocks, each owned by one chart, with every texel
 //   within kChartGutter of a chart in its own blocks; width x height <= texelBudget.
@@ -55,7 +55,7 @@ struct Rgb {
 Point vertex(const MeshData& m, uint32_t i) { return {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]}; }
 
 // Barycentric weights of the point of triangle abc closest to p (Ericson, "Real-Time Collision
-// Detection" 2005, §5.1.5).
+// Detection" 2005, ClosestPtPointTriangle).
 void closestWeights(const Point& a, const Point& b, const Point& c, const Point& p, double w[3]) {
     const Vector ab = b - a, ac = c - a, ap = p - a;
     const double d1 = ab * ap, d2 = ac * ap;

@@ -1,6 +1,6 @@
 // Packing of flattened charts (chart.cpp) into one atlas for bake.cpp: the "Tetris" horizon
 // packing of Lévy, Petitjean, Ray & Maillot 2002, "Least squares conformal maps for automatic
-// texture atlas generation" §5, on a grid of 8 x 8 texel blocks (JPEG's, formats/codec_image.cpp
+// texture atlas generation" (its packing section), on a grid of 8 x 8 texel blocks (JPEG's, formats/codec_image.cpp
 // writes 4:4:4) instead of texels, so that no block holds two charts.
 // - One scale (texels per world unit) for all charts: texel area follows world area.
 // - A chart occupies every block that comes within kChartGutter + 0.5 texels of one of its
