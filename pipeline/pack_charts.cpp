@@ -1,7 +1,7 @@
 // Packing of flattened charts (chart.cpp) into one atlas for bake.cpp: the "Tetris" horizon
 // packing of Lévy, Petitjean, Ray & Maillot 2002, "Least squares conformal maps for automatic
-// texture atlas generation" (its packing section), on a grid of 8 x 8 texel blocks (JPEG's, formats/codec_image.cpp
-// writes 4:4:4) instead of texels, so that no block holds two charts.
+// texture atlas generation" (its packing section), on a grid of 8 x 8 texel blocks (JPEG's:
+// formats/codec_image.cpp writes 4:4:4) instead of texels, so that no block holds two charts.
 // - One scale (texels per world unit) for all charts: texel area follows world area.
 // - A chart occupies every block that comes within kChartGutter + 0.5 texels of one of its
 //   triangles (exact triangle/box separating-axis test), so every texel within the gutter of the
@@ -58,7 +58,8 @@ Mask maskOf(const FlatChart& chart, double scale) {
     const double reach = kChartGutter + 0.5;
     for (size_t t = 0; t < chart.triangles.size(); ++t) {
         double x[3], y[3];
-        for (int k = 0; k < 3; ++k) x[k] = kChartGutter + chart.uv[6 * t + 2 * k] * scale, y[k] = kChartGutter + chart.uv[6 * t + 2 * k + 1] * scale;
+        for (int k = 0; k < 3; ++k)
+            x[k] = kChartGutter + chart.uv[6 * t + 2 * k] * scale, y[k] = kChartGutter + chart.uv[6 * t + 2 * k + 1] * scale;
         const int i0 = std::max(0, static_cast<int>(std::floor((std::min({x[0], x[1], x[2]}) - reach) / kJpegBlock)));
         const int i1 = std::min(m.wb - 1, static_cast<int>(std::floor((std::max({x[0], x[1], x[2]}) + reach) / kJpegBlock)));
         const int j0 = std::max(0, static_cast<int>(std::floor((std::min({y[0], y[1], y[2]}) - reach) / kJpegBlock)));
@@ -66,7 +67,8 @@ Mask maskOf(const FlatChart& chart, double scale) {
         for (int j = j0; j <= j1; ++j)
             for (int i = i0; i <= i1; ++i)
                 if (!m.blocks[size_t(j) * m.wb + i] &&
-                    triangleMeetsBox(x, y, i * kJpegBlock - reach, j * kJpegBlock - reach, (i + 1) * kJpegBlock + reach, (j + 1) * kJpegBlock + reach))
+                    triangleMeetsBox(x, y, i * kJpegBlock - reach, j * kJpegBlock - reach, (i + 1) * kJpegBlock + reach,
+                                     (j + 1) * kJpegBlock + reach))
                     m.blocks[size_t(j) * m.wb + i] = 1;
     }
     m.bottom.assign(m.wb, m.hb), m.top.assign(m.wb, -1);
@@ -129,7 +131,8 @@ AtlasLayout packAt(const std::vector<FlatChart>& charts, double scale) {
         l.places[c] = {bestAt[c].first * kJpegBlock, bestAt[c].second * kJpegBlock, m.wb * kJpegBlock, m.hb * kJpegBlock};
         for (int j = 0; j < m.hb; ++j)
             for (int i = 0; i < m.wb; ++i)
-                if (m.blocks[size_t(j) * m.wb + i]) l.blockOwner[size_t(bestAt[c].second + j) * bestColumns + bestAt[c].first + i] = static_cast<uint32_t>(c);
+                if (m.blocks[size_t(j) * m.wb + i])
+                    l.blockOwner[size_t(bestAt[c].second + j) * bestColumns + bestAt[c].first + i] = static_cast<uint32_t>(c);
     }
     return l;
 }
