@@ -1,24 +1,31 @@
-// The HLOD recursion of thesis §3.2 for one block, breadth-first:
+// The HLOD recursion of thesis §3.2 for one block, breadth-first, on the block welded by
+// position (weld.cpp):
 //   simplification_hlod0 = numTriangles_b / c_desiredTris,
 //   simplification_hlod(i+1) = simplification_hlod(i) / c_levelFactor,
-// each node simplifying the piece's ORIGINAL triangles by its factor, then dividing the piece
+// each node simplifying the piece's ORIGINAL triangles by its factor as one mesh (simplify.cpp),
+// then dividing the piece
 // into c_levelFactor children by c_levelFactor - 1 plane cuts (cut.cpp), "until the factor
 // becomes less than 1". Leaves keep the original triangles; which node is a leaf is the
 // --leaf-rule (tree_rules.h, pipeline/TREE.md): below-one (default) divides every node whose
 // factor is > 1, so leaves have a factor in (1/c_levelFactor, 1]; stop-before divides a node only
 // when its children's factor would still be >= 1, so leaves have a factor in [1, c_levelFactor)
 // (or the block's own, when it is below 1). Textures are cropped and downsampled by the same
-// factor (texture.cpp, leaves keep the source's); the
-// geometric error is measured against the original piece (error.cpp). All nodes are encoded on
+// factor (texture.cpp, leaves keep the source's) while the simplification keeps the source's
+// UV seams; a node simplified as geometry only gets a baked texture. The geometric error is the
+// two-sided distance to the original piece (error.cpp). All nodes are encoded on
 // one position lattice (DracoOptions::positionStep, by default the block root's), so the
 // borders the cuts made identical stay identical after quantization.
 #include "pipeline/pipeline.h"
 
+#include <algorithm>
 #include <deque>
 #include <map>
 
 namespace hlod {
 namespace {
+
+// The smallest hole the geometric error must see, as a fraction of the node's extent (issue #16).
+constexpr double kMeasuredHole = 10;
 
 struct Pending {
     Piece piece;
@@ -67,29 +74,38 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     stats.inputTriangles = block.mesh.triangleCount();
     TextureCache textures(materials);
     std::deque<Pending> queue;
-    queue.push_back({block, static_cast<double>(block.mesh.triangleCount()) / c.desiredTris, 0, kNone});  // §3.2 hlod0
+    Piece welded = weldPiece(block, options.draco.positionStep / 2);  // weld.cpp: chunk borders become interior
+    const double rootFactor = static_cast<double>(welded.mesh.triangleCount()) / c.desiredTris;  // §3.2 hlod0
+    queue.push_back({std::move(welded), rootFactor, 0, kNone});
     std::vector<uint32_t> parentOf;
     while (!queue.empty()) {
         Pending p = std::move(queue.front());
         queue.pop_front();
-        const std::vector<SubMesh> original = splitByMaterial(p.piece);
         const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
-        std::vector<SubMesh> parts = original;
-        if (!leaf)
-            for (SubMesh& part : parts) part.mesh = simplifyMesh(part.mesh, p.factor, options.simplifier, part.locked);
-        const double error = leaf ? 0.0 : surfaceDistance(parts, original);
+        const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier);
+        std::vector<SubMesh> parts = splitByMaterial(simplified.piece);
+        const Box3f bounds = pieceBounds(p.piece.mesh);
+        const double extent = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
+        // Sample spacing: a hole of 1 / kMeasuredHole of the node's extent holds samples (error.cpp).
+        const SurfaceError error = leaf ? SurfaceError{} : surfaceError(parts, {SubMesh{0, p.piece.mesh, {}}}, extent / (2 * kMeasuredHole));
         const double textureFactor = leaf ? 1.0 : p.factor;  // a leaf keeps the source's texels
         std::vector<Image> images(parts.size());
-        for (size_t i = 0; i < parts.size(); ++i)
-            if (const Image* scaled = textures.get(parts[i].material, p.level, textureFactor))
-                images[i] = atlasTexture(*scaled, parts[i].mesh);
-        emit(packNode(parts, images, pieceBounds(p.piece.mesh), p.parentLocal, p.level, blockIndex, error, options));
+        if (!simplified.geometryOnly) {
+            for (size_t i = 0; i < parts.size(); ++i)
+                if (const Image* scaled = textures.get(parts[i].material, p.level, textureFactor))
+                    images[i] = atlasTexture(*scaled, parts[i].mesh);
+        }
+        // A geometry-only node has no source UVs: it needs a baked texture (pipeline/bake.cpp,
+        // branch i-bake, not merged yet); until then it is untextured.
+        emit(packNode(parts, images, bounds, p.parentLocal, p.level, blockIndex, error.max, options));
         if (stats.nodesPerLevel.size() <= p.level) stats.nodesPerLevel.resize(p.level + 1);
         ++stats.nodesPerLevel[p.level];
         if (progress) progress->advance(p.piece.mesh.triangleCount());
         const uint32_t self = static_cast<uint32_t>(parentOf.size());
         parentOf.push_back(p.parentLocal);
-        stats.geometricErrors.push_back(static_cast<float>(error));
+        stats.geometricErrors.push_back(static_cast<float>(error.max));
+        stats.measured.push_back(error);
+        stats.baked.push_back(simplified.geometryOnly);
         if (leaf) continue;
         for (Piece& child : dividePiece(p.piece, levelFactor, options.planes))  // §3.2: simplification_hlod(i+1)
             queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});
