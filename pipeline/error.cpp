@@ -3,9 +3,9 @@
 // (surfaceError). One side alone (simplified -> original, surfaceDistance: the measure before
 // issue #16) cannot see a hole: the simplified surface is close to the original everywhere it
 // exists, and a missing wall costs nothing. So the original is sampled too, each point queried
-// against a CGAL AABB tree of the simplified surface. Sampling: every vertex, edge midpoint and
-// centroid, and on a triangle longer than `spacing` a barycentric grid of spacing at most
-// `spacing` (build_tree.cpp passes a twentieth of the node's extent: a hole of a tenth of it
+// against a CGAL AABB tree of the simplified surface. Sampling: every vertex and centroid (and
+// the simplified side's edge midpoints), and on a triangle longer than `spacing` a barycentric
+// grid of spacing at most `spacing` (build_tree.cpp passes a twentieth of the node's extent: a hole of a tenth of it
 // holds a sample at least ~a fortieth of the extent from its rim, hence measured).
 #include "pipeline/pipeline.h"
 
@@ -41,15 +41,17 @@ std::vector<Triangle> trianglesOf(const std::vector<SubMesh>& parts) {
     return triangles;
 }
 
-// Visits the sample points of `tri`: a barycentric grid of n x n cells (n >= 2, so the
-// vertices and edge midpoints are among them), n the longest edge / spacing, plus the centroid.
+// Visits the sample points of `tri` other than its corners: a barycentric grid of n x n cells
+// (n >= minCells; n >= 2 puts the edge midpoints among them), n the longest edge / spacing,
+// plus the centroid.
 template <typename Visit>
-void samples(const Triangle& tri, double spacing, Visit&& visit) {
+void samples(const Triangle& tri, double spacing, int minCells, Visit&& visit) {
     const double longest = std::sqrt(std::max({CGAL::squared_distance(tri[0], tri[1]), CGAL::squared_distance(tri[1], tri[2]),
                                                CGAL::squared_distance(tri[2], tri[0])}));
-    const int n = std::max(2, static_cast<int>(std::ceil(longest / spacing)));
+    const int n = std::max(minCells, static_cast<int>(std::ceil(longest / spacing)));
     for (int i = 0; i <= n; ++i)
         for (int j = 0; i + j <= n; ++j) {
+            if (i == n || j == n || i + j == 0) continue;  // a corner
             const double a = double(i) / n, b = double(j) / n, c = 1 - a - b;
             visit(Point(a * tri[0].x() + b * tri[1].x() + c * tri[2].x(), a * tri[0].y() + b * tri[1].y() + c * tri[2].y(),
                         a * tri[0].z() + b * tri[1].z() + c * tri[2].z()));
@@ -57,17 +59,20 @@ void samples(const Triangle& tri, double spacing, Visit&& visit) {
     visit(CGAL::centroid(tri[0], tri[1], tri[2]));
 }
 
-// Largest and summed distance from the samples of `from` to the surface `to`; `count` gets the samples.
-double sideDistance(const std::vector<Triangle>& from, const std::vector<Triangle>& to, double spacing, double& sum,
-                    uint64_t& count) {
+// Largest and summed distance from the samples of `from` (its vertices once each, and the
+// triangles' samples) to the surface `to`; `count` gets the samples.
+double sideDistance(const std::vector<SubMesh>& from, const std::vector<Triangle>& fromTriangles, const std::vector<Triangle>& to,
+                    double spacing, int minCells, double& sum, uint64_t& count) {
     Tree tree(to.begin(), to.end());
     tree.accelerate_distance_queries();
     double worst = 0;
-    for (const Triangle& tri : from)
-        samples(tri, spacing, [&](const Point& p) {
-            const double d = std::sqrt(tree.squared_distance(p));
-            worst = std::max(worst, d), sum += d, ++count;
-        });
+    auto visit = [&](const Point& p) {
+        const double d = std::sqrt(tree.squared_distance(p));
+        worst = std::max(worst, d), sum += d, ++count;
+    };
+    for (const SubMesh& part : from)
+        for (uint32_t v = 0; v < part.mesh.vertexCount(); ++v) visit(vertex(part.mesh, v));
+    for (const Triangle& tri : fromTriangles) samples(tri, spacing, minCells, visit);
     return worst;
 }
 
@@ -97,8 +102,10 @@ SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vec
     if (a.empty() || b.empty() || !(spacing > 0)) return e;
     double sum = 0;
     uint64_t count = 0;
-    e.oneSided = sideDistance(a, b, spacing, sum, count);
-    e.max = std::max(e.oneSided, sideDistance(b, a, spacing, sum, count));
+    // The simplified side's triangles are few and large (edge midpoints always); the original's
+    // many and small, mostly sampled by their vertices and centroids alone.
+    e.oneSided = sideDistance(simplified, a, b, spacing, 2, sum, count);
+    e.max = std::max(e.oneSided, sideDistance(original, b, a, spacing, 1, sum, count));
     e.mean = count ? sum / double(count) : 0;
     return e;
 }

@@ -3,8 +3,8 @@
 // facade and from the Stanford bunny. The block is welded by position and simplified as one mesh
 // (weld.cpp, simplify.cpp): every simplified level stays within kLevelSlack of its §3.2 target,
 // hlod0 within kLevelSlack x c_desiredTris, and the coarse levels open no hole: the two-sided
-// error (error.cpp) stays within kHoleRatio x the one-sided one at every level, where a hole would
-// make it many times larger (TwoSidedErrorSeesAHole).
+// error (error.cpp) stays within kHoleRatio x the one-sided one at every level (a hole raises
+// the first alone: TwoSidedErrorSeesAHole).
 #include "helpers.h"
 
 #include "formats/validate.h"
@@ -19,10 +19,13 @@ namespace hlod::test {
 namespace {
 
 constexpr double kLevelSlack = 1.5;  // issue #16: "hlod0 <= 1.5 x c_desiredTris, each level <= 1.5 x its target"
-// Two-sided / one-sided error per level. Simplification moves surface away from the original
-// and back about equally in both directions; a hole of a tenth of a node's extent alone gives a
-// ratio above 10 on these inputs (measured: see pipeline/TREE.md "Chunked multi-atlas scans").
-constexpr double kHoleRatio = 3;
+// Two-sided / one-sided error per level: equal where the simplified surface covers the original,
+// larger where it leaves a gap. Measured on these inputs (bench_chunked, pipeline/TREE.md): at
+// most 1.14 welded; 1.30-1.93 on the coarse levels when the chunk borders are left unwelded
+// (their copies 1e-6 x the extent apart, ChunkedScanOptions::jitter), which open gaps.
+// Chosen for these inputs; a scan whose simplification drops whole features (the synthetic
+// city's hlod0: 17.3 against 4.4) has a larger ratio without any hole.
+constexpr double kHoleRatio = 1.25;
 
 struct Level {
     uint64_t nodes = 0, triangles = 0, maxTriangles = 0, baked = 0, untexturedSeamNodes = 0;

@@ -76,11 +76,24 @@ ChunkedScan writeChunkedScan(const std::string& dir, const std::string& name, co
     float lo[3], hi[3];
     bounds(mesh, all, lo, hi);
     const Grid grid = gridOver(lo, hi, options.chunks);
+    const double shift = options.jitter * std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
     std::map<std::array<uint32_t, 3>, std::vector<uint32_t>> chunks;  // cell -> triangles, ordered
     for (uint32_t t : all) {
         float c[3];
         centroid(mesh, t, c);
         chunks[grid.cellOf(c)].push_back(t);
+    }
+    std::vector<uint32_t> firstChunk(mesh.vertexCount(), UINT32_MAX);  // vertices on a chunk border are shared
+    std::vector<uint8_t> shared(mesh.vertexCount());
+    uint32_t index = 0;
+    for (const auto& [cell, triangles] : chunks) {
+        for (uint32_t t : triangles)
+            for (int k = 0; k < 3; ++k) {
+                uint32_t& first = firstChunk[mesh.indices[3 * t + k]];
+                if (first == UINT32_MAX) first = index;
+                else if (first != index) shared[mesh.indices[3 * t + k]] = 1;
+            }
+        ++index;
     }
     ChunkedScan out;
     out.obj = (std::filesystem::path(dir) / (name + ".obj")).string();
@@ -125,12 +138,15 @@ ChunkedScan writeChunkedScan(const std::string& dir, const std::string& name, co
                     auto [it, fresh] = local.try_emplace(v, vertexBase + local.size());
                     if (fresh) {
                         const float* p = &mesh.positions[3 * v];
-                        std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
+                        float q[3];  // a chunk border's copies: a deterministic offset in [-shift, shift] each
+                        for (int a = 0; a < 3; ++a)
+                            q[a] = shared[v] ? static_cast<float>(p[a] + shift * std::sin(12.9898 * chunk + 78.233 * v + 37.719 * a)) : p[a];
+                        std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", q[0], q[1], q[2]);
                         obj << line;
                         float uv[2];
                         for (int a = 0; a < 2; ++a)  // inside the tile, half a texel of margin
                             uv[a] = (a == 0 ? tu : tv) + (0.5f / options.textureSize) +
-                                    (1.0f / tiles - 1.0f / options.textureSize) * (p[axes[a]] - tlo[axes[a]]) /
+                                    (1.0f / tiles - 1.0f / options.textureSize) * (q[axes[a]] - tlo[axes[a]]) /
                                         std::max(1e-9f, thi[axes[a]] - tlo[axes[a]]);
                         std::snprintf(line, sizeof line, "vt %.9g %.9g\n", uv[0], uv[1]);
                         obj << line;

@@ -1,7 +1,7 @@
 // Test fixture: a scan with the structure of real photogrammetry deliveries (issue #16: ~1,000
 // chunks, one material and one atlas per chunk): a mesh cut into chunks by a grid of cells over
 // its bounds (by triangle centroid), written as one OBJ in which every chunk has its own copy of
-// its vertices (border vertices duplicated, bit-identical positions), its own material and its
+// its vertices (border vertices duplicated, `jitter` apart), its own material and its
 // own texture file chunk_NNN.png. Within a chunk the UVs are charts: the chunk's triangles are
 // grouped by a finer grid (chartCells per chunk-cell side), each chart with its own vertices
 // again, projected onto the chunk's two longest axes into its own tile of the atlas; 1 = one
@@ -21,6 +21,9 @@ struct ChunkedScanOptions {
     uint32_t chunks = 50;        // about this many non-empty chunks
     uint32_t chartCells = 1;     // charts per chunk: up to chartCells^3 (grid cells inside a chunk)
     uint32_t textureSize = 64;   // texels per side of every chunk's atlas
+    // Each chunk's copy of a border vertex moves by up to jitter x the mesh's extent per axis (chunks
+    // exported apart round apart: the copies of a border vertex are near, not bit-identical).
+    double jitter = 1e-6;
 };
 
 struct ChunkedScan {
