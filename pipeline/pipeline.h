@@ -230,6 +230,22 @@ Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws I
 Image downsampleTexture(const Image& source, double factor);
 Image atlasTexture(const Image& scaled, MeshData& mesh);
 
+// bake.cpp (charts: chart.cpp; pipeline/BAKE.md): a new parameterisation of a simplified node
+// and a texture baked from its original surface, for nodes whose source UVs no longer apply.
+// `simplified` carries positions and indices (texcoords, if any, are replaced); each source is the
+// original triangles of one material and its texture (nullptr = untextured: vertex colours, else
+// grey). The result's triangles are grouped by chart, its vertices split where charts meet, its
+// zero-area triangles (zeroArea) dropped; the
+// atlas (RGB) holds at most texelBudget texels unless there are more than texelBudget / 64 charts.
+struct BakeSource { const MeshData* mesh = nullptr; const Image* texture = nullptr; };  // original triangles of one material; texture nullptr = untextured
+struct BakedTexture {
+    MeshData mesh;              // `simplified` with new texcoords (vertices split where charts meet)
+    Image image;                // the baked atlas
+    double psnr = 0;            // dB, baked vs source colours over covered texels
+    uint64_t coveredTexels = 0;
+};
+BakedTexture bakeTexture(const MeshData& simplified, const std::vector<BakeSource>& original, uint64_t texelBudget);
+
 struct BuildOptions {
     Constants constants;
     Simplifier simplifier = Simplifier::Meshopt;

@@ -1,0 +1,250 @@
+// Texture baking (pipeline/bake.cpp, chart.cpp): a wavy terrain split into two materials with
+// smooth procedural textures, simplified 8x, baked: charts never overlap (checked by rasterising
+// every UV triangle at 4x the atlas resolution), UVs in [0, 1], no zero-area UV triangle, the
+// atlas within its budget, the baked colours close to the source (PSNR), a constant source baked
+// exactly, vertex colours on an untextured sphere, and a folded surface split into charts.
+#include "helpers.h"
+
+#include "pipeline/chart.h"
+
+#include <cmath>
+
+namespace hlod::test {
+namespace {
+
+// A smooth RGB texture: low-frequency waves, different per material `seed`.
+Image smoothTexture(uint32_t size, int seed) {
+    Image img{size, size, 3, {}};
+    for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) {
+            const double u = double(x) / size, v = double(y) / size;
+            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::sin(6.0 * u + seed)));
+            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::cos(5.0 * v - seed)));
+            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::sin(4.0 * (u + v) + 2 * seed)));
+        }
+    return img;
+}
+
+Image constantTexture(uint32_t size, uint8_t r, uint8_t g, uint8_t b) {
+    Image img{size, size, 3, {}};
+    for (uint32_t i = 0; i < size * size; ++i) img.pixels.insert(img.pixels.end(), {r, g, b});
+    return img;
+}
+
+struct Fixture {
+    std::vector<SubMesh> parts;  // original triangles per material
+    MeshData simplified;         // all materials, simplified
+};
+
+Fixture terrainFixture(uint32_t n, double factor) {
+    const Piece piece = terrain(n, 100, true);
+    Fixture f;
+    f.parts = splitByMaterial(piece);
+    MeshData whole = piece.mesh;
+    whole.texcoords.clear();
+    f.simplified = simplifyMesh(whole, factor, Simplifier::Meshopt);
+    return f;
+}
+
+std::vector<BakeSource> sources(const Fixture& f, const std::vector<Image>& images) {
+    std::vector<BakeSource> s;
+    for (size_t i = 0; i < f.parts.size(); ++i) s.push_back({&f.parts[i].mesh, &images[i]});
+    return s;
+}
+
+// Number of sample points (a grid at `fine` x the atlas resolution) strictly inside more than one
+// UV triangle: 0 when no two triangles of the atlas overlap.
+size_t overlappingSamples(const MeshData& m, uint32_t width, uint32_t height, int fine) {
+    const uint32_t w = width * fine, h = height * fine;
+    std::vector<uint8_t> count(size_t(w) * h, 0);
+    size_t overlaps = 0;
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        double x[3], y[3];
+        for (int k = 0; k < 3; ++k) x[k] = m.texcoords[2 * m.indices[3 * t + k]] * w, y[k] = m.texcoords[2 * m.indices[3 * t + k] + 1] * h;
+        const double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+        const int x0 = std::max(0, int(std::min({x[0], x[1], x[2]}))), x1 = std::min(int(w) - 1, int(std::max({x[0], x[1], x[2]})));
+        const int y0 = std::max(0, int(std::min({y[0], y[1], y[2]}))), y1 = std::min(int(h) - 1, int(std::max({y[0], y[1], y[2]})));
+        for (int py = y0; py <= y1; ++py)
+            for (int px = x0; px <= x1; ++px) {
+                const double sx = px + 0.5, sy = py + 0.5;
+                bool inside = true;
+                for (int k = 0; k < 3; ++k) {
+                    const int a = k, b = (k + 1) % 3;
+                    const double e = ((x[b] - x[a]) * (sy - y[a]) - (sx - x[a]) * (y[b] - y[a])) / area;
+                    inside = inside && e > 1e-6;
+                }
+                if (inside && ++count[size_t(py) * w + px] == 2) ++overlaps;
+            }
+    }
+    return overlaps;
+}
+
+// Triangles of `m` with a non-zero area (bakeTexture drops the others).
+size_t solidTriangles(const MeshData& m) {
+    size_t n = 0;
+    for (size_t t = 0; t < m.triangleCount(); ++t) n += triangleArea(m, t) > 0;
+    return n;
+}
+
+void expectValidAtlas(const BakedTexture& baked, uint64_t budget, const MeshData& simplified) {
+    const MeshData& m = baked.mesh;
+    ASSERT_EQ(m.triangleCount(), solidTriangles(simplified));
+    ASSERT_EQ(m.texcoords.size(), 2 * m.vertexCount());
+    ASSERT_EQ(baked.image.channels, 3u);
+    ASSERT_EQ(baked.image.pixels.size(), size_t(baked.image.width) * baked.image.height * 3);
+    EXPECT_LE(uint64_t(baked.image.width) * baked.image.height, budget);
+    EXPECT_GT(baked.coveredTexels, 0u);
+    EXPECT_LE(baked.coveredTexels, uint64_t(baked.image.width) * baked.image.height);
+    for (float c : m.texcoords) {
+        EXPECT_GE(c, 0.0f);
+        EXPECT_LE(c, 1.0f);
+    }
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        const float* a = &m.texcoords[2 * m.indices[3 * t]];
+        const float* b = &m.texcoords[2 * m.indices[3 * t + 1]];
+        const float* c = &m.texcoords[2 * m.indices[3 * t + 2]];
+        EXPECT_NE((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]), 0.0f) << "triangle " << t;
+    }
+    EXPECT_EQ(overlappingSamples(m, baked.image.width, baked.image.height, 4), 0u);
+}
+
+TEST(Bake, TerrainChartsAreValidAndColoursFaithful) {
+    const Fixture f = terrainFixture(64, 8);  // 8,192 -> ~1,000 triangles
+    const std::vector<Image> images = {smoothTexture(512, 0), smoothTexture(512, 1)};
+    const uint64_t budget = 256 * 256;
+    const BakedTexture baked = bakeTexture(f.simplified, sources(f, images), budget);
+    expectValidAtlas(baked, budget, f.simplified);
+    // The baked atlas uses most of its budget; positions are the simplified ones.
+    EXPECT_GE(baked.coveredTexels, budget / 3);
+    EXPECT_NEAR(meshArea(baked.mesh), meshArea(f.simplified), 1e-3 * meshArea(f.simplified));
+    // Smooth textures, ~1 baked texel per 4 source texels: measured 42.3 dB.
+    EXPECT_GE(baked.psnr, 38.0);
+    std::printf("terrain: %llu covered texels, PSNR %.2f dB\n", static_cast<unsigned long long>(baked.coveredTexels), baked.psnr);
+}
+
+TEST(Bake, IsDeterministic) {
+    const Fixture f = terrainFixture(32, 4);
+    const std::vector<Image> images = {smoothTexture(128, 2), smoothTexture(128, 3)};
+    const BakedTexture a = bakeTexture(f.simplified, sources(f, images), 128 * 128);
+    const BakedTexture b = bakeTexture(f.simplified, sources(f, images), 128 * 128);
+    EXPECT_EQ(a.mesh.texcoords, b.mesh.texcoords);
+    EXPECT_EQ(a.mesh.indices, b.mesh.indices);
+    EXPECT_EQ(a.image.pixels, b.image.pixels);
+    EXPECT_EQ(a.psnr, b.psnr);
+}
+
+TEST(Bake, ConstantSourceBakesExactly) {
+    const Fixture f = terrainFixture(32, 4);
+    const std::vector<Image> images = {constantTexture(64, 40, 120, 200), constantTexture(64, 40, 120, 200)};
+    const BakedTexture baked = bakeTexture(f.simplified, sources(f, images), 128 * 128);
+    expectValidAtlas(baked, 128 * 128, f.simplified);
+    EXPECT_GE(baked.psnr, 99.0);  // MSE 0
+    // Every texel a bilinear tap at any corner or centroid of a triangle reads holds the colour.
+    const Image& img = baked.image;
+    for (size_t t = 0; t < baked.mesh.triangleCount(); ++t) {
+        double cu = 0, cv = 0;
+        for (int k = 0; k <= 3; ++k) {
+            double u = cu / 3, v = cv / 3;
+            if (k < 3) {
+                u = baked.mesh.texcoords[2 * baked.mesh.indices[3 * t + k]], v = baked.mesh.texcoords[2 * baked.mesh.indices[3 * t + k] + 1];
+                cu += u, cv += v;
+            }
+            const int x = std::clamp(int(std::floor(u * img.width - 0.5)), 0, int(img.width) - 2);
+            const int y = std::clamp(int(std::floor(v * img.height - 0.5)), 0, int(img.height) - 2);
+            for (int dy = 0; dy < 2; ++dy)
+                for (int dx = 0; dx < 2; ++dx) {
+                    const uint8_t* p = &img.pixels[3 * (size_t(y + dy) * img.width + x + dx)];
+                    ASSERT_EQ(p[0], 40) << "triangle " << t;
+                    ASSERT_EQ(p[1], 120) << "triangle " << t;
+                    ASSERT_EQ(p[2], 200) << "triangle " << t;
+                }
+        }
+    }
+}
+
+TEST(Bake, SmallBudgetStaysWithinIt) {
+    const Fixture f = terrainFixture(32, 4);
+    const std::vector<Image> images = {smoothTexture(128, 0), smoothTexture(128, 1)};
+    const BakedTexture baked = bakeTexture(f.simplified, sources(f, images), 64 * 64);
+    expectValidAtlas(baked, 64 * 64, f.simplified);
+}
+
+// A UV sphere with a vertex-colour gradient and no texture: many charts, vertex colours baked.
+TEST(Bake, UntexturedSphereUsesVertexColours) {
+    MeshData sphere;
+    const int rings = 24, segments = 48;
+    for (int r = 0; r <= rings; ++r)
+        for (int s = 0; s <= segments; ++s) {
+            const double th = M_PI * r / rings, ph = 2 * M_PI * s / segments;
+            const float p[3] = {float(std::sin(th) * std::cos(ph)), float(std::sin(th) * std::sin(ph)), float(std::cos(th))};
+            sphere.positions.insert(sphere.positions.end(), p, p + 3);
+            sphere.colors.insert(sphere.colors.end(), {uint8_t(127 + 127 * p[2]), 60, uint8_t(127 - 127 * p[2]), 255});
+        }
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            const uint32_t a = r * (segments + 1) + s, b = a + 1, c = a + segments + 1, d = c + 1;
+            if (r > 0) sphere.indices.insert(sphere.indices.end(), {a, c, b});
+            if (r + 1 < rings) sphere.indices.insert(sphere.indices.end(), {b, c, d});
+        }
+    MeshData coarse = simplifyMesh(sphere, 4, Simplifier::Meshopt);
+    coarse.colors.clear();
+    const std::vector<BakeSource> source = {{&sphere, nullptr}};
+    const BakedTexture baked = bakeTexture(coarse, source, 128 * 128);
+    expectValidAtlas(baked, 128 * 128, coarse);
+    // A closed surface needs several charts (a 60-degree cone covers at most 120 degrees).
+    EXPECT_GE(flattenCharts(coarse).size(), 4u);
+    EXPECT_GE(baked.psnr, 45.0);  // measured 56.8 dB
+    std::printf("sphere: %llu covered texels, PSNR %.2f dB\n", static_cast<unsigned long long>(baked.coveredTexels), baked.psnr);
+    // A red-dominated texel near the +z pole, blue near -z: sample at the vertex closest to each pole.
+    for (int pole : {1, -1}) {
+        size_t best = 0;
+        for (size_t v = 0; v < baked.mesh.vertexCount(); ++v)
+            if (pole * baked.mesh.positions[3 * v + 2] > pole * baked.mesh.positions[3 * best + 2]) best = v;
+        const uint32_t x = std::min(baked.image.width - 1, uint32_t(baked.mesh.texcoords[2 * best] * baked.image.width));
+        const uint32_t y = std::min(baked.image.height - 1, uint32_t(baked.mesh.texcoords[2 * best + 1] * baked.image.height));
+        const uint8_t* p = &baked.image.pixels[3 * (size_t(y) * baked.image.width + x)];
+        EXPECT_GT(pole * (int(p[0]) - int(p[2])), 150) << "pole " << pole;
+    }
+}
+
+// A spiral ramp (two turns, gentle pitch): every normal is within the cone of the first one,
+// but one projection would fold the second turn over the first. The chart is split instead.
+TEST(Bake, FoldedSurfaceIsSplitIntoNonOverlappingCharts) {
+    MeshData ramp;
+    const int steps = 96, across = 4;
+    for (int i = 0; i <= steps; ++i)
+        for (int j = 0; j <= across; ++j) {
+            const double angle = 4 * M_PI * i / steps, radius = 1 + 0.25 * j;
+            ramp.positions.insert(ramp.positions.end(),
+                                  {float(radius * std::cos(angle)), float(radius * std::sin(angle)), float(0.1 * angle)});
+        }
+    for (int i = 0; i < steps; ++i)
+        for (int j = 0; j < across; ++j) {
+            const uint32_t a = i * (across + 1) + j, b = a + 1, c = a + across + 1, d = c + 1;
+            ramp.indices.insert(ramp.indices.end(), {a, b, d, a, d, c});
+        }
+    std::vector<double> all;  // the whole ramp on z overlaps itself
+    for (uint32_t v : ramp.indices) all.insert(all.end(), {ramp.positions[3 * v], ramp.positions[3 * v + 1]});
+    ASSERT_TRUE(trianglesOverlap(all));
+    const std::vector<FlatChart> charts = flattenCharts(ramp);
+    EXPECT_GE(charts.size(), 2u);
+    size_t triangles = 0;
+    for (const FlatChart& c : charts) {
+        EXPECT_FALSE(trianglesOverlap(c.uv));
+        EXPECT_GE(c.width, c.height);
+        triangles += c.triangles.size();
+    }
+    EXPECT_EQ(triangles, ramp.triangleCount());
+    const MeshData source = ramp;
+    const BakedTexture baked = bakeTexture(ramp, {{&source, nullptr}}, 64 * 64);
+    expectValidAtlas(baked, 64 * 64, ramp);
+}
+
+TEST(Bake, EmptyInputGivesAnEmptyResult) {
+    const BakedTexture baked = bakeTexture(MeshData{}, {}, 1024);
+    EXPECT_EQ(baked.mesh.triangleCount(), 0u);
+    EXPECT_EQ(baked.coveredTexels, 0u);
+}
+
+}  // namespace
+}  // namespace hlod::test
