@@ -18,6 +18,7 @@
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
+#include <cmath>
 #include <deque>
 #include <map>
 
@@ -26,6 +27,8 @@ namespace {
 
 // The smallest hole the geometric error must see, as a fraction of the node's extent (issue #16).
 constexpr double kMeasuredHole = 10;
+// Smallest baked atlas: 64 x 64 texels (a coarse node of a small piece would otherwise get a few texels).
+constexpr uint64_t kMinBakeTexels = 64 * 64;
 
 struct Pending {
     Piece piece;
@@ -61,6 +64,36 @@ private:
     std::map<std::pair<uint32_t, uint32_t>, Image> scaled_;
 };
 
+// Source texels the triangles of `mesh` cover in `texture` (the area of their UV triangles).
+double usedTexels(const MeshData& mesh, const Image& texture) {
+    double area = 0;
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const float* a = &mesh.texcoords[2 * mesh.indices[3 * t]];
+        const float* b = &mesh.texcoords[2 * mesh.indices[3 * t + 1]];
+        const float* c = &mesh.texcoords[2 * mesh.indices[3 * t + 2]];
+        area += 0.5 * std::abs(double(b[0] - a[0]) * (c[1] - a[1]) - double(c[0] - a[0]) * (b[1] - a[1]));
+    }
+    return area * texture.width * texture.height;
+}
+
+// A node simplified as geometry only (simplify.cpp): a new texture baked from the piece's
+// original triangles and their full-resolution textures (bake.cpp). texelBudget is the source
+// texels those triangles use divided by the node's factor (thesis §3.2: texture "down-sampled
+// by this simplification factor", as the cropped atlases of the other nodes are), at least
+// kMinBakeTexels. An untextured piece is not baked (image empty): its node stays untextured.
+BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, double factor, TextureCache& textures) {
+    const std::vector<SubMesh> original = splitByMaterial(piece);
+    std::vector<BakeSource> sources;
+    double texels = 0;
+    for (const SubMesh& part : original) {
+        const Image* texture = textures.get(part.material, 0, 1.0);
+        if (texture && !part.mesh.texcoords.empty()) texels += usedTexels(part.mesh, *texture);
+        sources.push_back({&part.mesh, texture && !part.mesh.texcoords.empty() ? texture : nullptr});
+    }
+    if (texels <= 0) return {};
+    return bakeTexture(simplified, sources, std::max<uint64_t>(kMinBakeTexels, static_cast<uint64_t>(texels / factor)));
+}
+
 }  // namespace
 
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
@@ -90,13 +123,16 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         const SurfaceError error = leaf ? SurfaceError{} : surfaceError(parts, {SubMesh{0, p.piece.mesh, {}}}, extent / (2 * kMeasuredHole));
         const double textureFactor = leaf ? 1.0 : p.factor;  // a leaf keeps the source's texels
         std::vector<Image> images(parts.size());
-        if (!simplified.geometryOnly) {
+        double psnr = 0;
+        if (simplified.geometryOnly) {
+            if (BakedTexture baked = bakeNode(parts.at(0).mesh, p.piece, p.factor, textures); baked.image.width > 0) {
+                parts[0].mesh = std::move(baked.mesh), images[0] = std::move(baked.image), psnr = baked.psnr;
+            }
+        } else {
             for (size_t i = 0; i < parts.size(); ++i)
                 if (const Image* scaled = textures.get(parts[i].material, p.level, textureFactor))
                     images[i] = atlasTexture(*scaled, parts[i].mesh);
         }
-        // A geometry-only node has no source UVs: it needs a baked texture (pipeline/bake.cpp,
-        // branch i-bake, not merged yet); until then it is untextured.
         emit(packNode(parts, images, bounds, p.parentLocal, p.level, blockIndex, error.max, options));
         if (stats.nodesPerLevel.size() <= p.level) stats.nodesPerLevel.resize(p.level + 1);
         ++stats.nodesPerLevel[p.level];
@@ -106,6 +142,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         stats.geometricErrors.push_back(static_cast<float>(error.max));
         stats.measured.push_back(error);
         stats.baked.push_back(simplified.geometryOnly);
+        stats.bakePsnr.push_back(static_cast<float>(psnr));
         if (leaf) continue;
         for (Piece& child : dividePiece(p.piece, levelFactor, options.planes))  // §3.2: simplification_hlod(i+1)
             queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});

@@ -311,6 +311,7 @@ struct BlockStats {
     std::vector<float> geometricErrors;  // per local node: max of its own measure and its children's
     std::vector<SurfaceError> measured;  // per local node: its own measure (0 for leaves)
     std::vector<uint8_t> baked;          // per local node: simplified geometry only, texture baked
+    std::vector<float> bakePsnr;         // per local node: the baked texture's PSNR (dB), 0 when none
     uint64_t degenerateDropped = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<std::string> warnings;

@@ -41,9 +41,8 @@ TEST_P(Scans, BuildValidatesAndFollowsTheFactors) {
         if (n.firstChild != kNone) {
             EXPECT_GT(n.geometricError, 0.0f) << "node " << n.id;
         }
-        // Nodes simplified as geometry only (fragmented UVs, simplify.cpp) get a baked texture,
-        // which is not merged yet (branch i-bake): until then only the leaves must keep texels.
-        if (GetParam().textured && n.firstChild == kNone) {
+        // Nodes simplified as geometry only (fragmented UVs, simplify.cpp) get a baked texture.
+        if (GetParam().textured) {
             EXPECT_GT(n.texelCount, 0u) << "node " << n.id;
         }
     }
