@@ -1,26 +1,27 @@
 // Baked textures for simplified nodes whose source UVs no longer apply: Cignoni, Montani, Rocchini
-// & Scopigno 1998, "A general method for preserving attribute values on simplified meshes" §3
+// & Scopigno 1998, "A general method for preserving attribute values on simplified meshes"
 // (each texel of the simplified surface takes the attribute of the closest point on the original
-// surface), on the charts of chart.cpp (Sander et al. 2001 §3), packed into one atlas.
-// - Packing: one scale (texels per world unit) for all charts, so texel area follows world area;
-//   each chart's rectangle is its bounding box plus kGutter texels on every side, rounded up to a
-//   multiple of 8 and placed on multiples of 8 (shelf packing, tallest first, ties by chart
-//   order): no 8 x 8 JPEG block holds two charts (formats/codec_image.cpp writes 4:4:4). The scale
-//   starts at sqrt(budget / chart area) and shrinks until width x height <= texelBudget.
+// surface), on the charts of chart.cpp (Sander et al. 2001), packed into one atlas.
+// - Packing (pack_charts.cpp): one scale for all charts, so texel area follows world area; Lévy
+//   et al. 2002's horizon packing on 8 x 8 texel blocks, each owned by one chart, with every texel
+//   within kChartGutter of a chart in its own blocks; width x height <= texelBudget.
 // - Baking: the centre of every texel a simplified triangle covers (or, for a triangle that covers
 //   no texel centre, the texel of its centroid) is lifted to the simplified surface and its
-//   closest original triangle found (CGAL AABB tree, the previous texel's answer as the hint).
+//   closest original triangle found (CGAL AABB tree, the previous texel's answer as the hint);
+//   when that triangle faces away from the simplified one (the far side of a thin sheet), the
+//   nearest facing triangle along the simplified normal, both ways, within kFacingReach x the
+//   closest distance, replaces it (Sander et al. 2001 cast along the normal throughout).
 //   The texel's footprint, kSuper x kSuper sub-samples, is projected onto that triangle (clamped
 //   to it), and each sub-sample takes the source colour there: bilinear in the material's
 //   texture at the interpolated source UV (clamped to the edge), else the interpolated vertex
-//   colour, else kUntexturedGrey. The texel is their mean. The rest of each rectangle (gutter and
-//   padding to 8) is filled breadth-first with copies of the nearest baked texel, so bilinear taps
-//   and JPEG blocks only ever mix one chart's colours.
+//   colour, else kUntexturedGrey. The texel is their mean. The rest of the chart's blocks (gutter,
+//   padding) is filled breadth-first with copies of the nearest baked texel, so bilinear taps and
+//   JPEG blocks only ever mix one chart's colours.
 // - Quality: psnr = 10 log10(255^2 / MSE), MSE over every sub-sample of every covered texel and
 //   the three channels, between the sub-sample's source colour and the baked atlas read back
 //   bilinearly at the sub-sample's UV: the colour a renderer shows there against the original's.
 //   It counts detail finer than the budget's texels and bilinear reconstruction; MSE 0 reads 100
-//   dB. pipeline/BAKE.md has the figures.
+//   dB, no covered texel 0. pipeline/BAKE.md has the figures.
 #include "pipeline/chart.h"
 #include "pipeline/pipeline.h"
 
@@ -43,10 +44,9 @@ using Triangle = Kernel::Triangle_3;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
-constexpr int kBlock = 8;   // JPEG block side
-constexpr int kGutter = 2;  // texels around each chart's box
 constexpr int kSuper = 2;   // sub-samples per texel side
 constexpr float kUntexturedGrey = 191;
+constexpr double kFacingReach = 8;  // a facing triangle replaces a closer one facing away within this factor
 
 struct Rgb {
     float c[3] = {0, 0, 0};
@@ -55,7 +55,7 @@ struct Rgb {
 Point vertex(const MeshData& m, uint32_t i) { return {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]}; }
 
 // Barycentric weights of the point of triangle abc closest to p (Ericson, "Real-Time Collision
-// Detection" 2005, §5.1.5).
+// Detection" 2005, ClosestPtPointTriangle).
 void closestWeights(const Point& a, const Point& b, const Point& c, const Point& p, double w[3]) {
     const Vector ab = b - a, ac = c - a, ap = p - a;
     const double d1 = ab * ap, d2 = ac * ap;
@@ -113,16 +113,22 @@ public:
                 const Triangle tri(vertex(m, i[0]), vertex(m, i[1]), vertex(m, i[2]));
                 if (tri.is_degenerate()) continue;
                 triangles_.push_back(tri), owner_.push_back({s, t});
+                normals_.push_back(CGAL::cross_product(tri[1] - tri[0], tri[2] - tri[0]));
             }
         }
         if (triangles_.empty()) return;
         tree_.insert(triangles_.begin(), triangles_.end());
         tree_.build();
-        tree_.accelerate_distance_queries();
+        // The previous answer is the hint: a k-d tree of hints took 7 of the 14.5 CPU-ms fixed cost
+        // of a node with 32 k original triangles (pipeline/BAKE.md).
+        tree_.do_not_accelerate_distance_queries();
     }
 
-    // Index of the original triangle closest to p; kNone when there is none.
-    uint32_t closest(const Point& p) {
+    // Index of the original triangle closest to p (on a simplified triangle of normal n); kNone
+    // when there is none. When that triangle faces away from n (the far side of a thin sheet or
+    // wall), the nearest triangle facing n along the line p + t n within kFacingReach x the
+    // closest distance is taken instead, if there is one.
+    uint32_t closest(const Point& p, const Vector& n) {
         if (triangles_.empty()) return kNone;
         if (hint_) {  // the previous answer's triangle, at its point closest to p: a tight first bound
             const Triangle& last = *hint_->second;
@@ -132,6 +138,15 @@ public:
             hint_ = tree_.closest_point_and_primitive(p, *hint_);
         } else {
             hint_ = tree_.closest_point_and_primitive(p);
+        }
+        const uint32_t found = static_cast<uint32_t>(hint_->second - triangles_.begin());
+        if (normals_[found] * n >= 0) return found;
+        double reach = kFacingReach * std::sqrt(CGAL::squared_distance(p, hint_->first));
+        auto away = [&](Primitive::Id id) { return normals_[id - triangles_.begin()] * n <= 0; };
+        for (const Vector& direction : {n, -n}) {
+            const auto hit = tree_.first_intersection(Kernel::Ray_3(p, direction), away);
+            const Point* q = hit ? boost::get<Point>(&hit->first) : nullptr;
+            if (q && std::sqrt(CGAL::squared_distance(p, *q)) < reach) reach = std::sqrt(CGAL::squared_distance(p, *q)), hint_ = {*q, hit->second};
         }
         return static_cast<uint32_t>(hint_->second - triangles_.begin());
     }
@@ -148,7 +163,8 @@ public:
         closestWeights(tri[0], tri[1], tri[2], p, w);
         const uint32_t* i = &m.indices[3 * t];
         const Image* image = sources_[s].texture;
-        if (image && image->width > 0 && image->height > 0 && m.texcoords.size() == 2 * m.vertexCount()) {
+        if (image && image->channels > 0 && image->pixels.size() == size_t(image->width) * image->height * image->channels &&
+            !image->pixels.empty() && m.texcoords.size() == 2 * m.vertexCount()) {
             double u = 0, v = 0;
             for (int k = 0; k < 3; ++k) u += w[k] * m.texcoords[2 * i[k]], v += w[k] * m.texcoords[2 * i[k] + 1];
             return bilinear(*image, u * image->width, v * image->height);
@@ -164,78 +180,21 @@ private:
     const std::vector<BakeSource>& sources_;
     std::vector<Triangle> triangles_;
     std::vector<std::pair<uint32_t, uint32_t>> owner_;  // (source, triangle)
+    std::vector<Vector> normals_;                       // not normalised
     Tree tree_;
     std::optional<Tree::Point_and_primitive_id> hint_;
 };
-
-int padded(int size) { return (size + kBlock - 1) / kBlock * kBlock; }
-
-struct Rect {
-    int x = 0, y = 0, w = 0, h = 0;  // in atlas texels, multiples of kBlock
-};
-struct Layout {
-    double scale = 0;  // texels per world unit
-    int width = 0, height = 0;
-    std::vector<Rect> rects;
-};
-
-Layout shelfPack(const std::vector<FlatChart>& charts, double scale) {
-    Layout l;
-    l.scale = scale;
-    l.rects.resize(charts.size());
-    double area = 0;
-    int widest = kBlock;
-    for (size_t i = 0; i < charts.size(); ++i) {
-        Rect& r = l.rects[i];
-        r.w = padded(static_cast<int>(std::ceil(charts[i].width * scale)) + 2 * kGutter);
-        r.h = padded(static_cast<int>(std::ceil(charts[i].height * scale)) + 2 * kGutter);
-        area += double(r.w) * r.h, widest = std::max(widest, r.w);
-    }
-    std::vector<uint32_t> order(charts.size());
-    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return l.rects[a].h > l.rects[b].h; });
-    l.width = std::max(widest, padded(static_cast<int>(std::ceil(std::sqrt(area)))));
-    int x = 0, y = 0, shelf = 0;
-    for (uint32_t i : order) {
-        Rect& r = l.rects[i];
-        if (x + r.w > l.width) x = 0, y += shelf, shelf = 0;
-        r.x = x, r.y = y;
-        x += r.w, shelf = std::max(shelf, r.h);
-    }
-    l.height = std::max(kBlock, y + shelf);
-    return l;
-}
-
-// The largest scale (in steps of at least 2 %) whose atlas fits the budget; with more charts
-// than budget / 64 texels, the smallest atlas there is (one block per chart).
-Layout layoutCharts(const std::vector<FlatChart>& charts, uint64_t texelBudget) {
-    double area = 0;
-    for (const FlatChart& c : charts)
-        for (size_t t = 0; t < c.triangles.size(); ++t) {
-            const double* p = &c.uv[6 * t];
-            area += 0.5 * std::fabs((p[2] - p[0]) * (p[5] - p[1]) - (p[4] - p[0]) * (p[3] - p[1]));
-        }
-    double scale = std::sqrt(double(texelBudget) / std::max(area, 1e-300));
-    Layout l = shelfPack(charts, scale);
-    auto smallest = [](const Layout& l) {
-        return std::all_of(l.rects.begin(), l.rects.end(), [](const Rect& r) { return r.w == kBlock && r.h == kBlock; });
-    };
-    while (uint64_t(l.width) * uint64_t(l.height) > texelBudget && !smallest(l)) {
-        scale *= std::min(0.98, std::sqrt(double(texelBudget) / (double(l.width) * l.height)));
-        l = shelfPack(charts, scale);
-    }
-    return l;
-}
 
 struct Sample {
     float x, y;  // atlas texel coordinates
     Rgb colour;
 };
 
-// Bakes the chart's covered texels into `atlas` (RGB, float accumulation in `texels`).
-void bakeChart(const MeshData& simplified, const FlatChart& chart, const Layout& l, const Rect& r, OriginalSurface& surface,
+// Bakes the chart's covered texels into `atlas`, marking them 1 in `covered` and adding their
+// sub-samples to `samples`.
+void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLayout& l, const ChartPlacement& r, OriginalSurface& surface,
                std::vector<uint8_t>& covered, Image& atlas, std::vector<Sample>& samples) {
-    const double ox = r.x + kGutter, oy = r.y + kGutter;
+    const double ox = r.x + kChartGutter, oy = r.y + kChartGutter;
     for (size_t j = 0; j < chart.triangles.size(); ++j) {
         const double* uv = &chart.uv[6 * j];
         const double tx[3] = {ox + uv[0] * l.scale, ox + uv[2] * l.scale, ox + uv[4] * l.scale};
@@ -244,6 +203,7 @@ void bakeChart(const MeshData& simplified, const FlatChart& chart, const Layout&
         if (area == 0) continue;
         const uint32_t* vi = &simplified.indices[3 * chart.triangles[j]];
         const Point p[3] = {vertex(simplified, vi[0]), vertex(simplified, vi[1]), vertex(simplified, vi[2])};
+        const Vector normal = CGAL::cross_product(p[1] - p[0], p[2] - p[0]);
         auto lift = [&](double x, double y) {  // texel coordinates -> point of the simplified triangle's plane
             const double b1 = ((x - tx[0]) * (ty[2] - ty[0]) - (tx[2] - tx[0]) * (y - ty[0])) / area;
             const double b2 = ((tx[1] - tx[0]) * (y - ty[0]) - (x - tx[0]) * (ty[1] - ty[0])) / area;
@@ -260,7 +220,7 @@ void bakeChart(const MeshData& simplified, const FlatChart& chart, const Layout&
         auto bake = [&](int x, int y) {
             const size_t at = size_t(y) * atlas.width + x;
             covered[at] = 1;
-            const uint32_t nearest = surface.closest(lift(x + 0.5, y + 0.5));
+            const uint32_t nearest = surface.closest(lift(x + 0.5, y + 0.5), normal);
             Rgb sum;
             for (int sy = 0; sy < kSuper; ++sy)
                 for (int sx = 0; sx < kSuper; ++sx) {
@@ -288,25 +248,30 @@ void bakeChart(const MeshData& simplified, const FlatChart& chart, const Layout&
     }
 }
 
-// Fills the rectangle's texels that were not baked with copies of the nearest baked one
-// (breadth-first, 4-neighbours, in scan order: deterministic).
-void dilate(const Rect& r, std::vector<uint8_t>& covered, Image& atlas) {
+// Fills the texels of the chart's blocks that were not baked with copies of the nearest baked
+// one (breadth-first over 8-neighbours, in scan order: deterministic).
+void dilate(const AtlasLayout& l, uint32_t chart, std::vector<uint8_t>& covered, Image& atlas) {
+    const ChartPlacement& r = l.places[chart];
+    const int columns = l.width / kJpegBlock;
+    auto mine = [&](int x, int y) {
+        return x >= r.x && x < r.x + r.w && y >= r.y && y < r.y + r.h &&
+               l.blockOwner[size_t(y / kJpegBlock) * columns + x / kJpegBlock] == chart;
+    };
     std::vector<size_t> queue;
     for (int y = r.y; y < r.y + r.h; ++y)
         for (int x = r.x; x < r.x + r.w; ++x)
-            if (covered[size_t(y) * atlas.width + x]) queue.push_back(size_t(y) * atlas.width + x);
-    std::vector<uint8_t> filled(covered);
+            if (covered[size_t(y) * atlas.width + x] == 1 && mine(x, y)) queue.push_back(size_t(y) * atlas.width + x);
     for (size_t head = 0; head < queue.size(); ++head) {
         const int x = static_cast<int>(queue[head] % atlas.width), y = static_cast<int>(queue[head] / atlas.width);
-        const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
-        for (int k = 0; k < 4; ++k) {
-            if (nx[k] < r.x || nx[k] >= r.x + r.w || ny[k] < r.y || ny[k] >= r.y + r.h) continue;
-            const size_t at = size_t(ny[k]) * atlas.width + nx[k];
-            if (filled[at]) continue;
-            filled[at] = 1;
-            std::copy_n(&atlas.pixels[3 * queue[head]], 3, &atlas.pixels[3 * at]);
-            queue.push_back(at);
-        }
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                if (!mine(x + dx, y + dy)) continue;
+                const size_t at = size_t(y + dy) * atlas.width + (x + dx);
+                if (covered[at]) continue;
+                covered[at] = 2;  // filled, not baked
+                std::copy_n(&atlas.pixels[3 * queue[head]], 3, &atlas.pixels[3 * at]);
+                queue.push_back(at);
+            }
     }
 }
 
@@ -323,7 +288,7 @@ BakedTexture bakeTexture(const MeshData& input, const std::vector<BakeSource>& o
     }
     if (simplified.triangleCount() == 0) return out;
     const std::vector<FlatChart> charts = flattenCharts(simplified);
-    const Layout l = layoutCharts(charts, texelBudget);
+    const AtlasLayout l = packCharts(charts, texelBudget);
     out.image = {static_cast<uint32_t>(l.width), static_cast<uint32_t>(l.height), 3, {}};
     out.image.pixels.assign(size_t(l.width) * l.height * 3, static_cast<uint8_t>(kUntexturedGrey));
     // The mesh: every chart gets its own copies of its vertices, UVs in [0, 1] over the atlas.
@@ -343,8 +308,8 @@ BakedTexture bakeTexture(const MeshData& input, const std::vector<BakeSource>& o
                     if (normals) m.normals.insert(m.normals.end(), &simplified.normals[3 * v], &simplified.normals[3 * v + 3]);
                     if (colors) m.colors.insert(m.colors.end(), &simplified.colors[4 * v], &simplified.colors[4 * v + 4]);
                     const double* uv = &charts[c].uv[6 * j + 2 * k];
-                    m.texcoords.push_back(static_cast<float>((l.rects[c].x + kGutter + uv[0] * l.scale) / l.width));
-                    m.texcoords.push_back(static_cast<float>((l.rects[c].y + kGutter + uv[1] * l.scale) / l.height));
+                    m.texcoords.push_back(static_cast<float>((l.places[c].x + kChartGutter + uv[0] * l.scale) / l.width));
+                    m.texcoords.push_back(static_cast<float>((l.places[c].y + kChartGutter + uv[1] * l.scale) / l.height));
                 }
                 out.mesh.indices.push_back(copyOf[v]);
             }
@@ -354,9 +319,9 @@ BakedTexture bakeTexture(const MeshData& input, const std::vector<BakeSource>& o
     OriginalSurface surface(original);
     std::vector<uint8_t> covered(size_t(l.width) * l.height, 0);
     std::vector<Sample> samples;
-    for (size_t c = 0; c < charts.size(); ++c) bakeChart(simplified, charts[c], l, l.rects[c], surface, covered, out.image, samples);
+    for (size_t c = 0; c < charts.size(); ++c) bakeChart(simplified, charts[c], l, l.places[c], surface, covered, out.image, samples);
     for (uint8_t v : covered) out.coveredTexels += v;
-    for (const Rect& r : l.rects) dilate(r, covered, out.image);
+    for (uint32_t c = 0; c < charts.size(); ++c) dilate(l, c, covered, out.image);
     double squared = 0;
     for (const Sample& s : samples) {
         const Rgb baked = bilinear(out.image, s.x, s.y);

@@ -1,5 +1,5 @@
 // Charts of a simplified node for texture baking (bake.cpp), after Sander, Snyder, Gortler &
-// Hoppe 2001, "Texture mapping progressive meshes" §3 (charts grown over the mesh's faces, each
+// Hoppe 2001, "Texture mapping progressive meshes" (charts grown over the mesh's faces, each
 // flattened and packed into one atlas). Region growing: the largest unassigned face seeds a chart
 // and breadth-first growth over edge-adjacent faces (edges shared by position, so the source's UV
 // seams do not cut charts) accepts every face whose normal lies within kChartConeDegrees of the

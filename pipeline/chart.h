@@ -3,6 +3,7 @@
 #pragma once
 
 #include "formats/codec.h"
+#include "formats/db.h"
 
 #include <cstdint>
 #include <vector>
@@ -27,6 +28,22 @@ struct FlatChart {
 // orthographically on its seed's normal; a chart whose projection overlaps itself is grown again
 // with half the cone, down to single triangles. Deterministic.
 std::vector<FlatChart> flattenCharts(const MeshData& mesh, double coneDegrees = kChartConeDegrees);
+
+// pack_charts.cpp: the charts at one scale (texels per world unit) in an atlas of 8 x 8 texel
+// blocks (JPEG's), each block owned by at most one chart; width x height <= texelBudget unless
+// every chart is already one block.
+inline constexpr int kJpegBlock = 8;
+inline constexpr int kChartGutter = 2;  // texels around a chart inside its own blocks
+struct ChartPlacement {
+    int x = 0, y = 0, w = 0, h = 0;  // texels spanned by the chart's blocks; its (0, 0) is at x, y + kChartGutter
+};
+struct AtlasLayout {
+    double scale = 0;
+    int width = 0, height = 0;  // texels, multiples of kJpegBlock
+    std::vector<ChartPlacement> places;
+    std::vector<uint32_t> blockOwner;  // per block (width / 8 per row): chart index or kNone
+};
+AtlasLayout packCharts(const std::vector<FlatChart>& charts, uint64_t texelBudget);
 
 // True when the interiors of two of the triangles (6 doubles each) overlap (separating axes, with
 // a tolerance of 1e-6 x the extent so that triangles sharing an edge or a corner do not count).

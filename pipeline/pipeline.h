@@ -234,7 +234,8 @@ Image atlasTexture(const Image& scaled, MeshData& mesh);
 // and a texture baked from its original surface, for nodes whose source UVs no longer apply.
 // `simplified` carries positions and indices (texcoords, if any, are replaced); each source is the
 // original triangles of one material and its texture (nullptr = untextured: vertex colours, else
-// grey). The result's triangles are grouped by chart, its vertices split where charts meet, its
+// grey), best prefiltered to about the node's texel density (downsampleTexture by the node's
+// factor): each texel takes 2 x 2 bilinear sub-samples. The result's triangles are grouped by chart, its vertices split where charts meet, its
 // zero-area triangles (zeroArea) dropped; the
 // atlas (RGB) holds at most texelBudget texels unless there are more than texelBudget / 64 charts.
 struct BakeSource { const MeshData* mesh = nullptr; const Image* texture = nullptr; };  // original triangles of one material; texture nullptr = untextured
