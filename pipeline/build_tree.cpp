@@ -77,21 +77,23 @@ double usedTexels(const MeshData& mesh, const Image& texture) {
 }
 
 // A node simplified as geometry only (simplify.cpp): a new texture baked from the piece's
-// original triangles and their full-resolution textures (bake.cpp). texelBudget is the source
-// texels those triangles use divided by the node's factor (thesis §3.2: texture "down-sampled
-// by this simplification factor", as the cropped atlases of the other nodes are), at least
-// kMinBakeTexels. An untextured piece is not baked (image empty): its node stays untextured.
-BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, double factor, TextureCache& textures) {
+// original triangles and their textures downsampled for the level (bake.cpp; pipeline/BAKE.md
+// "Integration": ~one source texel per baked texel, so its sub-samples do not alias). texelBudget
+// is the texels those triangles use in the downsampled textures, i.e. the source texels divided
+// by the node's factor (thesis §3.2: texture "down-sampled by this simplification factor", as
+// the cropped atlases of the other nodes are), at least kMinBakeTexels. An untextured piece is
+// not baked (image empty): its node stays untextured.
+BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, uint32_t level, double factor, TextureCache& textures) {
     const std::vector<SubMesh> original = splitByMaterial(piece);
     std::vector<BakeSource> sources;
     double texels = 0;
     for (const SubMesh& part : original) {
-        const Image* texture = textures.get(part.material, 0, 1.0);
-        if (texture && !part.mesh.texcoords.empty()) texels += usedTexels(part.mesh, *texture);
-        sources.push_back({&part.mesh, texture && !part.mesh.texcoords.empty() ? texture : nullptr});
+        const Image* texture = part.mesh.texcoords.empty() ? nullptr : textures.get(part.material, level, factor);
+        if (texture) texels += usedTexels(part.mesh, *texture);
+        sources.push_back({&part.mesh, texture});
     }
     if (texels <= 0) return {};
-    return bakeTexture(simplified, sources, std::max<uint64_t>(kMinBakeTexels, static_cast<uint64_t>(texels / factor)));
+    return bakeTexture(simplified, sources, std::max<uint64_t>(kMinBakeTexels, static_cast<uint64_t>(texels)));
 }
 
 }  // namespace
@@ -125,7 +127,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         std::vector<Image> images(parts.size());
         double psnr = 0;
         if (simplified.geometryOnly) {
-            if (BakedTexture baked = bakeNode(parts.at(0).mesh, p.piece, p.factor, textures); baked.image.width > 0) {
+            if (BakedTexture baked = bakeNode(parts.at(0).mesh, p.piece, p.level, p.factor, textures); baked.image.width > 0) {
                 parts[0].mesh = std::move(baked.mesh), images[0] = std::move(baked.image), psnr = baked.psnr;
             }
         } else {
