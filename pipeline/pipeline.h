@@ -181,19 +181,33 @@ std::vector<CellFile> streamSplit(const RawMesh& raw, const GridSpec& grid, cons
 void appendPiece(const std::string& file, const Piece& piece);
 Piece loadPiece(const std::string& file);
 
-// simplify.cpp. Simplifies each material's triangles to about triangleCount / factor with
-// quadric error metrics, keeping locked the vertices neighbours share: open-border vertices on
-// the piece's bounding-box faces (the cut planes) and material-seam vertices. When the result
-// exceeds kTargetSlack x the target, closable scan holes are filled and it is simplified again.
+// weld.cpp: before the recursion, vertices closer than `epsilon` move onto one position (a
+// vertex on the piece's bounding-box faces never moves), degenerate triangles are dropped,
+// normals dropped, and every vertex serves one material (identical vertices merged).
+Piece weldPiece(const Piece& piece, double epsilon);
+
+// simplify.cpp. simplifyNode simplifies a (welded) piece as one mesh to about
+// triangleCount / factor with quadric error metrics, material and UV changes being attribute
+// seams; locked are the vertices neighbours share: open-border vertices on the piece's
+// bounding-box faces (the cut planes). When seams keep it above kTargetSlack x the target, it
+// simplifies the geometry alone (geometryOnly: no texture coordinates, all material 0). When a
+// result exceeds kTargetSlack x the target, closable scan holes are filled and it is simplified
+// again.
 enum class Simplifier { Meshopt, OpenMesh };
 struct SubMesh {
     uint32_t material = 0;
     MeshData mesh;
     std::vector<uint8_t> locked;  // per vertex, from splitByMaterial (sharedVertices of the piece)
 };
+struct SimplifiedNode {
+    Piece piece;
+    bool geometryOnly = false;  // the source UVs no longer apply: the node needs a baked texture
+};
 std::vector<uint8_t> sharedVertices(const Piece& piece);  // per vertex: must stay for crack-free borders
 std::vector<SubMesh> splitByMaterial(const Piece& piece);
-// `locked` per vertex of `mesh`; when empty, sharedVertices of the mesh alone.
+SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier);
+// One mesh on its own (positions and attributes as they are); `locked` per vertex of `mesh`;
+// when empty, sharedVertices of the mesh alone.
 MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier, const std::vector<uint8_t>& locked = {});
 
 // fill_holes.cpp: triangles (indices into `mesh`'s vertices) closing the scan holes of the
@@ -205,6 +219,15 @@ std::vector<uint32_t> holePatches(const MeshData& mesh, const std::vector<uint32
 // error.cpp: largest distance from points sampled on `simplified` (edge midpoints and
 // centroids) to the surface of `original` (CGAL AABB tree). 0 when either is empty.
 double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original);
+// The node's geometric error: the two-sided (symmetric) Hausdorff distance between the node and
+// the original surface, both sampled with points at most `spacing` apart (a hole wider than
+// 2 x spacing is measured), each side against an AABB tree of the other.
+struct SurfaceError {
+    double oneSided = 0;  // simplified -> original only (the measure before issue #16)
+    double max = 0;       // two-sided Hausdorff distance
+    double mean = 0;      // mean distance over the sample points of both sides
+};
+SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original, double spacing);
 
 // texture.cpp. A node's texture for one material: the source atlas downsampled by the node's
 // factor (sqrt(factor) per side, stb_image_resize box filter), then the UV charts its triangles use (connected
@@ -294,6 +317,9 @@ struct NodeRecord {
 struct BlockStats {
     uint64_t inputTriangles = 0;
     std::vector<float> geometricErrors;  // per local node: max of its own measure and its children's
+    std::vector<SurfaceError> measured;  // per local node: its own measure (0 for leaves)
+    std::vector<uint8_t> baked;          // per local node: simplified geometry only, texture baked
+    std::vector<float> bakePsnr;         // per local node: the baked texture's PSNR (dB), 0 when none
     uint64_t degenerateDropped = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<std::string> warnings;
