@@ -64,6 +64,10 @@ struct PathOptions {
 // anything else is an object, walked around in kObjectLapSeconds (player/CAMERA_PATH.md).
 inline constexpr double kCityMinExtentM = 20, kCityMinFlatness = 4, kObjectLapSeconds = 60;
 inline constexpr double kWalkSpeedMps = 1.5, kDriveFactor = 10, kEyeHeightM = 1.7;
+// The eye of a city-like walk, drive or erratic path climbs and sinks at most kMaxClimbMps (a
+// brisk stair climb: 2 steps of 17 cm a second), over the ground estimate's median within
+// +-kGroundMedianSeconds (player/CAMERA_PATH.md "Eye height"): at most 0.25 m per 0.5 s key.
+inline constexpr double kMaxClimbMps = 0.5, kGroundMedianSeconds = 1.0;
 
 // What a generated path will do, in database units.
 struct PathPlan {

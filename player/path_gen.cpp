@@ -3,7 +3,9 @@
 // with the whole model in view (§6.2), and an erratic walk with sudden 180-degree turns and
 // teleports (viewpoint path C of T. A. Funkhouser and C. H. Séquin, "Adaptive Display Algorithm
 // for Interactive Frame Rates During Visualization of Complex Virtual Environments", SIGGRAPH
-// 1993). Routes are ellipses inset in the bounds.
+// 1993). Routes are ellipses inset in the bounds. The eye of a city-like walk follows a ground
+// estimate from the finest node boxes, filtered so that it climbs and sinks at most
+// kMaxClimbMps (player/CAMERA_PATH.md "Eye height").
 #include "player/camera_path.h"
 
 #include <Eigen/Geometry>
@@ -45,12 +47,14 @@ void lookAlong(const Vector3d& forward, const Vector3d& up, double q[4]) {
     q[3] = qq.w();
 }
 
-// Ground under a horizontal point: the lowest top of the finest-level node boxes above it (a
-// terrain patch's top is at or above its surface, a street node's top is near street level
-// while facades reach higher), found through a uniform grid of those boxes' footprints.
+// Ground under a horizontal point, from the finest-level node boxes above it: a flat box (at
+// most `flat` high: a terrain or floor patch) stands for its top, which is at or above its
+// surface; a tall one (a street with its facade, a room's strip from floor to ceiling, a wall)
+// for its bottom, since its top is a roof or a ceiling, not ground. The ground is the lowest of
+// these, found through a uniform grid of the boxes' footprints.
 class GroundIndex {
 public:
-    GroundIndex(const Skeleton& s, const Frame& f, double fallback) : f_(f), fallback_(fallback) {
+    GroundIndex(const Skeleton& s, const Frame& f, double fallback, double flat) : f_(f), fallback_(fallback), flat_(flat) {
         uint32_t deepest = 0;
         for (const Node& n : s.nodes) deepest = std::max(deepest, n.level);
         for (const Node& n : s.nodes)
@@ -80,15 +84,17 @@ public:
         double ground = INFINITY;
         for (uint32_t k : grid_[size_t(cy) * cells_ + cx]) {
             const Box3f& b = leaves_[k];
-            if (x >= axis(b.min, f_.a) && x <= axis(b.max, f_.a) && y >= axis(b.min, f_.b) && y <= axis(b.max, f_.b))
-                ground = std::min(ground, axis(b.max, f_.up));
+            if (x >= axis(b.min, f_.a) && x <= axis(b.max, f_.a) && y >= axis(b.min, f_.b) && y <= axis(b.max, f_.b)) {
+                const double bottom = axis(b.min, f_.up), top = axis(b.max, f_.up);
+                ground = std::min(ground, top - bottom <= flat_ ? top : bottom);
+            }
         }
         return std::isfinite(ground) ? ground : fallback_;
     }
 
 private:
     Frame f_;
-    double fallback_;
+    double fallback_, flat_;
     std::vector<Box3f> leaves_;
     std::vector<std::vector<uint32_t>> grid_;
     uint32_t cells_ = 1;
@@ -113,6 +119,26 @@ struct Route {
 };
 
 Vector3d unit(int i) { return Vector3d::Unit(i); }
+
+// The ground the eye follows along one continuous stretch of keys (no teleport in it): the
+// median over +-kGroundMedianSeconds (a box or two that stand out, a wall's bottom met at an
+// angle, are dropped), then the smallest height curve at or above it whose slope is at most
+// `rate` units per second (forward and backward passes of s_i = max(g_i, s_j - rate |t_i - t_j|)):
+// the eye never climbs or sinks faster than `rate`, and never goes below the filtered ground.
+void smoothGround(const std::vector<double>& times, std::vector<double>& ground, double rate) {
+    const size_t n = ground.size();
+    std::vector<double> median(n);
+    for (size_t i = 0, lo = 0, hi = 0; i < n; ++i) {
+        while (times[i] - times[lo] > kGroundMedianSeconds) ++lo;
+        while (hi + 1 < n && times[hi + 1] - times[i] <= kGroundMedianSeconds) ++hi;
+        std::vector<double> window(ground.begin() + static_cast<std::ptrdiff_t>(lo), ground.begin() + static_cast<std::ptrdiff_t>(hi + 1));
+        std::nth_element(window.begin(), window.begin() + static_cast<std::ptrdiff_t>(window.size() / 2), window.end());
+        median[i] = window[window.size() / 2];
+    }
+    for (size_t i = 1; i < n; ++i) median[i] = std::max(median[i], median[i - 1] - rate * (times[i] - times[i - 1]));
+    for (size_t i = n - 1; i-- > 0;) median[i] = std::max(median[i], median[i + 1] - rate * (times[i + 1] - times[i]));
+    ground = std::move(median);
+}
 
 CameraKey key(double time, const Vector3d& p, const Vector3d& forward, const Vector3d& up) {
     CameraKey k;
@@ -216,28 +242,41 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
     }
 
     double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
-    GroundIndex ground(skeleton, f, lo[f.up]);
+    GroundIndex ground(skeleton, f, lo[f.up], kEyeHeightM / o.metresPerUnit);
     std::mt19937 rng(o.seed);
     std::uniform_real_distribution<double> gap(2.0, 5.0), angle(0, 2 * M_PI), coin(0, 1);
     double theta = 0, direction = 1, nextEvent = gap(rng);
+    std::vector<double> heights;   // ground under each key
+    std::vector<size_t> stretches;  // first key of each stretch between teleports
     auto place = [&](double t, double th, double dir) {
         Vector3d p = route.at(th);
         // An object's ground is its bottom; a city's is the ground estimate under the eye.
-        p[f.up] = (plan.object ? lo[f.up] : ground.at(p[f.a], p[f.b])) + plan.eyeHeight;
+        heights.push_back(plan.object ? lo[f.up] : ground.at(p[f.a], p[f.b]));
         path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : Vector3d(dir * route.tangent(th)), up));
     };
+    stretches.push_back(0);
     for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
         place(t, theta, direction);
         if (o.kind == PathKind::Erratic && t + o.keyInterval > nextEvent) {
-            if (coin(rng) < 0.5)
+            if (coin(rng) < 0.5) {
                 direction = -direction;  // sudden 180-degree turn
-            else
-                theta = angle(rng);      // teleport
+            } else {
+                theta = angle(rng);      // teleport: a new stretch, whose eye height starts afresh
+                stretches.push_back(path.keys.size());
+            }
             place(t + 1e-3, theta, direction);
             nextEvent += gap(rng);
         }
         double step = plan.speed * o.keyInterval / std::max(route.tangent(theta).norm(), 1e-9);
         theta += direction * step;
+    }
+    stretches.push_back(path.keys.size());
+    for (size_t s = 0; s + 1 < stretches.size(); ++s) {
+        std::vector<double> times, stretch(heights.begin() + static_cast<std::ptrdiff_t>(stretches[s]),
+                                           heights.begin() + static_cast<std::ptrdiff_t>(stretches[s + 1]));
+        for (size_t k = stretches[s]; k < stretches[s + 1]; ++k) times.push_back(path.keys[k].time);
+        if (!plan.object) smoothGround(times, stretch, kMaxClimbMps / o.metresPerUnit);
+        for (size_t k = stretches[s]; k < stretches[s + 1]; ++k) path.keys[k].position[f.up] = stretch[k - stretches[s]] + plan.eyeHeight;
     }
     return path;
 }

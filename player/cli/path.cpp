@@ -4,6 +4,7 @@
 #include "player/cli/subcommands.h"
 
 #include "formats/db.h"
+#include "formats/up_axis.h"
 #include "player/camera_path.h"
 
 #include <CLI/CLI.hpp>
@@ -15,16 +16,17 @@ namespace hlod::cli {
 namespace {
 
 struct PathArgs {
-    std::string db, output, kind = "walk", up = "z", units = "m";
+    std::string db, output, kind = "walk", up, units = "m";  // up empty: the database's (FORMAT.md META "up")
     PathOptions options;
 };
 
 int runPath(PathArgs& a) {
     a.options.kind = parsePathKind(a.kind);
-    if (a.up != "y" && a.up != "z") throw std::invalid_argument("--up must be y or z");
-    a.options.upAxis = a.up == "y" ? 1 : 2;
+    if (!a.up.empty()) a.options.upAxis = parseUpAxis(a.up, "--up");
     a.options.metresPerUnit = parseUnits(a.units);
     Database db = Database::open(a.db);
+    const UpAxis stored = upAxisOf(db.skeleton(), a.db);
+    if (a.up.empty()) a.options.upAxis = stored.axis;
     const PathPlan plan = planPath(db.skeleton(), a.options);
     CameraPath path = generatePath(db.skeleton(), a.options);
     writeCameraPathFile(a.output, path);
@@ -36,6 +38,9 @@ int runPath(PathArgs& a) {
         std::cout << "; speed " << plan.speed << " units/s, eye " << plan.eyeHeight << " units above the "
                   << (plan.object ? "model's bottom" : "ground estimate");
     std::cout << '\n';
+    std::cout << "up axis: " << (a.options.upAxis == 1 ? "y" : "z") << " ("
+              << (!a.up.empty() ? "--up" : stored.recorded ? "recorded in the database" : "not recorded: z, as before the database kept it")
+              << ")\n";
     return 0;
 }
 
@@ -56,7 +61,7 @@ void addPath(CLI::App& app, int& status) {
     sub->add_option("--units", a->units, "what one database unit is: m (default), cm, mm, km or a number of metres");
     sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys");
     sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports");
-    sub->add_option("--up", a->up, "up axis of the model: z (default) or y");
+    sub->add_option("--up", a->up, "up axis of the model, y or z (default: the one the database records; z for a database without one)");
     sub->add_flag("--look-at-center", a->options.lookAtCenter,
                   "walk, drive, erratic: look at the model's centre, not ahead (walking around an object scan)");
     sub->callback([a, &status] { status = runGuarded("path", [&] { return runPath(*a); }); });

@@ -6,7 +6,9 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <sstream>
 
 using namespace hlod;
@@ -121,7 +123,7 @@ TEST(CameraPath, GeneratedWalkAndDriveHaveTheirSpeeds) {
         for (size_t i = 1; i < p.keys.size(); ++i) {
             double v = dist(p.keys[i].position, p.keys[i - 1].position) / (p.keys[i].time - p.keys[i - 1].time);
             EXPECT_NEAR(v, speed, speed * 0.05) << i;
-            EXPECT_NEAR(p.keys[i].position[2], 11.7, 1e-6);  // eye height above the boxes' tops (z = 10)
+            EXPECT_NEAR(p.keys[i].position[2], 1.7, 1e-6);  // above the 10 m tall boxes' bottoms (a street, not the roofs)
         }
     }
 }
@@ -221,4 +223,75 @@ TEST(CameraPath, UnitsParse) {
     EXPECT_EQ(parseUnits("cm"), 0.01);
     EXPECT_EQ(parseUnits("0.3048"), 0.3048);
     for (const char* bad : {"", "inch", "-1", "0", "2m", "nan"}) EXPECT_THROW(parseUnits(bad), std::invalid_argument) << bad;
+}
+
+namespace {
+
+// A rough scanned ground: 40 x 40 flat patches of 5 m (finest-level boxes 0.3 m thick) whose
+// tops are random in [0, 2.6] m, under one 200 x 200 m hlod0 node.
+Skeleton roughGround(std::vector<float>& tops) {
+    Skeleton s;
+    const uint32_t root = test::addNode(s, kNone, Box3f{{0, 0, -0.3f}, {200, 200, 2.6f}}, 512);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> top(0, 2.6f);
+    for (int j = 0; j < 40; ++j)
+        for (int i = 0; i < 40; ++i) {
+            tops.push_back(top(rng));
+            test::addNode(s, root, Box3f{{5.0f * i, 5.0f * j, tops.back() - 0.3f}, {5.0f * i + 5, 5.0f * j + 5, tops.back()}}, 64);
+        }
+    test::linkSkeleton(s);
+    return s;
+}
+
+}  // namespace
+
+// player/CAMERA_PATH.md "Eye height": over a ground whose estimate jumps by up to 2.6 m from one
+// patch to the next, the eye of a walk moves at most kMaxClimbMps x 0.5 s = 0.25 m between keys.
+TEST(CameraPath, WalkKeepsASteadyEyeHeightOverRoughGround) {
+    std::vector<float> tops;
+    const Skeleton s = roughGround(tops);
+    for (PathKind kind : {PathKind::Walk, PathKind::Drive, PathKind::Erratic}) {
+        PathOptions o;
+        o.kind = kind;  // one lap of the route
+        const CameraPath p = generatePath(s, o);
+        ASSERT_FALSE(planPath(s, o).object);
+        double rawJump = 0, eyeJump = 0;
+        auto topUnder = [&](const CameraKey& k) {
+            const int i = std::clamp(int(k.position[0] / 5), 0, 39), j = std::clamp(int(k.position[1] / 5), 0, 39);
+            return double(tops[size_t(j) * 40 + size_t(i)]);
+        };
+        for (size_t k = 1; k < p.keys.size(); ++k) {
+            const double dt = p.keys[k].time - p.keys[k - 1].time;
+            if (dt < 0.01) continue;  // an erratic teleport or turn (its extra key 1 ms later)
+            ASSERT_LE(dt, o.keyInterval + 1e-9);
+            rawJump = std::max(rawJump, std::abs(topUnder(p.keys[k]) - topUnder(p.keys[k - 1])));
+            eyeJump = std::max(eyeJump, std::abs(p.keys[k].position[2] - p.keys[k - 1].position[2]) / dt * o.keyInterval);
+        }
+        EXPECT_GT(rawJump, 2.0);                                      // the ground estimate is rough
+        EXPECT_LE(eyeJump, kMaxClimbMps * o.keyInterval + 1e-9);     // the eye is not: <= 0.25 m per 0.5 s
+        for (const CameraKey& k : p.keys) EXPECT_GE(k.position[2], kEyeHeightM);  // above the lowest patch
+    }
+}
+
+// player/CAMERA_PATH.md "Indoors": a 30 x 20 x 3 m room whose finest nodes are strips from floor
+// to ceiling (as the plane cuts leave a room) is walked at 1.7 m above its floor, inside its walls.
+TEST(CameraPath, WalkInABoxRoomStaysInside) {
+    Skeleton s;
+    const uint32_t root = test::addNode(s, kNone, Box3f{{0, 0, 0}, {30, 20, 3}}, 512);
+    for (int i = 0; i < 6; ++i) test::addNode(s, root, Box3f{{5.0f * i, 0, 0}, {5.0f * i + 5, 20, 3}}, 64);
+    test::linkSkeleton(s);
+    for (PathKind kind : {PathKind::Walk, PathKind::Erratic}) {
+        PathOptions o;
+        o.kind = kind;
+        ASSERT_FALSE(planPath(s, o).object);  // city-like: the ground rule applies
+        const CameraPath p = generatePath(s, o);
+        ASSERT_GT(p.keys.size(), 50u);
+        for (const CameraKey& k : p.keys) {
+            EXPECT_GT(k.position[0], 0.1 * 30);
+            EXPECT_LT(k.position[0], 0.9 * 30);
+            EXPECT_GT(k.position[1], 0.1 * 20);
+            EXPECT_LT(k.position[1], 0.9 * 20);
+            EXPECT_NEAR(k.position[2], kEyeHeightM, 1e-6);  // on the floor, under the 3 m ceiling
+        }
+    }
 }
