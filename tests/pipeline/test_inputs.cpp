@@ -6,6 +6,7 @@
 
 #include "formats/up_axis.h"
 #include "tests/support/run_hlod.h"
+#include "tests/support/synthetic.h"
 
 #include <nlohmann/json.hpp>
 
@@ -159,6 +160,20 @@ TEST(UpAxis, ADatabaseWithoutTheKeyIsZUp) {
     EXPECT_FALSE(upAxisOf(s, "old.hlod").recorded);
     s.meta.emplace_back("up", "w");
     EXPECT_THROW(upAxisOf(s, "bad.hlod"), FormatError);
+}
+
+// FORMAT.md: a database written before the key (the Writer API alone writes no "up") reads as
+// z-up everywhere, as before.
+TEST(UpAxis, AnOldDatabaseIsReadAsZUpByPathAndExport) {
+    TempDir dir;
+    writeSyntheticDatabase(dir.file("old.hlod"), SyntheticOptions{});
+    ASSERT_EQ(Database::open(dir.file("old.hlod")).skeleton().findMeta("up"), nullptr);
+    const RunResult p = runHlod({"path", dir.file("old.hlod"), "-o", dir.file("old.path")});
+    ASSERT_EQ(p.exitCode, 0) << p.outAndErr();
+    EXPECT_NE(p.out.find("up axis: z (not recorded"), std::string::npos) << p.out;
+    ASSERT_EQ(runHlod({"export", "tiles", dir.file("old.hlod"), "-o", dir.file("tiles")}).exitCode, 0);
+    std::ifstream t(dir.file("tiles/tileset.json"));
+    EXPECT_FALSE(nlohmann::json::parse(t).at("root").contains("transform"));
 }
 
 // A fake clock: progress lines are due by the injected time, never the wall clock.
