@@ -57,6 +57,8 @@ struct PathOptions {
     int upAxis = 2;            // 2: Z up (default), 1: Y up
     bool lookAtCenter = false; // walk, drive, erratic: look at the model's centre instead of ahead
                                // (an object scan walked around, rather than a city walked through)
+    bool indoors = false;      // an interior scan: the ground is the floor under the eye (the lowest
+                               // bottom of the finest boxes), not the lowest box top (the ceiling)
 };
 
 // A scene is city-like (a city, a street, a terrain: walked through at metre speeds) when its

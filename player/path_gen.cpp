@@ -5,7 +5,7 @@
 // for Interactive Frame Rates During Visualization of Complex Virtual Environments", SIGGRAPH
 // 1993). Routes are ellipses inset in the bounds. The eye of a city-like walk follows a ground
 // estimate from the finest node boxes, filtered so that it climbs and sinks at most
-// kMaxClimbMps (player/CAMERA_PATH.md "Eye height").
+// kMaxClimbMps (player/CAMERA_PATH.md "Eye height"); --indoors follows the floor ("Indoors").
 #include "player/camera_path.h"
 
 #include <Eigen/Geometry>
@@ -47,14 +47,14 @@ void lookAlong(const Vector3d& forward, const Vector3d& up, double q[4]) {
     q[3] = qq.w();
 }
 
-// Ground under a horizontal point, from the finest-level node boxes above it: a flat box (at
-// most `flat` high: a terrain or floor patch) stands for its top, which is at or above its
-// surface; a tall one (a street with its facade, a room's strip from floor to ceiling, a wall)
-// for its bottom, since its top is a roof or a ceiling, not ground. The ground is the lowest of
-// these, found through a uniform grid of the boxes' footprints.
+// Ground under a horizontal point, from the finest-level node boxes above it, found through a
+// uniform grid of the boxes' footprints. Outdoors: the lowest top of those boxes (a terrain
+// patch's top is at or above its surface, a street node's top is near street level while facades
+// reach higher). Indoors (PathOptions::indoors): the lowest bottom, the floor, since the plane
+// cuts leave a room's finest nodes spanning floor to ceiling and their tops are the ceiling.
 class GroundIndex {
 public:
-    GroundIndex(const Skeleton& s, const Frame& f, double fallback, double flat) : f_(f), fallback_(fallback), flat_(flat) {
+    GroundIndex(const Skeleton& s, const Frame& f, double fallback, bool indoors) : f_(f), fallback_(fallback), indoors_(indoors) {
         uint32_t deepest = 0;
         for (const Node& n : s.nodes) deepest = std::max(deepest, n.level);
         for (const Node& n : s.nodes)
@@ -85,8 +85,7 @@ public:
         for (uint32_t k : grid_[size_t(cy) * cells_ + cx]) {
             const Box3f& b = leaves_[k];
             if (x >= axis(b.min, f_.a) && x <= axis(b.max, f_.a) && y >= axis(b.min, f_.b) && y <= axis(b.max, f_.b)) {
-                const double bottom = axis(b.min, f_.up), top = axis(b.max, f_.up);
-                ground = std::min(ground, top - bottom <= flat_ ? top : bottom);
+                ground = std::min(ground, axis(indoors_ ? b.min : b.max, f_.up));
             }
         }
         return std::isfinite(ground) ? ground : fallback_;
@@ -94,7 +93,8 @@ public:
 
 private:
     Frame f_;
-    double fallback_, flat_;
+    double fallback_;
+    bool indoors_;
     std::vector<Box3f> leaves_;
     std::vector<std::vector<uint32_t>> grid_;
     uint32_t cells_ = 1;
@@ -242,7 +242,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
     }
 
     double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
-    GroundIndex ground(skeleton, f, lo[f.up], kEyeHeightM / o.metresPerUnit);
+    GroundIndex ground(skeleton, f, lo[f.up], o.indoors);
     std::mt19937 rng(o.seed);
     std::uniform_real_distribution<double> gap(2.0, 5.0), angle(0, 2 * M_PI), coin(0, 1);
     double theta = 0, direction = 1, nextEvent = gap(rng);

@@ -62,6 +62,9 @@ void addPath(CLI::App& app, int& status) {
     sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys");
     sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports");
     sub->add_option("--up", a->up, "up axis of the model, y or z (default: the one the database records; z for a database without one)");
+    sub->add_flag("--indoors", a->options.indoors,
+                  "an interior scan: keep the eye above the floor (the lowest bottom of the finest node boxes) "
+                  "instead of the lowest box top, which in a room is its ceiling (player/CAMERA_PATH.md)");
     sub->add_flag("--look-at-center", a->options.lookAtCenter,
                   "walk, drive, erratic: look at the model's centre, not ahead (walking around an object scan)");
     sub->callback([a, &status] { status = runGuarded("path", [&] { return runPath(*a); }); });

@@ -123,7 +123,7 @@ TEST(CameraPath, GeneratedWalkAndDriveHaveTheirSpeeds) {
         for (size_t i = 1; i < p.keys.size(); ++i) {
             double v = dist(p.keys[i].position, p.keys[i - 1].position) / (p.keys[i].time - p.keys[i - 1].time);
             EXPECT_NEAR(v, speed, speed * 0.05) << i;
-            EXPECT_NEAR(p.keys[i].position[2], 1.7, 1e-6);  // above the 10 m tall boxes' bottoms (a street, not the roofs)
+            EXPECT_NEAR(p.keys[i].position[2], 11.7, 1e-6);  // eye height above the boxes' tops (z = 10)
         }
     }
 }
@@ -274,7 +274,8 @@ TEST(CameraPath, WalkKeepsASteadyEyeHeightOverRoughGround) {
 }
 
 // player/CAMERA_PATH.md "Indoors": a 30 x 20 x 3 m room whose finest nodes are strips from floor
-// to ceiling (as the plane cuts leave a room) is walked at 1.7 m above its floor, inside its walls.
+// to ceiling (as the plane cuts leave a room) is walked with --indoors at 1.7 m above its floor,
+// inside its walls; without it the ground estimate is the ceiling and the walk goes over the room.
 TEST(CameraPath, WalkInABoxRoomStaysInside) {
     Skeleton s;
     const uint32_t root = test::addNode(s, kNone, Box3f{{0, 0, 0}, {30, 20, 3}}, 512);
@@ -284,6 +285,8 @@ TEST(CameraPath, WalkInABoxRoomStaysInside) {
         PathOptions o;
         o.kind = kind;
         ASSERT_FALSE(planPath(s, o).object);  // city-like: the ground rule applies
+        for (const CameraKey& k : generatePath(s, o).keys) EXPECT_NEAR(k.position[2], 3 + kEyeHeightM, 1e-6);
+        o.indoors = true;
         const CameraPath p = generatePath(s, o);
         ASSERT_GT(p.keys.size(), 50u);
         for (const CameraKey& k : p.keys) {
