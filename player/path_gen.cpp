@@ -47,14 +47,12 @@ void lookAlong(const Vector3d& forward, const Vector3d& up, double q[4]) {
     q[3] = qq.w();
 }
 
-// Ground under a horizontal point, from the finest-level node boxes above it, found through a
-// uniform grid of the boxes' footprints. Outdoors: the lowest top of those boxes (a terrain
-// patch's top is at or above its surface, a street node's top is near street level while facades
-// reach higher). Indoors (PathOptions::indoors): the lowest bottom, the floor, since the plane
-// cuts leave a room's finest nodes spanning floor to ceiling and their tops are the ceiling.
+// Ground under a horizontal point without the geometry: the lowest top of the finest-level node
+// boxes above it (a terrain patch's top is at or above its surface, a street node's top is near
+// street level while facades reach higher), found through a uniform grid of the boxes' footprints.
 class GroundIndex {
 public:
-    GroundIndex(const Skeleton& s, const Frame& f, double fallback, bool indoors) : f_(f), fallback_(fallback), indoors_(indoors) {
+    GroundIndex(const Skeleton& s, const Frame& f, double fallback) : f_(f), fallback_(fallback) {
         uint32_t deepest = 0;
         for (const Node& n : s.nodes) deepest = std::max(deepest, n.level);
         for (const Node& n : s.nodes)
@@ -85,7 +83,7 @@ public:
         for (uint32_t k : grid_[size_t(cy) * cells_ + cx]) {
             const Box3f& b = leaves_[k];
             if (x >= axis(b.min, f_.a) && x <= axis(b.max, f_.a) && y >= axis(b.min, f_.b) && y <= axis(b.max, f_.b)) {
-                ground = std::min(ground, axis(indoors_ ? b.min : b.max, f_.up));
+                ground = std::min(ground, axis(b.max, f_.up));
             }
         }
         return std::isfinite(ground) ? ground : fallback_;
@@ -94,7 +92,6 @@ public:
 private:
     Frame f_;
     double fallback_;
-    bool indoors_;
     std::vector<Box3f> leaves_;
     std::vector<std::vector<uint32_t>> grid_;
     uint32_t cells_ = 1;
@@ -121,10 +118,11 @@ struct Route {
 Vector3d unit(int i) { return Vector3d::Unit(i); }
 
 // The ground the eye follows along one continuous stretch of keys (no teleport in it): the
-// median over +-kGroundMedianSeconds (a box or two that stand out, a wall's bottom met at an
-// angle, are dropped), then the smallest height curve at or above it whose slope is at most
-// `rate` units per second (forward and backward passes of s_i = max(g_i, s_j - rate |t_i - t_j|)):
-// the eye never climbs or sinks faster than `rate`, and never goes below the filtered ground.
+// median over +-kGroundMedianSeconds (a key or two that stand out are dropped), then the largest
+// height curve at or below it whose slope is at most `rate` units per second (forward and
+// backward passes of s_i = min(g_i, s_j + rate |t_i - t_j|)): the eye never climbs or sinks
+// faster than `rate`, and never rises above the filtered ground, so a roof the route crosses
+// (it goes through buildings) or a ceiling-high box is not climbed unless it lasts.
 void smoothGround(const std::vector<double>& times, std::vector<double>& ground, double rate) {
     const size_t n = ground.size();
     std::vector<double> median(n);
@@ -135,8 +133,8 @@ void smoothGround(const std::vector<double>& times, std::vector<double>& ground,
         std::nth_element(window.begin(), window.begin() + static_cast<std::ptrdiff_t>(window.size() / 2), window.end());
         median[i] = window[window.size() / 2];
     }
-    for (size_t i = 1; i < n; ++i) median[i] = std::max(median[i], median[i - 1] - rate * (times[i] - times[i - 1]));
-    for (size_t i = n - 1; i-- > 0;) median[i] = std::max(median[i], median[i + 1] - rate * (times[i + 1] - times[i]));
+    for (size_t i = 1; i < n; ++i) median[i] = std::min(median[i], median[i - 1] + rate * (times[i] - times[i - 1]));
+    for (size_t i = n - 1; i-- > 0;) median[i] = std::min(median[i], median[i + 1] + rate * (times[i + 1] - times[i]));
     ground = std::move(median);
 }
 
@@ -149,6 +147,14 @@ CameraKey key(double time, const Vector3d& p, const Vector3d& forward, const Vec
 }
 
 }  // namespace
+
+size_t countCrossings(const CameraPath& path, const SurfaceHeights& surfaces) {
+    size_t crossings = 0;
+    for (size_t k = 1; k < path.keys.size(); ++k)
+        if (path.keys[k].time - path.keys[k - 1].time >= 0.01 && surfaces.crosses(path.keys[k - 1].position, path.keys[k].position))
+            ++crossings;
+    return crossings;
+}
 
 PathKind parsePathKind(const std::string& text) {
     if (text == "walk") return PathKind::Walk;
@@ -213,7 +219,7 @@ PathPlan planPath(const Skeleton& skeleton, const PathOptions& o) {
     return plan;
 }
 
-CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
+CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const SurfaceHeights* surfaces) {
     if (skeleton.nodes.empty()) throw std::invalid_argument("the database has no nodes");
     if (o.upAxis != 1 && o.upAxis != 2) throw std::invalid_argument("up axis must be y or z");
     if (!(o.keyInterval > 0) || o.duration < 0 || o.speed < 0) throw std::invalid_argument("durations and speeds must be positive");
@@ -242,7 +248,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
     }
 
     double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
-    GroundIndex ground(skeleton, f, lo[f.up], o.indoors);
+    GroundIndex ground(skeleton, f, lo[f.up]);
     std::mt19937 rng(o.seed);
     std::uniform_real_distribution<double> gap(2.0, 5.0), angle(0, 2 * M_PI), coin(0, 1);
     double theta = 0, direction = 1, nextEvent = gap(rng);
@@ -251,7 +257,10 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
     auto place = [&](double t, double th, double dir) {
         Vector3d p = route.at(th);
         // An object's ground is its bottom; a city's is the ground estimate under the eye.
-        heights.push_back(plan.object ? lo[f.up] : ground.at(p[f.a], p[f.b]));
+        // A city's is the lowest surface under the eye, or where there is none (a gap in the scan,
+        // a street between block meshes) the model's bottom, as the box estimate's fallback.
+        const double surface = surfaces ? surfaces->lowest(p[f.a], p[f.b]) : NAN;
+        heights.push_back(plan.object ? lo[f.up] : surfaces ? (std::isnan(surface) ? lo[f.up] : surface) : ground.at(p[f.a], p[f.b]));
         path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : Vector3d(dir * route.tangent(th)), up));
     };
     stretches.push_back(0);

@@ -1,7 +1,9 @@
-// `hlod build INPUT -o DB`: prints the constants it uses first, progress while it runs, a final
-// summary (nodes per level, time per stage, bytes per input triangle) and writes the run's
-// figures to the build report DB.build.json (formats/build_report.h; the database itself holds
-// nothing that varies run to run).
+// `hlod build INPUT -o DB`: prints the constants it uses first, the up axis it records and why,
+// progress while it runs (a line at least every --progress-interval seconds when stdout is not
+// a terminal, or JSON lines with --progress-json), a final summary (nodes per level, time per
+// stage, bytes per input triangle, unusable textures) and writes the run's figures to the build
+// report DB.build.json (formats/build_report.h; the database itself holds nothing that varies
+// run to run). --strict makes an unusable texture fatal (exit 2) instead of a warning.
 #include "pipeline/cli/subcommands.h"
 
 #include "formats/calibration.h"
