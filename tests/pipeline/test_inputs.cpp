@@ -141,6 +141,8 @@ TEST(Textures, AnUndecodableEmbeddedGltfImageIsATextureProblem) {
         const RunResult lenient = runHlod({"build", dir.file("t.gltf"), "-o", dir.file("t.hlod")});
         EXPECT_EQ(lenient.exitCode, 0) << lenient.outAndErr();
         EXPECT_NE(lenient.out.find("material 'skin' left untextured"), std::string::npos) << lenient.out;
+        EXPECT_NE(lenient.out.find("up axis: y (glTF is y-up)"), std::string::npos) << lenient.out;
+        EXPECT_EQ(*Database::open(dir.file("t.hlod")).skeleton().findMeta("up"), "y");
     }
     std::ofstream(dir.file("t.gltf")) << triangleGltf("data:image/png;base64," + base64(png));
     const SourceMesh good = readMesh(dir.file("t.gltf"));
