@@ -195,6 +195,20 @@ TEST(UpAxis, RecordedInTheDatabaseAndUsedByPathAndExport) {
     EXPECT_EQ(yj.at("root").at("transform"), nlohmann::json({1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1}));
     EXPECT_FALSE(zj.at("root").contains("transform"));
     EXPECT_EQ(yj.at("asset").at("extras").at("hlod").at("up"), "y");
+
+    // With --origin the y-up turn comes before the east-north-up placement: columns (x, y, z, t)
+    // of the y-up transform are (east, up, -north, t) of the z-up one.
+    const std::string origin = "37.8716,-122.2727,60";
+    ASSERT_EQ(runHlod({"export", "tiles", dir.file("y.hlod"), "-o", dir.file("yplaced"), "--origin", origin}).exitCode, 0);
+    ASSERT_EQ(runHlod({"export", "tiles", dir.file("z.hlod"), "-o", dir.file("zplaced"), "--origin", origin}).exitCode, 0);
+    std::ifstream yp(dir.file("yplaced/tileset.json")), zp(dir.file("zplaced/tileset.json"));
+    const nlohmann::json ty = nlohmann::json::parse(yp).at("root").at("transform"), tz = nlohmann::json::parse(zp).at("root").at("transform");
+    for (int row = 0; row < 4; ++row) {
+        EXPECT_NEAR(ty[0 + row].get<double>(), tz[0 + row].get<double>(), 1e-9);
+        EXPECT_NEAR(ty[4 + row].get<double>(), tz[8 + row].get<double>(), 1e-9);
+        EXPECT_NEAR(ty[8 + row].get<double>(), -tz[4 + row].get<double>(), 1e-9);
+        EXPECT_NEAR(ty[12 + row].get<double>(), tz[12 + row].get<double>(), 1e-6);
+    }
 }
 
 TEST(UpAxis, ADatabaseWithoutTheKeyIsZUp) {
