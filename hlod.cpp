@@ -20,7 +20,7 @@ namespace {
 constexpr hlod::cli::AddSubcommand kSubcommands[] = {
     hlod::cli::addBuild,    hlod::cli::addMerge, hlod::cli::addInspect, hlod::cli::addValidate,
     hlod::cli::addStats,    hlod::cli::addPlay,  hlod::cli::addPath,    hlod::cli::addView,
-    hlod::cli::addCalibrate, hlod::cli::addExport, hlod::cli::addSynth,
+    hlod::cli::addCalibrate, hlod::cli::addCompare, hlod::cli::addExport, hlod::cli::addSynth,
 };
 
 }  // namespace

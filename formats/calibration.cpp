@@ -2,6 +2,7 @@
 #include "formats/calibration.h"
 
 #include "formats/errors.h"
+#include "formats/setting_lines.h"
 
 #include <charconv>
 #include <cmath>
@@ -13,12 +14,6 @@
 namespace hlod {
 
 namespace {
-
-std::string trim(const std::string& s) {
-    const size_t b = s.find_first_not_of(" \t\r");
-    if (b == std::string::npos) return "";
-    return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
 
 // The numeric figures of the file, by name, as members of Calibration.
 const std::map<std::string, double Calibration::*>& numericFields() {
@@ -71,13 +66,12 @@ Calibration readCalibration(const std::string& path) {
     Calibration c;
     size_t seen = 0;
     std::string line;
-    for (int number = 1; std::getline(in, line); ++number) {
-        line = trim(line.substr(0, line.find('#')));
+    for (int number = 1; nextSettingLine(in, line, path, number); ++number) {
         if (line.empty()) continue;
         const std::string at = path + ":" + std::to_string(number) + ": ";
         const size_t eq = line.find('=');
         if (eq == std::string::npos) throw InputError(at + "expected 'name = value'");
-        const std::string name = trim(line.substr(0, eq)), text = trim(line.substr(eq + 1));
+        const std::string name = trimBlanks(line.substr(0, eq)), text = trimBlanks(line.substr(eq + 1));
         if (name == "renderer") {
             c.renderer = text;
             continue;
@@ -94,7 +88,6 @@ Calibration readCalibration(const std::string& path) {
         *target = value;
         seen += field != numericFields().end();
     }
-    if (in.bad()) throw InputError(path + ": read error");
     if (seen < numericFields().size())
         throw InputError(path + ": not a calibration file (needs c_textured, ms_per_cost and fixed_overhead_ms)");
     if (!(c.cTextured > 0 && c.cTextured <= 1)) throw InputError(path + ": c_textured must lie in (0, 1]");

@@ -3,6 +3,7 @@
 #include "formats/constants.h"
 
 #include "formats/errors.h"
+#include "formats/setting_lines.h"
 
 #include <charconv>
 #include <cmath>
@@ -14,12 +15,6 @@
 namespace hlod {
 
 namespace {
-
-std::string trim(const std::string& s) {
-    auto b = s.find_first_not_of(" \t\r");
-    if (b == std::string::npos) return "";
-    return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
 
 std::string format(double v) {
     char buf[32];
@@ -53,7 +48,7 @@ const ConstantInfo* findConstant(const std::string& name) {
 
 void setConstant(Constants& c, const std::string& name, const std::string& value) {
     if (const ConstantInfo* info = findConstant(name)) {
-        const std::string v = trim(value);
+        const std::string v = trimBlanks(value);
         double parsed = 0;
         auto r = std::from_chars(v.data(), v.data() + v.size(), parsed);
         if (v.empty() || r.ec != std::errc() || r.ptr != v.data() + v.size() || !std::isfinite(parsed))
@@ -87,7 +82,7 @@ void setConstantAssignment(Constants& c, const std::string& assignment) {
     auto eq = assignment.find('=');
     if (eq == std::string::npos)
         throw std::invalid_argument("'" + assignment + "' is not of the form name=value");
-    setConstant(c, trim(assignment.substr(0, eq)), assignment.substr(eq + 1));
+    setConstant(c, trimBlanks(assignment.substr(0, eq)), assignment.substr(eq + 1));
 }
 
 std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path, ConstantUse use) {
@@ -95,12 +90,11 @@ std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path
     if (!in) throw InputError(path + ": cannot read constants file");
     std::vector<std::string> skipped;
     std::string line;
-    for (int number = 1; std::getline(in, line); ++number) {
-        line = trim(line.substr(0, line.find('#')));
+    for (int number = 1; nextSettingLine(in, line, path, number); ++number) {
         if (line.empty()) continue;
         try {
             const size_t eq = line.find('=');
-            const ConstantInfo* info = eq == std::string::npos ? nullptr : findConstant(trim(line.substr(0, eq)));
+            const ConstantInfo* info = eq == std::string::npos ? nullptr : findConstant(trimBlanks(line.substr(0, eq)));
             if (info && !(info->use & use)) {
                 skipped.push_back(info->name);
                 continue;
@@ -110,7 +104,6 @@ std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path
             throw InputError(path + ":" + std::to_string(number) + ": " + e.what());
         }
     }
-    if (in.bad()) throw InputError(path + ": read error");
     return skipped;
 }
 

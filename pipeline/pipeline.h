@@ -16,6 +16,7 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <iosfwd>
 #include <memory>
@@ -107,6 +108,9 @@ struct Corner {
     uint8_t color[4];
 };
 bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& name);
+// The read buffer of the PLY and OBJ parsers: the file's size (+1, at least 4 KiB), at most
+// 1 MiB, so that small files (and the fuzzers' many small inputs) do not pay for a large one.
+size_t readBufferBytes(std::FILE* file);
 
 // Readers. Throw InputError("FILE: problem") on a missing, truncated or corrupt file.
 // References outside the folder of `path` are refused (resolveReference); unusable textures give
@@ -119,6 +123,9 @@ SourceMesh readGltf(const std::string& path, const ReadOptions& options = {});
 SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const std::string& path,
                          const ReadOptions& options = {});
 SourceMesh readMesh(const std::string& path, const ReadOptions& options = {});  // by extension
+// The largest texture decoded (a 16K x 16K atlas, 768 MiB as RGB): a header claiming more is an
+// error (texture files) or leaves the material untextured with a warning (embedded glTF images).
+inline constexpr uint64_t kMaxTextureTexels = 16384ull * 16384ull;
 
 // input.cpp: rejects NaN/Inf attributes, out-of-range indices and empty meshes (InputError
 // naming `name`), drops degenerate triangles (counted in stats), turns unusable textures into

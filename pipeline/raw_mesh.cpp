@@ -4,6 +4,9 @@
 // straight from its spill files (split_stream.cpp), so a large input is never held whole.
 #include "pipeline/pipeline.h"
 
+#include <sys/stat.h>
+
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <unordered_map>
@@ -73,6 +76,13 @@ void weldCorners(const RawMesh& raw, SourceMesh& out, const std::string& name) {
 }
 
 }  // namespace
+
+size_t readBufferBytes(std::FILE* file) {
+    constexpr size_t kMax = size_t(1) << 20, kMin = 4096;
+    struct stat st {};
+    if (fstat(fileno(file), &st) != 0 || !S_ISREG(st.st_mode)) return kMax;
+    return std::clamp(static_cast<size_t>(st.st_size) + 1, kMin, kMax);
+}
 
 void RawMesh::spillTo(const std::string& dir) {
     const std::filesystem::path d(dir);

@@ -4,7 +4,8 @@
 // the inverse transpose, normalised) and COLOR_0 (RGB or RGBA, float or normalised integers, to
 // 8 bits) as the PLY reader reads them: an attribute is kept when every primitive has it.
 // Mirroring transforms reverse the winding back. Base-colour textures: embedded images
-// decoded by stb_image (one that does not decode is a TextureProblem, its material untextured),
+// decoded by stb_image (one that does not decode or claims too many texels is a TextureProblem,
+// its material untextured),
 // external ones by path (loaded later through OpenImageIO). External
 // images and buffers are confined to the input's folder (resolveReference). Every accessor is
 // checked against its buffer view and buffer before it is read: corrupt files give
@@ -82,23 +83,8 @@ struct Context {
     std::vector<uint32_t> materialOfGltf;  // glTF material -> index in out.materials
     bool allNormals = true, allColors = true;
     uint32_t skippedPrimitives = 0;
-    const std::map<int, std::string>& undecodedImages;  // image index -> why stb_image refused it
+    const std::map<int, std::string>& unusableImages;  // image index -> why it was not decoded (loadImageChecked)
 };
-
-// tinygltf's image callback: stb_image as tinygltf's own loader does, except that an embedded
-// image that does not decode (a data: URI or a GLB buffer view) leaves the image empty and is
-// kept in `user` (std::map<int, std::string>*) instead of failing the whole file: it becomes a
-// TextureProblem, the one rule for every unusable texture (README "Inputs: textures").
-bool loadImageOrNote(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
-                     const unsigned char* bytes, int size, void* user) {
-    (void)err;
-    tinygltf::LoadImageDataOption option;  // tinygltf's default: 8-bit RGBA or 16-bit
-    std::string why;
-    if (tinygltf::LoadImageData(image, index, &why, warn, width, height, bytes, size, &option)) return true;
-    (*static_cast<std::map<int, std::string>*>(user))[index] = why.substr(0, why.find('\n'));
-    image->image.clear();
-    return true;
-}
 
 // Accessor `index` located in its buffer: element i's first byte is data + stride * i, and
 // `count` elements of `components` x componentType lie inside both its buffer view and buffer.
@@ -313,9 +299,8 @@ void addMaterials(Context& cx) {
             const int source = cx.model.textures[static_cast<size_t>(tex)].source;
             if (source >= 0 && source < static_cast<int>(cx.model.images.size())) {
                 const tinygltf::Image& img = cx.model.images[static_cast<size_t>(source)];
-                if (const auto failed = cx.undecodedImages.find(source); failed != cx.undecodedImages.end())
-                    cx.out.stats.textureProblems.push_back(
-                        {cx.path + ": image " + std::to_string(source) + " does not decode (" + failed->second + ")", out.name});
+                if (const auto failed = cx.unusableImages.find(source); failed != cx.unusableImages.end())
+                    cx.out.stats.textureProblems.push_back({cx.path + ": image " + std::to_string(source) + " " + failed->second, out.name});
                 else if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0)
                     out.image = decodedImage(cx, img, static_cast<size_t>(source));
                 else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
@@ -369,6 +354,33 @@ bool readBuffer(std::vector<unsigned char>* out, std::string* err, const std::st
     return false;
 }
 
+// Embedded images are decoded by stb_image inside tinygltf; a few hundred bytes of PNG can claim
+// 20000 x 16000 texels (a decompression bomb). The header is read first: an image above
+// kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, is kept in
+// `user` (std::map<int, std::string>*: image index -> why) instead of failing the whole file,
+// and becomes a TextureProblem of each material using it (addMaterials): the one rule for every
+// unusable texture (README "Inputs: textures").
+bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
+                      const unsigned char* bytes, int size, void* user) {
+    auto& unusable = *static_cast<std::map<int, std::string>*>(user);
+    (void)err;
+    int w = 0, h = 0, components = 0;
+    if (!stbi_info_from_memory(bytes, size, &w, &h, &components)) {
+        unusable[index] = std::string("cannot be decoded (") + stbi_failure_reason() + ")";
+        return true;
+    }
+    if (uint64_t(w) * uint64_t(h) > kMaxTextureTexels) {
+        unusable[index] = "claims " + std::to_string(w) + "x" + std::to_string(h) + " texels (more than " +
+                          std::to_string(kMaxTextureTexels) + "): not decoded";
+        return true;
+    }
+    std::string decodeError;
+    if (tinygltf::LoadImageData(image, index, &decodeError, warn, width, height, bytes, size, nullptr)) return true;
+    unusable[index] = "cannot be decoded (" + decodeError.substr(0, decodeError.find('\n')) + ")";
+    *image = tinygltf::Image{};
+    return true;
+}
+
 }  // namespace
 
 SourceMesh readGltf(const std::string& path, const ReadOptions& options) {
@@ -388,8 +400,8 @@ SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const s
     std::string err, warn;
     BufferFiles files{path, folderOf(path), options, {}};
     loader.SetFsCallbacks({bufferExists, expandPath, readBuffer, nullptr, &files});
-    std::map<int, std::string> undecodedImages;
-    loader.SetImageLoader(loadImageOrNote, &undecodedImages);
+    std::map<int, std::string> unusableImages;
+    loader.SetImageLoader(loadImageChecked, &unusableImages);
     const unsigned int length = static_cast<unsigned int>(bytes.size());
     const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), length, files.folder)
                            : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
@@ -397,7 +409,7 @@ SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const s
     if (!files.refused.empty()) throw InputError(files.refused);
     if (!ok) throw InputError(path + ": corrupt glTF (" + err.substr(0, err.find('\n')) + ")");
     SourceMesh out;
-    Context cx{model, path, options, out, {}, true, true, 0, undecodedImages};
+    Context cx{model, path, options, out, {}, true, true, 0, unusableImages};
     addMaterials(cx);
     const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;

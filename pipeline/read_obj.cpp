@@ -43,7 +43,7 @@ public:
     void parse() {
         std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path_.c_str(), "rb"), &std::fclose);
         if (!f) throw InputError(path_ + ": cannot open (" + std::strerror(errno) + ")");
-        std::vector<char> buffer(1 << 20);
+        std::vector<char> buffer(readBufferBytes(f.get()));
         std::string carry;
         size_t number = 0, n = 0;
         while ((n = std::fread(buffer.data(), 1, buffer.size(), f.get())) > 0) {

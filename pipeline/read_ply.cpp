@@ -84,7 +84,7 @@ private:
         return v;
     }
     bool fill() {
-        size_ = std::fread(buffer_.get(), 1, kBuffer, f_);
+        size_ = std::fread(buffer_.data(), 1, buffer_.size(), f_);
         pos_ = 0;
         if (progress_) progress_->advance(size_);
         return size_ > 0;
@@ -117,12 +117,11 @@ private:
         return v;
     }
 
-    static constexpr size_t kBuffer = 1 << 20;
     std::FILE* f_;
     PlyFormat format_;
     std::string name_;
     Progress* progress_;
-    std::unique_ptr<char[]> buffer_{new char[kBuffer]};
+    std::vector<char> buffer_ = std::vector<char>(readBufferBytes(f_));
     size_t size_ = 0, pos_ = 0;
 };
 

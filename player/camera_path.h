@@ -45,7 +45,9 @@ void writeCameraPathFile(const std::string& path, const CameraPath& cameraPath);
 // Position and field of view interpolated linearly, orientation by slerp; clamped at the ends.
 Camera sampleCameraPath(const CameraPath& path, double time, double aspect = 16.0 / 9.0);
 
-enum class PathKind { Walk, Drive, Fly, Erratic };
+// Line and Zigzag: the linear and zigzag camera paths of Hernández & Beneš (Robin Hood, §6
+// Fig. 2, Table 2), across the model at walking speed (player/CAMERA_PATH.md).
+enum class PathKind { Walk, Drive, Fly, Erratic, Line, Zigzag };
 PathKind parsePathKind(const std::string& text);  // throws std::invalid_argument
 
 struct PathOptions {
@@ -66,8 +68,8 @@ struct PathOptions {
 // anything else is an object, walked around in kObjectLapSeconds (player/CAMERA_PATH.md).
 inline constexpr double kCityMinExtentM = 20, kCityMinFlatness = 4, kObjectLapSeconds = 60;
 inline constexpr double kWalkSpeedMps = 1.5, kDriveFactor = 10, kEyeHeightM = 1.7;
-// The eye of a city-like walk, drive or erratic path climbs and sinks at most kMaxClimbMps (a
-// brisk stair climb: 2 steps of 17 cm a second), over the ground estimate's median within
+// The eye of a city-like walk, drive, erratic, line or zigzag path climbs and sinks at most kMaxClimbMps (a
+// brisk stair climb: 2 steps of 17 cm a second), over the ground's median within
 // +-kGroundMedianSeconds (player/CAMERA_PATH.md "Eye height"): at most 0.25 m per 0.5 s key.
 inline constexpr double kMaxClimbMps = 0.5, kGroundMedianSeconds = 1.0;
 
@@ -114,7 +116,7 @@ private:
 
 // The bounds of all hlod0 nodes.
 Box3f modelBounds(const Skeleton& skeleton);
-// A city-like walk, drive or erratic path keeps its eye above the lowest surface under it when
+// A city-like path (any kind but fly) keeps its eye above the lowest surface under it when
 // `surfaces` is given (the model's bottom where there is none), else above the node-box
 // estimate (player/CAMERA_PATH.md "Eye height").
 CameraPath generatePath(const Skeleton& skeleton, const PathOptions& options, const SurfaceHeights* surfaces = nullptr);

@@ -3,9 +3,10 @@
 // with the whole model in view (§6.2), and an erratic walk with sudden 180-degree turns and
 // teleports (viewpoint path C of T. A. Funkhouser and C. H. Séquin, "Adaptive Display Algorithm
 // for Interactive Frame Rates During Visualization of Complex Virtual Environments", SIGGRAPH
-// 1993). Routes are ellipses inset in the bounds. The eye of a city-like walk follows a ground
-// estimate from the finest node boxes, filtered so that it climbs and sinks at most
-// kMaxClimbMps (player/CAMERA_PATH.md "Eye height"); --indoors follows the floor ("Indoors").
+// 1993). Routes are ellipses inset in the bounds. The eye of a city-like walk follows the lowest
+// scanned surface under it (SurfaceHeights, when given; else an estimate from the finest node
+// boxes), filtered so that it climbs and sinks at most kMaxClimbMps (player/CAMERA_PATH.md
+// "Eye height", "Indoors").
 #include "player/camera_path.h"
 
 #include <Eigen/Geometry>
@@ -15,6 +16,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace hlod {
 namespace {
@@ -82,9 +84,8 @@ public:
         double ground = INFINITY;
         for (uint32_t k : grid_[size_t(cy) * cells_ + cx]) {
             const Box3f& b = leaves_[k];
-            if (x >= axis(b.min, f_.a) && x <= axis(b.max, f_.a) && y >= axis(b.min, f_.b) && y <= axis(b.max, f_.b)) {
+            if (x >= axis(b.min, f_.a) && x <= axis(b.max, f_.a) && y >= axis(b.min, f_.b) && y <= axis(b.max, f_.b))
                 ground = std::min(ground, axis(b.max, f_.up));
-            }
         }
         return std::isfinite(ground) ? ground : fallback_;
     }
@@ -161,7 +162,9 @@ PathKind parsePathKind(const std::string& text) {
     if (text == "drive") return PathKind::Drive;
     if (text == "fly") return PathKind::Fly;
     if (text == "erratic") return PathKind::Erratic;
-    throw std::invalid_argument("unknown path kind '" + text + "' (walk, drive, fly or erratic)");
+    if (text == "line") return PathKind::Line;
+    if (text == "zigzag") return PathKind::Zigzag;
+    throw std::invalid_argument("unknown path kind '" + text + "' (walk, drive, fly, erratic, line or zigzag)");
 }
 
 Box3f modelBounds(const Skeleton& skeleton) {
@@ -247,23 +250,64 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
         return path;
     }
 
-    double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
     GroundIndex ground(skeleton, f, lo[f.up]);
+    // An object's ground is its bottom. A city's is the lowest surface under the eye, or where
+    // there is none (a gap in the scan, a street between block meshes) the model's bottom, as the
+    // box estimate's fallback; without surfaces, the box estimate.
+    auto groundAt = [&](const Vector3d& p) {
+        if (plan.object) return double(lo[f.up]);
+        if (!surfaces) return ground.at(p[f.a], p[f.b]);
+        const double surface = surfaces->lowest(p[f.a], p[f.b]);
+        return std::isnan(surface) ? double(lo[f.up]) : surface;
+    };
+    std::vector<double> heights;       // ground under each key
+    std::vector<size_t> stretches{0};  // first key of each stretch between teleports
+    // The eye over each stretch's filtered ground (smoothGround).
+    auto settle = [&] {
+        stretches.push_back(path.keys.size());
+        for (size_t s = 0; s + 1 < stretches.size(); ++s) {
+            std::vector<double> times, stretch(heights.begin() + static_cast<std::ptrdiff_t>(stretches[s]),
+                                               heights.begin() + static_cast<std::ptrdiff_t>(stretches[s + 1]));
+            for (size_t k = stretches[s]; k < stretches[s + 1]; ++k) times.push_back(path.keys[k].time);
+            if (!plan.object) smoothGround(times, stretch, kMaxClimbMps / o.metresPerUnit);
+            for (size_t k = stretches[s]; k < stretches[s + 1]; ++k)
+                path.keys[k].position[f.up] = stretch[k - stretches[s]] + plan.eyeHeight;
+        }
+        return path;
+    };
+    if (o.kind == PathKind::Line || o.kind == PathKind::Zigzag) {
+        // Waypoints inset 15 % in the bounds: a line from one corner to the opposite one; a zigzag
+        // of four legs between the two long sides, so that the view turns sharply three times.
+        auto at = [&](double u, double v) {
+            return Vector3d(center + unit(f.a) * (u - 0.5) * 0.7 * std::max(extentA, minRoute) +
+                            unit(f.b) * (v - 0.5) * 0.7 * std::max(extentB, minRoute));
+        };
+        std::vector<Vector3d> points = o.kind == PathKind::Line
+                                           ? std::vector<Vector3d>{at(0, 0), at(1, 1)}
+                                           : std::vector<Vector3d>{at(0, 0), at(0.25, 1), at(0.5, 0), at(0.75, 1), at(1, 0)};
+        double length = 0;
+        for (size_t i = 1; i < points.size(); ++i) length += (points[i] - points[i - 1]).norm();
+        double duration = o.duration > 0 ? o.duration : length / plan.speed;
+        for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
+            double s = std::min(t * plan.speed, length);
+            size_t leg = 1;
+            for (; leg + 1 < points.size() && s > (points[leg] - points[leg - 1]).norm(); ++leg) s -= (points[leg] - points[leg - 1]).norm();
+            Vector3d dir = points[leg] - points[leg - 1];
+            Vector3d p = points[leg - 1] + dir.normalized() * std::min(s, dir.norm());
+            heights.push_back(groundAt(p));
+            path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : dir, up));
+        }
+        return settle();
+    }
+    double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
     std::mt19937 rng(o.seed);
     std::uniform_real_distribution<double> gap(2.0, 5.0), angle(0, 2 * M_PI), coin(0, 1);
     double theta = 0, direction = 1, nextEvent = gap(rng);
-    std::vector<double> heights;   // ground under each key
-    std::vector<size_t> stretches;  // first key of each stretch between teleports
     auto place = [&](double t, double th, double dir) {
         Vector3d p = route.at(th);
-        // An object's ground is its bottom; a city's is the ground estimate under the eye.
-        // A city's is the lowest surface under the eye, or where there is none (a gap in the scan,
-        // a street between block meshes) the model's bottom, as the box estimate's fallback.
-        const double surface = surfaces ? surfaces->lowest(p[f.a], p[f.b]) : NAN;
-        heights.push_back(plan.object ? lo[f.up] : surfaces ? (std::isnan(surface) ? lo[f.up] : surface) : ground.at(p[f.a], p[f.b]));
+        heights.push_back(groundAt(p));
         path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : Vector3d(dir * route.tangent(th)), up));
     };
-    stretches.push_back(0);
     for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
         place(t, theta, direction);
         if (o.kind == PathKind::Erratic && t + o.keyInterval > nextEvent) {
@@ -279,15 +323,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
         double step = plan.speed * o.keyInterval / std::max(route.tangent(theta).norm(), 1e-9);
         theta += direction * step;
     }
-    stretches.push_back(path.keys.size());
-    for (size_t s = 0; s + 1 < stretches.size(); ++s) {
-        std::vector<double> times, stretch(heights.begin() + static_cast<std::ptrdiff_t>(stretches[s]),
-                                           heights.begin() + static_cast<std::ptrdiff_t>(stretches[s + 1]));
-        for (size_t k = stretches[s]; k < stretches[s + 1]; ++k) times.push_back(path.keys[k].time);
-        if (!plan.object) smoothGround(times, stretch, kMaxClimbMps / o.metresPerUnit);
-        for (size_t k = stretches[s]; k < stretches[s + 1]; ++k) path.keys[k].position[f.up] = stretch[k - stretches[s]] + plan.eyeHeight;
-    }
-    return path;
+    return settle();
 }
 
 }  // namespace hlod

@@ -5,7 +5,9 @@
 #include "player/player.h"
 
 #include "player/loader.h"
+#include "player/front.h"
 #include "player/node_source.h"
+#include "player/policy.h"
 #include "player/selection.h"
 
 #include <algorithm>
@@ -44,6 +46,7 @@ struct Player::Impl {
     PlayerOptions options;
     Loader loader;
     SelectionState selection;
+    std::unique_ptr<SelectionPolicy> policy;
     std::vector<uint8_t> resident;
     std::vector<uint64_t> visitedStamp;  // frame number + 1 of the last visit
     std::vector<uint32_t> lastVisited;
@@ -55,6 +58,7 @@ struct Player::Impl {
     uint64_t frameIndex = 0;
     bool havePrevious = false;
     double previousPosition[3] = {0, 0, 0}, previousTime = 0, velocity[3] = {0, 0, 0};
+    bool frontSkips = false;  // PolicyFront::skipsBlocks of the last frame
     double distance = 0;  // camera path length so far, teleports excluded (toggles per metre, §6.5)
 
     Impl(std::shared_ptr<const NodeSource> src, const Constants& constants, Renderer& r, const PlayerOptions& o)
@@ -65,6 +69,7 @@ struct Player::Impl {
           options(o),
           loader(source, LoaderOptions{o.memoryBudget, o.chunkBytes, 64, 8}),
           selection(skeleton),
+          policy(makePolicy(o.policy, o.policyOptions)),
           resident(skeleton.nodes.size(), 0),
           visitedStamp(skeleton.nodes.size(), 0) {
         for (const Node& n : skeleton.nodes) levels = std::max(levels, n.level + 1);
@@ -72,6 +77,12 @@ struct Player::Impl {
             renderer.upload(loadRoot(root));
             markResident(root, true);
         }
+        if (options.preload)
+            for (const Node& n : skeleton.nodes)
+                if (!resident[n.id]) {
+                    renderer.upload(loader.loadPinned(n.id));
+                    markResident(n.id, true);
+                }
         calibrate();
         if (options.threadedLoader) loader.start();
     }
@@ -163,11 +174,11 @@ struct Player::Impl {
         return loads;
     }
 
-    uint32_t updateLoader(const Selection& sel) {
+    uint32_t updateLoader(const std::vector<uint32_t>& visited) {
         uint64_t stamp = frameIndex + 1;
         std::vector<PriorityUpdate> updates;
-        updates.reserve(sel.visited.size());
-        for (uint32_t id : sel.visited) {
+        updates.reserve(visited.size());
+        for (uint32_t id : visited) {
             visitedStamp[id] = stamp;
             if (skeleton.nodes[id].level > 0) updates.push_back({id, selection.nodes[id].priority});
         }
@@ -185,8 +196,23 @@ struct Player::Impl {
             renderer.evict(id);
             markResident(id, false);
         }
-        lastVisited = sel.visited;
+        lastVisited = visited;
         return uint32_t(evicted.size());
+    }
+
+    // Triangles full detail would draw for a visible node: its visible children's, recursively; a
+    // leaf's or a node's with no visible child, its own (what the `none` policy draws).
+    template <class Visible>
+    uint64_t fullDetailTriangles(uint32_t id, const Visible& visible) const {
+        uint64_t sum = 0;
+        bool anyVisible = false;
+        for (uint32_t ch = skeleton.nodes[id].firstChild; ch != kNone && skeleton.nodes[ch].parent == id;
+             ch = skeleton.nodes[ch].nextSibling)
+            if (visible(ch)) {
+                anyVisible = true;
+                sum += fullDetailTriangles(ch, visible);
+            }
+        return anyVisible ? sum : skeleton.nodes[id].triangles();
     }
 
     FrameStats frame(const Camera& camera, double timeSeconds) {
@@ -206,29 +232,34 @@ struct Player::Impl {
             double fv = frustumVis(view, n.bounds);
             return NodeEval{nodePriority(n, view, c, fv), fv};
         };
+        Projection projection = makeProjection(camera, options.viewportHeight);
+        PolicyFrame pf{skeleton, c, camera, view, projection, evaluate, resident, frameIndex, c.targetTimeMs,
+                       overhead, vTime, share, options.requireLoadedChildren, options.initialHystSwitches * c.hystSwitch};
         auto t0 = std::chrono::steady_clock::now();
-        SelectionParams params = selectionParams(c, share, vTime, options.requireLoadedChildren);
-        params.initialHyst = options.initialHystSwitches * c.hystSwitch;
-        Selection sel = selectFront(skeleton, params, evaluate, selection, resident);
+        PolicyFront sel = policy->select(pf, selection);
+        FrontAccount account = accountFront(skeleton, selection, sel.drawn);
         s.selectionMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        s.evictions = updateLoader(sel);
+        s.evictions = updateLoader(sel.visited);
 
-        s.actualMs = renderer.drawFrame(camera, sel.drawn, options.frameOptions);
-        s.estimateNoFeedbackMs = overhead + vTime0 * sel.drawnCost;
-        s.estimateMs = overhead + vTime * sel.drawnCost;
-        vTime = nextVTime(vTime, s.actualMs, overhead, sel.drawnCost, options.vTimeGain);
+        s.actualMs = renderer.drawFrame(camera, account.items, options.frameOptions);
+        s.estimateNoFeedbackMs = overhead + vTime0 * account.drawnCost;
+        s.estimateMs = overhead + vTime * account.drawnCost;
+        vTime = nextVTime(vTime, s.actualMs, overhead, account.drawnCost, options.vTimeGain);
         share = nextHlod0Share(share, c.targetTimeMs, s.actualMs, sel.refused, options.shareLoop);
+        policy->observe(FrameOutcome{s.actualMs, s.estimateMs, c.targetTimeMs, account.drawnCost, vTime});
 
         s.vTime = vTime;
         s.nodesPerLevel.assign(levels, 0);
         s.trianglesPerLevel.assign(levels, 0);
-        for (const DrawItem& d : sel.drawn) {
+        auto visible = [&](uint32_t id) { return frustumVis(view, skeleton.nodes[id].bounds) >= 1; };
+        for (const DrawItem& d : account.items) {
             ++s.nodesPerLevel[d.level];
             s.trianglesPerLevel[d.level] += skeleton.nodes[d.node].triangles();
+            if (visible(d.node)) s.visibleTriangles += fullDetailTriangles(d.node, visible);
         }
-        s.upToggles = sel.upToggles;
-        s.downToggles = sel.downToggles;
-        s.reversals = sel.reversals;
+        s.upToggles = account.upToggles;
+        s.downToggles = account.downToggles;
+        s.reversals = account.reversals;
         s.misses = sel.misses;
         s.refused = sel.refused;
         s.residentNodes = residentNodes;
@@ -237,7 +268,13 @@ struct Player::Impl {
         s.memoryEstimatePct = options.memoryBudget ? 100 * s.memoryEstimateBytes / double(options.memoryBudget) : NAN;
         s.distance = distance;
         s.stallMs = loader.takeLongestWaitMs();
-        front = std::move(sel.drawn);
+        s.policy = policy->name();
+        s.benefit = frontBenefit(skeleton, account.items, projection, visible);
+        s.optimisationMs = sel.optimisationMs >= 0 ? sel.optimisationMs : s.selectionMs;
+        s.iterations = sel.iterations;
+        frontSkips = sel.skipsBlocks;
+        s.leftoverMs = s.targetMs - s.estimateMs;
+        front = std::move(account.items);
         ++frameIndex;
         return s;
     }
@@ -260,5 +297,6 @@ double Player::vTime() const { return impl_->vTime; }
 double Player::overheadMs() const { return impl_->overhead; }
 double Player::hlod0ShareMs() const { return impl_->share; }
 bool Player::resident(uint32_t node) const { return impl_->resident[node]; }
+bool Player::frontSkipsBlocks() const { return impl_->frontSkips; }
 
 }  // namespace hlod

@@ -8,6 +8,7 @@
 #include "formats/db.h"
 #include "player/feedback.h"
 #include "player/node_source.h"
+#include "player/policy.h"
 #include "player/renderer.h"
 
 #include <cstdint>
@@ -34,6 +35,12 @@ struct PlayerOptions {
     double initialVTime = 0;            // ms per unit of cost; 0: measured at start (all hlod0 drawn)
     double overheadMs = -1;             // fixed overhead; < 0: measured at start with drawing off
     FrameOptions frameOptions;          // passed to Renderer::drawFrame
+    std::string policy = "thesis";      // selection policy by name (player/policy.h, player/POLICIES.md)
+    PolicyOptions policyOptions;        // its settings ("policy.setting" -> value)
+    double viewportHeight = 720;
+    // Every node decoded and uploaded at start and never evicted (Funkhouser & Séquin 1993 §7 ran
+    // from memory): `hlod compare --preload`. A node that cannot load then ends the start-up.
+    bool preload = false;        // pixels: the common benefit and pixel thresholds (player/benefit.h)
     // A node below hlod0 that cannot be read or decoded: false (default) skips it for good (its
     // parent stays drawn, onLoadFailure is told once); true (`--strict`) makes frame() throw.
     bool strictLoads = false;
@@ -67,6 +74,13 @@ struct FrameStats {
     uint32_t refused = 0;            // sibling sets, all loaded, refused because cumHyst < 0
     double stallMs = 0;              // longest render-thread wait on the loader's lock
     double selectionMs = 0;          // CPU time of the traversal (§5.2 running time)
+    // Columns shared by every selection policy (player/POLICIES.md), appended after the per-level ones.
+    const char* policy = "";         // the policy's registry name
+    double benefit = 0;              // common benefit of the front (player/benefit.h)
+    double optimisationMs = 0;       // the policy's optimisation proper (= selectionMs unless it says)
+    uint32_t iterations = 0;         // the policy's unit of work (thesis: nodes considered)
+    uint64_t visibleTriangles = 0;   // triangles full detail would draw for the drawn visible nodes
+    double leftoverMs = 0;           // target_ms - est_ms: budget the front left unused by the estimate
 };
 
 class Player {
@@ -92,6 +106,7 @@ public:
     double overheadMs() const;
     double hlod0ShareMs() const;
     bool resident(uint32_t node) const;
+    bool frontSkipsBlocks() const;            // the last front left visible blocks out on purpose
 
 private:
     struct Impl;

@@ -14,7 +14,8 @@ std::vector<FrameStats> replayPath(Player& player, const CameraPath& path, const
     while (t <= path.duration() && (options.maxFrames == 0 || frames.size() < options.maxFrames)) {
         FrameStats s = player.frame(sampleCameraPath(path, t, options.aspect), t);
         if (onFrame) onFrame(s);
-        t += std::max(s.actualMs, options.minFrameMs) / 1000.0;
+        t = options.fixedStepMs > 0 ? double(frames.size() + 1) * options.fixedStepMs / 1000.0
+                                    : t + std::max(s.actualMs, options.minFrameMs) / 1000.0;
         frames.push_back(std::move(s));
     }
     return frames;

@@ -16,6 +16,9 @@ struct ReplayOptions {
     uint64_t maxFrames = 0;       // 0: until the path ends
     double aspect = 16.0 / 9.0;
     double minFrameMs = 0.1;      // simulated time advances at least this much per frame
+    // > 0: fixed-step mode, frame i sampled at i x fixedStepMs whatever the frames took, so that
+    // every policy sees the same viewpoints (Funkhouser & Séquin 1993 Fig. 7; `hlod compare`).
+    double fixedStepMs = 0;
 };
 
 std::vector<FrameStats> replayPath(Player& player, const CameraPath& path, const ReplayOptions& options,

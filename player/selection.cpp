@@ -3,8 +3,11 @@
 // hysteresis counter and the cumulative hysteresis rule (cumHyst < 0 draws the parent,
 // otherwise all the siblings are visited); a visible sibling that is not loaded forces the
 // parent; §5.2 option: switch to children only when all of them are loaded. Toggles are
-// counted by the rule of §6.5, without the switches that culling causes (player/STATS.md).
+// counted by the rule of §6.5, without the switches that culling causes (player/STATS.md), by
+// the accounting every policy shares (player/front.cpp).
 #include "player/selection.h"
+
+#include "player/front.h"
 
 #include <algorithm>
 #include <cmath>
@@ -51,7 +54,7 @@ struct Traversal {
     const Evaluate& evaluate;
     SelectionState& state;
     std::span<const uint8_t> resident;
-    Selection out;
+    PolicyFront out;
     std::deque<uint32_t> pending;  // visible nodes whose children are to be considered (FIFO)
     std::vector<uint32_t> siblings;
     std::vector<double> hysts;
@@ -60,34 +63,30 @@ struct Traversal {
         return params.vTime * std::max(double(skeleton.nodes[id].cost), 1.0);
     }
 
-    // §6.5: "we count each time a node gets upgraded to its children between successive frames
-    // [...] each downgrade from sibling nodes to a parent node. We do not count nodes that are
-    // culled away between frames." An up toggle is Drawn -> Refined from a countable Drawn; a
-    // down toggle is Refined -> Drawn by the hysteresis rule (cumHyst < 0) only. `reason` is
-    // why a Drawn node is drawn (unused for Refined).
-    void setRole(uint32_t id, DrawState role, DrawReason reason = DrawReason::Leaf) {
-        NodeState& s = state.nodes[id];
-        DrawState previous = state.role(id);
-        const bool up = previous == DrawState::Drawn && role == DrawState::Refined && s.upCountable;
-        const bool down = previous == DrawState::Refined && role == DrawState::Drawn && reason == DrawReason::Hysteresis;
-        out.upToggles += up, out.downToggles += down;
-        if (up || down) {
-            out.reversals += s.toggledTo == previous && state.frame - s.toggleFrame <= kReversalWindow;
-            s.toggledTo = role;
-            s.toggleFrame = state.frame;
-        }
-        if (role == DrawState::Drawn) {
-            const bool missContinues = previous == DrawState::Refined || (previous == DrawState::Drawn && !s.upCountable);
-            s.upCountable = reason == DrawReason::Hysteresis || (reason == DrawReason::Miss && !missContinues);
-        }
-        s.role = role;
-        s.roleFrame = state.frame;
+    void draw(uint32_t id, DrawReason reason) {
+        out.drawn.push_back({id, reason});
+        if (params.passRemainders) passRemainder(id);
     }
 
-    void draw(uint32_t id, DrawReason reason) {
-        setRole(id, DrawState::Drawn, reason);
-        out.drawn.push_back({id, skeleton.nodes[id].level});
-        out.drawnCost += skeleton.nodes[id].cost;
+    // thesis-rh (§6.6 future work, "accumulate unused time slices and give it to other nodes"; the
+    // passing rule of Hernández & Beneš, Robin Hood, §5 eqs 2-4): a drawn node leaves
+    // timeSlice - timeNeeded unused; it goes to the next sibling of its set still to be
+    // considered (the front of the FIFO when it shares the parent). The last sibling's
+    // remainder is lost. A refined node passes nothing: its children split its slice.
+    void passRemainder(uint32_t id) {
+        if (pending.empty() || skeleton.nodes[pending.front()].parent != skeleton.nodes[id].parent) return;
+        double left = state.nodes[id].timeSlice - timeNeeded(id);
+        if (left <= 0) return;
+        NodeState& next = state.nodes[pending.front()];
+        next.timeSlice += left;
+        next.received += left;
+    }
+
+    // Robin Hood processes instances "from simple to complex" (§5): thesis-rh orders each visible
+    // sibling set by timeNeeded, ascending (ties by id), before it joins the FIFO.
+    void orderSiblings() {
+        if (!params.passRemainders) return;
+        std::stable_sort(siblings.begin(), siblings.end(), [&](uint32_t a, uint32_t b) { return timeNeeded(a) < timeNeeded(b); });
     }
 
     // Evaluates one node's priority; a visible node joins `siblings`. Returns the priority it
@@ -119,6 +118,7 @@ struct Traversal {
         for (uint32_t id : siblings) {
             NodeState& s = state.nodes[id];
             s.timeSlice = prioritySum > 0 ? shareTime * s.priority / prioritySum : shareTime / siblings.size();
+            s.received = 0;
             if (!s.evaluated) {
                 s.hyst = params.initialHyst;
                 s.evaluated = true;
@@ -151,7 +151,7 @@ struct Traversal {
             out.misses += unloaded;
             return draw(parent, DrawReason::Miss);
         }
-        setRole(parent, DrawState::Refined);
+        orderSiblings();
         pending.insert(pending.end(), siblings.begin(), siblings.end());
     }
 
@@ -160,11 +160,13 @@ struct Traversal {
         if (!roots.empty()) {
             double sum = evaluateRoots();
             sliceTime(params.hlod0Share, sum);  // shareTime = the hlod0 share at the roots
+            orderSiblings();
             pending.assign(siblings.begin(), siblings.end());
         }
         while (!pending.empty()) {
             uint32_t id = pending.front();
             pending.pop_front();
+            ++out.iterations;
             consider(id);
         }
     }
@@ -181,12 +183,27 @@ struct Traversal {
 
 }  // namespace
 
-Selection selectFront(const Skeleton& skeleton, const SelectionParams& params, const Evaluate& evaluate,
-                      SelectionState& state, std::span<const uint8_t> resident) {
+PolicyFront traverseThesis(const Skeleton& skeleton, const SelectionParams& params, const Evaluate& evaluate,
+                           SelectionState& state, std::span<const uint8_t> resident) {
     Traversal t{skeleton, params, evaluate, state, resident, {}, {}, {}, {}};
     t.run();
-    ++state.frame;
     return std::move(t.out);
+}
+
+Selection selectFront(const Skeleton& skeleton, const SelectionParams& params, const Evaluate& evaluate,
+                      SelectionState& state, std::span<const uint8_t> resident) {
+    PolicyFront front = traverseThesis(skeleton, params, evaluate, state, resident);
+    FrontAccount account = accountFront(skeleton, state, front.drawn);
+    Selection sel;
+    sel.drawn = std::move(account.items);
+    sel.visited = std::move(front.visited);
+    sel.drawnCost = account.drawnCost;
+    sel.upToggles = account.upToggles;
+    sel.downToggles = account.downToggles;
+    sel.reversals = account.reversals;
+    sel.misses = front.misses;
+    sel.refused = front.refused;
+    return sel;
 }
 
 }  // namespace hlod

@@ -56,7 +56,8 @@ struct NodeState {
     double hyst = 0;         // hysteresis_n (§4.2), in [-c_hystLimit, c_hystLimit]
     double priority = 0;     // last computed priority
     double frustumVis = 0;   // last computed frustumVis
-    double timeSlice = 0;    // eq. 4.1, last frame it was evaluated
+    double timeSlice = 0;    // eq. 4.1, last frame it was evaluated (thesis-rh: plus `received`)
+    double received = 0;     // thesis-rh: time passed on by the previous sibling this frame
     bool evaluated = false;  // hyst has been initialised
     DrawState role = DrawState::None;  // role in frame `roleFrame`
     uint64_t roleFrame = 0;
@@ -93,6 +94,9 @@ struct SelectionParams {
     // every later switch (player/SELECTION.md).
     double initialHyst = -Constants{}.hystSwitch;
     bool requireLoadedChildren = false;
+    // thesis-rh: a drawn node passes its unused slice on to the next sibling of its set, siblings
+    // taken from simple to complex (thesis §6.6 future work; Robin Hood §5). Off: the thesis.
+    bool passRemainders = false;
 };
 
 SelectionParams selectionParams(const Constants& c, double hlod0Share, double vTime, bool requireLoadedChildren);
@@ -107,8 +111,16 @@ struct Selection {
     uint32_t refused = 0;            // all-loaded sibling sets refused because cumHyst < 0
 };
 
-// One breadth-first, top-down traversal (§4.2). `state` is updated (hysteresis, roles);
-// `resident` (one byte per node) tells which nodes may be drawn.
+struct PolicyFront;  // player/front.h
+
+// One breadth-first, top-down traversal (§4.2): the front and each drawn node's reason, the
+// visited nodes (their priorities set in `state`); hysteresis and time slices are updated,
+// roles are not (accountFront does that for every policy). `resident` (one byte per node) tells
+// which nodes may be drawn.
+PolicyFront traverseThesis(const Skeleton& skeleton, const SelectionParams& params, const Evaluate& evaluate,
+                           SelectionState& state, std::span<const uint8_t> resident);
+
+// traverseThesis, then accountFront (roles, toggles; advances state.frame).
 Selection selectFront(const Skeleton& skeleton, const SelectionParams& params, const Evaluate& evaluate,
                       SelectionState& state, std::span<const uint8_t> resident);
 

@@ -18,6 +18,7 @@ std::vector<std::string> statsHeader(uint32_t levels) {
     std::vector<std::string> h(std::begin(kStatsColumns), std::end(kStatsColumns));
     for (uint32_t l = 0; l < levels; ++l) h.push_back("nodes_l" + std::to_string(l));
     for (uint32_t l = 0; l < levels; ++l) h.push_back("tris_l" + std::to_string(l));
+    h.insert(h.end(), std::begin(kPolicyColumns), std::end(kPolicyColumns));
     return h;
 }
 
@@ -45,12 +46,12 @@ void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels) {
     os << buf;
     for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.nodesPerLevel.size() ? s.nodesPerLevel[l] : 0);
     for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.trianglesPerLevel.size() ? s.trianglesPerLevel[l] : 0);
-    os << '\n';
+    std::snprintf(buf, sizeof buf, ",%s,%.6g,%.4f,%u,%llu,%.4f\n", s.policy, s.benefit, s.optimisationMs, s.iterations,
+                  (unsigned long long)s.visibleTriangles, s.leftoverMs);
+    os << buf;
 }
 
-namespace {
-
-Distribution distribution(std::vector<double> v) {
+Distribution distributionOf(std::vector<double> v) {
     Distribution d;
     if (v.empty()) return d;
     double sum = 0;
@@ -64,6 +65,8 @@ Distribution distribution(std::vector<double> v) {
     d.max = v.back();
     return d;
 }
+
+namespace {
 
 nlohmann::json toJson(const Distribution& d) { return {{"mean", d.mean}, {"sd", d.sd}, {"p99", d.p99}, {"max", d.max}}; }
 
@@ -100,10 +103,10 @@ StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames
         if (f.estimateMs > 0) est.push_back(100 * (f.actualMs - f.estimateMs) / f.estimateMs);  // §6.3 footnote 2
         if (f.estimateNoFeedbackMs > 0) estNoFb.push_back(100 * (f.actualMs - f.estimateNoFeedbackMs) / f.estimateNoFeedbackMs);
     }
-    s.frameMs = distribution(ms);
-    s.errorMs = distribution(err);
-    s.estimateErrorPct = distribution(est);
-    s.estimateNoFbErrorPct = distribution(estNoFb);
+    s.frameMs = distributionOf(ms);
+    s.errorMs = distributionOf(err);
+    s.estimateErrorPct = distributionOf(est);
+    s.estimateNoFbErrorPct = distributionOf(estNoFb);
     size_t counted = frames.size() - s.warmupFrames;
     const double toggles = double(s.upToggles + s.downToggles);
     s.togglesPerFrame = counted ? toggles / counted : 0;
@@ -111,7 +114,7 @@ StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames
     s.togglesPerDistance = s.distance > 0 ? toggles / s.distance : 0;
     s.toggleWindows = windows.size();
     if (!windows.empty()) {
-        Distribution w = distribution(windows);
+        Distribution w = distributionOf(windows);
         s.windowTogglesMean = w.mean;
         s.windowTogglesMin = *std::min_element(windows.begin(), windows.end());
         s.windowTogglesMax = w.max;

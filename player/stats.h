@@ -14,11 +14,16 @@
 namespace hlod {
 
 // The fixed columns, in order. Per-level columns follow: nodes_l0..nodes_l{L-1}, then
-// tris_l0..tris_l{L-1}, where L is the database's level count.
+// tris_l0..tris_l{L-1}, where L is the database's level count; then kPolicyColumns.
 inline constexpr const char* kStatsColumns[] = {
     "frame", "time_s", "distance", "target_ms", "est_nofb_ms", "est_ms", "actual_ms", "v_time", "hlod0_share_ms",
     "nodes_drawn", "tris_drawn", "up_toggles", "down_toggles", "reversals", "resident_nodes", "resident_bytes",
     "memory_estimate_bytes", "memory_estimate_pct", "loads", "evictions", "failed_loads", "misses", "refused", "stall_ms", "selection_ms"};
+
+// The columns every selection policy shares (player/POLICIES.md), after the per-level ones, so that
+// the columns before them keep their positions.
+inline constexpr const char* kPolicyColumns[] = {"policy", "benefit", "optimisation_ms", "iterations", "visible_tris",
+                                                 "leftover_ms"};
 
 std::vector<std::string> statsHeader(uint32_t levels);
 
@@ -30,6 +35,8 @@ void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels);
 struct Distribution {
     double mean = 0, sd = 0, p99 = 0, max = 0;
 };
+// Mean, sample sd, nearest-rank p99 and max (all 0 when empty).
+Distribution distributionOf(std::vector<double> values);
 
 // Toggles counted over consecutive windows of kToggleWindow frames after the warm-up (the thesis
 // shows 400 frames of its walk-through with 3 toggles, §6.5 Fig. 6.6a).

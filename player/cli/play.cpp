@@ -38,6 +38,7 @@ struct PlayArgs {
     std::optional<double> flatRate;  // --model-ms-per-flat-tri; default: consistent with c_textured
     ConstantOptions constants{"play", kUsedByPlayer};
     std::string calibration;
+    std::vector<std::string> policySettings;  // --policy-set P.NAME=VALUE
 };
 
 void writePng(const std::string& file, const Image& image) {
@@ -103,6 +104,11 @@ int runPlay(PlayArgs& a) {
     }
     if (!a.framesDir.empty() && a.renderer != "gl") throw std::invalid_argument("--frames-dir needs --renderer gl");
     if (a.every == 0) throw std::invalid_argument("--every must be at least 1");
+    a.player.policyOptions = parsePolicySettings(a.policySettings);
+    makePolicy(a.player.policy, a.player.policyOptions);  // an unknown name is a usage error before any work
+    std::string names[] = {a.player.policy};
+    checkPolicySettings(names, a.player.policyOptions);
+    a.player.viewportHeight = a.height;
     CameraPath path = readCameraPath(a.path);
     Database db = Database::open(a.db);
     a.player.threadedLoader = !a.syncLoader;
@@ -119,6 +125,7 @@ int runPlay(PlayArgs& a) {
         {"database", a.db},
         {"path", a.path},
         {"renderer", renderer->name()},
+        {"policy", a.player.policy},
         {"model_ms_per_tri", a.renderer == "model" ? std::to_string(a.model.msPerTexturedTriangle) : "-"},
         {"model_ms_per_flat_tri", a.renderer == "model" ? std::to_string(a.model.msPerUntexturedTriangle) : "-"},
         {"memory_budget_bytes", std::to_string(a.player.memoryBudget)},
@@ -182,6 +189,9 @@ void addPlay(CLI::App& app, int& status) {
         ->check(CLI::IsMember({"model", "gl"}));
     sub->add_option("--stats", a->stats, "per-frame CSV to write (player/STATS.md)");
     sub->add_option("--json", a->json, "write the summary as JSON to FILE ('-': stdout)");
+    sub->add_option("--policy", a->player.policy, "selection policy (player/POLICIES.md): " + policyNamesList() +
+                                                      "; default thesis");
+    sub->add_option("--policy-set", a->policySettings, "policy setting P.NAME=VALUE (repeatable; player/POLICIES.md)");
     sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none); lowest-priority nodes are evicted");
     sub->add_flag("--strict", a->player.strictLoads,
                   "a node that cannot be read or decoded ends the run (exit 1); by default it is skipped with "

@@ -22,6 +22,9 @@ void addView(CLI::App& app, int& status);
 // The one line `hlod play` and `hlod view` print on stderr for a node they skip because it
 // cannot be read or decoded: "hlod COMMAND: warning: DB: node N: problem".
 void warnLoadFailure(const std::string& command, const Database& db, const LoadFailure& failure);
+// `hlod compare DB --path P --policies a,b,...`: one path through several selection policies,
+// one table (player/POLICIES.md).
+void addCompare(CLI::App& app, int& status);
 // `hlod calibrate`: measures the render-time model with OpenGL and writes a calibration file.
 void addCalibrate(CLI::App& app, int& status);
 

@@ -4,7 +4,8 @@
 # 35-frame moving averages (Fig. 6.4d, 6.6), memory in MiB and, as the thesis draws it, in
 # percent of the memory budget (`# memory_budget_bytes:` preamble line; c_memory x cost, and the
 # real bytes beside it; 0 without a budget) (Fig. 6.1), the hlod0 share, and per-level shares of
-# nodes and triangles (Fig. 6.2/6.3). Errors: one line naming the file, exit 2.
+# nodes and triangles (Fig. 6.2/6.3). Every field but `policy` (a name) must be a number.
+# Errors: one line naming the file, exit 2.
 function fail(msg) { print name ": " msg > "/dev/stderr"; failed = 1; exit 2 }
 function pct(actual, estimate) { return estimate > 0 ? 100 * (actual - estimate) / estimate : 0 }
 function col(c) { return $(idx[c]) }
@@ -13,6 +14,7 @@ function col(c) { return $(idx[c]) }
 header == 0 {
     header = 1
     for (i = 1; i <= NF; i++) idx[$i] = i
+    policyCol = ("policy" in idx) ? idx["policy"] : 0
     n = split("frame time_s target_ms est_nofb_ms est_ms actual_ms v_time hlod0_share_ms up_toggles down_toggles resident_bytes memory_estimate_bytes nodes_drawn tris_drawn", need, " ")
     for (k = 1; k <= n; k++) if (!(need[k] in idx)) fail("no column '" need[k] "' (not a hlod play statistics log?)")
     levels = 0
@@ -25,7 +27,7 @@ header == 0 {
 }
 {
     if (NF != length(idx)) fail("line " NR ": " NF " fields, header has " length(idx))
-    for (i = 1; i <= NF; i++) if ($i !~ /^-?[0-9.]+([eE][-+]?[0-9]+)?$/ && $i !~ /^-?(nan|inf)$/) fail("line " NR ": field " i " is not a number: '" $i "'")
+    for (i = 1; i <= NF; i++) if (i != policyCol && $i !~ /^-?[0-9.]+([eE][-+]?[0-9]+)?$/ && $i !~ /^-?(nan|inf)$/) fail("line " NR ": field " i " is not a number: '" $i "'")
     rows++
     nofb = pct(col("actual_ms"), col("est_nofb_ms")); fb = pct(col("actual_ms"), col("est_ms"))
     toggles = col("up_toggles") + col("down_toggles")

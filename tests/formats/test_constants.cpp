@@ -1,8 +1,12 @@
 // Constants of thesis Table 6.1: names, parsing, bad values, config files, printing.
+#include "formats/calibration.h"
 #include "formats/constants.h"
+#include "formats/errors.h"
+#include "formats/setting_lines.h"
 
 #include "helpers.h"
 
+#include <functional>
 #include <sstream>
 
 namespace hlod::test {
@@ -84,6 +88,30 @@ TEST(Constants, ConfigFile) {
         EXPECT_EQ(std::string(e.what()).rfind(path + ":2: ", 0), 0u) << e.what();
     }
     EXPECT_THROW(loadConstantsFile(c, dir.file("missing.conf")), std::runtime_error);
+}
+
+// A hand-written settings file is read a bounded line at a time: a line over kMaxSettingLine
+// (here a file of 1 MiB without a newline) is refused at once, naming the file and the line,
+// by both readers; a last line without its newline still counts.
+TEST(Constants, OverlongLinesAreRefusedByTheConstantsAndCalibrationReaders) {
+    TempDir dir;
+    const std::string path = dir.file("long.conf");
+    std::string text = "# hand-written\n" + std::string(1 << 20, 'x');
+    writeFile(path, std::vector<uint8_t>(text.begin(), text.end()));
+    Constants c;
+    for (const auto& read : {std::function<void()>([&] { loadConstantsFile(c, path); }),
+                             std::function<void()>([&] { readCalibration(path); })}) {
+        try {
+            read();
+            FAIL() << "an overlong line was accepted";
+        } catch (const InputError& e) {
+            EXPECT_EQ(std::string(e.what()), path + ":2: line longer than " + std::to_string(kMaxSettingLine) + " characters");
+        }
+    }
+    text = "c_memory = 1000\nc_fore = 0.25";  // no final newline
+    writeFile(path, std::vector<uint8_t>(text.begin(), text.end()));
+    loadConstantsFile(c, path);
+    EXPECT_EQ(c.fore, 0.25);
 }
 
 TEST(Constants, PairsRoundTripAndPrint) {

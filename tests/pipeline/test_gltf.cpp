@@ -165,6 +165,32 @@ TEST(Gltf, EmbeddedAndExternalImages) {
     EXPECT_EQ(x.materials[0].texturePath, std::filesystem::canonical(dir.file("atlas.png")).string());
 }
 
+// Embedded images that cannot be used are TextureProblems that leave their material untextured,
+// as a missing texture file does: a PNG whose header claims 20000 x 16385 texels (more than
+// kMaxTextureTexels: a decompression bomb of a few hundred bytes) is never decoded, and bytes
+// that are no image are reported as undecodable.
+TEST(GltfBadInput, EmbeddedImagesThatCannotBeUsedLeaveTheMaterialUntextured) {
+    TempDir dir;
+    std::vector<uint8_t> bomb = encodeTexture(testImage(16, 8), Codec::Png).bytes;
+    ASSERT_GT(bomb.size(), 24u);
+    const uint32_t claimed[2] = {20000, 16385};  // IHDR width and height, big-endian, at bytes 16 and 20
+    for (int k = 0; k < 2; ++k)
+        for (int b = 0; b < 4; ++b) bomb[16 + 4 * k + b] = uint8_t(claimed[k] >> (24 - 8 * b));
+    const std::vector<uint8_t> garbage(64, 0x5a);
+    for (const auto& [bytes, expected] : {std::pair{bomb, std::string("20000x16385")}, std::pair{garbage, std::string("cannot be decoded")}}) {
+        tinygltf::Model model = modelOf(terrain(4).mesh);
+        tinygltf::Image image;
+        image.uri = "data:image/png;base64," + base64(bytes);
+        addTexturedMaterial(model, image);
+        save(model, dir.file("bad.gltf"));
+        const SourceMesh mesh = readMesh(dir.file("bad.gltf"));
+        EXPECT_FALSE(mesh.materials[0].image);
+        EXPECT_TRUE(mesh.materials[0].texturePath.empty());
+        ASSERT_EQ(mesh.stats.textureProblems.size(), 1u);  // README "Inputs: textures": counted, fatal with --strict
+        EXPECT_NE(mesh.stats.textureProblems[0].what.find(expected), std::string::npos) << mesh.stats.textureProblems[0].what;
+    }
+}
+
 double triangleNormalZ(const MeshData& m, size_t t) {
     const float* a = &m.positions[3 * m.indices[3 * t]];
     const float* b = &m.positions[3 * m.indices[3 * t + 1]];

@@ -131,13 +131,13 @@ TEST(Textures, AnUndecodableEmbeddedGltfImageIsATextureProblem) {
         std::ofstream(dir.file("t.gltf")) << triangleGltf("data:image/png;base64," + base64(bytes));
         const SourceMesh s = readMesh(dir.file("t.gltf"));
         ASSERT_EQ(s.stats.textureProblems.size(), 1u);
-        EXPECT_NE(s.stats.textureProblems[0].what.find(dir.file("t.gltf") + ": image 0 does not decode"), std::string::npos)
+        EXPECT_NE(s.stats.textureProblems[0].what.find(dir.file("t.gltf") + ": image 0 cannot be decoded"), std::string::npos)
             << s.stats.textureProblems[0].what;
         EXPECT_EQ(s.stats.textureProblems[0].material, "skin");
         EXPECT_FALSE(s.materials[0].image);
         const RunResult strict = runHlod({"build", dir.file("t.gltf"), "-o", dir.file("t.hlod"), "--strict"});
         EXPECT_EQ(strict.exitCode, 2) << strict.outAndErr();
-        EXPECT_NE(strict.err.find("image 0 does not decode"), std::string::npos) << strict.err;
+        EXPECT_NE(strict.err.find("image 0 cannot be decoded"), std::string::npos) << strict.err;
         const RunResult lenient = runHlod({"build", dir.file("t.gltf"), "-o", dir.file("t.hlod")});
         EXPECT_EQ(lenient.exitCode, 0) << lenient.outAndErr();
         EXPECT_NE(lenient.out.find("material 'skin' left untextured"), std::string::npos) << lenient.out;

@@ -361,3 +361,28 @@ TEST(CameraPath, WalkOverRoughSurfacesKeepsASteadyEyeHeight) {
     EXPECT_TRUE(std::isnan(surfaces.lowest(-10, -10)));
     EXPECT_NEAR(surfaces.lowest(2.5, 7.5), tops[40], 1e-5);
 }
+
+// Robin Hood's path kinds (Table 2): `line` keeps one heading at walking speed; `zigzag` turns
+// sharply exactly three times.
+TEST(CameraPath, LineAndZigzagHaveStraightLegs) {
+    Skeleton s = test::gridSkeleton(4, 4, 2, 16, 50);
+    for (PathKind kind : {PathKind::Line, PathKind::Zigzag}) {
+        PathOptions o;
+        o.kind = kind;
+        CameraPath path = generatePath(s, o);
+        ASSERT_GT(path.keys.size(), 10u);
+        int turns = 0;
+        for (size_t i = 1; i < path.keys.size(); ++i) {
+            const double* a = path.keys[i - 1].orientation;
+            const double* b = path.keys[i].orientation;
+            double dot = std::abs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
+            turns += dot < 0.99;
+            if (dot < 0.99 || i + 1 == path.keys.size()) continue;  // a corner cuts the chord; the end is clamped
+            double dx = path.keys[i].position[0] - path.keys[i - 1].position[0];
+            double dy = path.keys[i].position[1] - path.keys[i - 1].position[1];
+            EXPECT_NEAR(std::hypot(dx, dy) / (path.keys[i].time - path.keys[i - 1].time), 1.5, 1e-6);
+        }
+        EXPECT_EQ(turns, kind == PathKind::Line ? 0 : 3);
+    }
+    EXPECT_EQ(parsePathKind("zigzag"), PathKind::Zigzag);
+}

@@ -20,6 +20,10 @@ TEST(Stats, HeaderAndRowsAgree) {
     f.nodesPerLevel = {1, 2, 3};
     f.trianglesPerLevel = {10, 20, 30};
     f.actualMs = 12.5;
+    f.policy = "thesis";
+    f.benefit = 1234.5;
+    f.iterations = 7;
+    f.visibleTriangles = 99;
     writeStatsRow(os, f, 3);
     std::istringstream in(os.str());
     std::string constants, db, header, row;
@@ -34,7 +38,9 @@ TEST(Stats, HeaderAndRowsAgree) {
     auto count = [](const std::string& s) { return std::count(s.begin(), s.end(), ','); };
     EXPECT_EQ(count(header), count(row));
     EXPECT_NE(row.find(",6,60,"), std::string::npos);  // nodes_drawn, tris_drawn
-    EXPECT_TRUE(row.ends_with(",1,2,3,10,20,30")) << row;
+    EXPECT_NE(row.find(",1,2,3,10,20,30,thesis,1234.5,"), std::string::npos) << row;  // per-level, then policy columns
+    EXPECT_TRUE(header.ends_with(",tris_l2,policy,benefit,optimisation_ms,iterations,visible_tris,leftover_ms")) << header;
+    EXPECT_NE(row.find(",7,99,"), std::string::npos) << row;
 }
 
 TEST(Stats, SummaryMeanSdP99AndToggles) {

@@ -1,0 +1,96 @@
+// The table of selection policies by name (player/policy.h "HOW TO ADD A POLICY").
+#include "player/policy.h"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace hlod {
+
+std::unique_ptr<SelectionPolicy> makeThesisPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeThesisRhPolicy(const PolicyOptions& options);
+// Baselines and screen-space error (player/policy_baselines.cpp, player/policy_sse.cpp).
+std::unique_ptr<SelectionPolicy> makeNonePolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeStaticPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeFeedbackPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeSsePolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeSseBudgetPolicy(const PolicyOptions& options);
+
+// Solvers over blocks x levels (player/choice.h): declare their factories below this line.
+
+
+namespace {
+
+const PolicyInfo kPolicies[] = {
+    {"thesis", "the thesis engine: time slices (eq. 4.1), hysteresis, cumHyst (§4.2)", "", makeThesisPolicy},
+    {"thesis-rh", "thesis with unused slices passed on to the next siblings (§6.6 future work; Robin Hood §5)", "",
+     makeThesisRhPolicy},
+    // Baselines and screen-space error.
+    {"none", "everything at full detail: every visible leaf (FS 1993 §7 a)", "", makeNonePolicy},
+    {"static", "highest level whose average triangle covers >= N pixels (FS 1993 §7 b)", "pixels", makeStaticPolicy},
+    {"feedback", "static with N scaled by last frame's actual / target (FS 1993 §7 c)", "pixels", makeFeedbackPolicy},
+    {"sse", "refine while projected geometric error > tolerance pixels (3D Tiles, Nexus)", "tolerance", makeSsePolicy},
+    {"sse-budget", "sse with the tolerance scaled by sqrt(actual / target) each frame", "tolerance", makeSseBudgetPolicy},
+
+    // Solvers over blocks x levels (player/choice.h): their rows go below this line.
+
+};
+
+}  // namespace
+
+double PolicyOptions::get(const std::string& key, double fallback) const {
+    auto it = values.find(key);
+    return it == values.end() ? fallback : it->second;
+}
+
+std::span<const PolicyInfo> policyRegistry() { return kPolicies; }
+
+std::string policyNamesList() {
+    std::string s;
+    for (const PolicyInfo& p : kPolicies) s += (s.empty() ? "" : ", ") + std::string(p.name);
+    return s;
+}
+
+static const PolicyInfo* findPolicy(const std::string& name) {
+    for (const PolicyInfo& p : kPolicies)
+        if (name == p.name) return &p;
+    return nullptr;
+}
+
+void checkPolicySettings(std::span<const std::string> names, const PolicyOptions& options) {
+    for (const auto& [key, value] : options.values) {
+        bool known = false;
+        for (const std::string& name : names) {
+            const PolicyInfo* p = findPolicy(name);
+            if (!p || key.rfind(name + ".", 0) != 0) continue;
+            std::istringstream settings(p->settings);
+            for (std::string setting; settings >> setting;) known |= key.substr(name.size() + 1) == setting;
+        }
+        if (!known) throw std::invalid_argument("unknown policy setting '" + key + "' for the chosen policies");
+    }
+}
+
+PolicyOptions parsePolicySettings(std::span<const std::string> settings) {
+    PolicyOptions options;
+    for (const std::string& text : settings) {
+        size_t eq = text.find('=');
+        size_t used = 0;
+        double value = 0;
+        try {
+            if (eq != std::string::npos) value = std::stod(text.substr(eq + 1), &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (eq == std::string::npos || text.find('.') > eq || used == 0 || used != text.size() - eq - 1)
+            throw std::invalid_argument("--policy-set '" + text + "': expected POLICY.SETTING=NUMBER");
+        options.values[text.substr(0, eq)] = value;
+    }
+    return options;
+}
+
+std::unique_ptr<SelectionPolicy> makePolicy(const std::string& name, const PolicyOptions& options) {
+    const PolicyInfo* p = findPolicy(name);
+    if (!p) throw std::invalid_argument("unknown policy '" + name + "' (known: " + policyNamesList() + ")");
+    return p->make(options);
+}
+
+}  // namespace hlod

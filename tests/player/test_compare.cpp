@@ -1,0 +1,116 @@
+// The common benefit (player/benefit.h), the `hlod compare` reduction (player/compare.h) and
+// the fixed-step replay: values checked against hand computations.
+#include "player/benefit.h"
+#include "player/compare.h"
+#include "player/cost_model_renderer.h"
+#include "player/replay.h"
+#include "tests/support/memory_source.h"
+#include "tests/support/trees.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+using namespace hlod;
+
+TEST(Benefit, ProjectedAreaTimesAccuracyFromTheGeometricError) {
+    Skeleton s;
+    // 10 x 10 m, 200 triangles: staticBenefit = sqrt(200 x 100), surface area 100 m^2.
+    uint32_t id = test::addNode(s, kNone, {{-5, -5, -100}, {5, 5, -100}}, 200);
+    test::linkSkeleton(s);
+    Node& n = s.nodes[id];
+    Camera cam;  // at the origin looking down -Z, 60 degree vertical field of view
+    Projection p = makeProjection(cam, 720);
+    double f = 360 / std::tan(M_PI / 6);
+    EXPECT_NEAR(p.focalPx, f, 1e-9);
+    EXPECT_NEAR(projectedAreaPx(n, p), 100 * f * f / (100 * 100), 1e-3);  // staticBenefit is a float
+    n.geometricError = float(100 / f);  // exactly one pixel at 100 m
+    EXPECT_NEAR(projectedErrorPx(n, p), 1, 1e-6);
+    EXPECT_NEAR(nodeBenefit(n, p), 0.5 * projectedAreaPx(n, p), 1e-3);  // accuracy 1/2 at one pixel
+    n.geometricError = 0;
+    EXPECT_NEAR(nodeBenefit(n, p), projectedAreaPx(n, p), 1e-9);  // exact: accuracy 1
+    cam.position[2] = -99.5;  // closer than the box: the size is capped at the viewport
+    Projection near = makeProjection(cam, 720);
+    EXPECT_NEAR(projectedAreaPx(n, near), near.viewportPx, 1e-6);
+    std::vector<DrawItem> drawn = {{id, 0}};
+    EXPECT_EQ(frontBenefit(s, drawn, p, [](uint32_t) { return false; }), 0);  // invisible nodes add nothing
+    EXPECT_NEAR(frontBenefit(s, drawn, p, [](uint32_t) { return true; }), nodeBenefit(n, p), 1e-9);
+}
+
+namespace {
+
+PolicyRun run(const std::string& name, std::vector<double> actual, std::vector<double> benefit) {
+    PolicyRun r;
+    r.policy = name;
+    for (size_t i = 0; i < actual.size(); ++i) {
+        FrameStats f;
+        f.frame = i;
+        f.targetMs = 10;
+        f.actualMs = actual[i];
+        f.benefit = benefit[i];
+        f.selectionMs = 0.5 * i;
+        f.trianglesPerLevel = {100, uint64_t(i)};
+        f.distance = 2.0 * i;
+        f.upToggles = i == 3;
+        r.frames.push_back(f);
+    }
+    return r;
+}
+
+}  // namespace
+
+TEST(Compare, RowsAndGapsToTheOracle) {
+    std::vector<PolicyRun> runs = {run("a", {99, 9, 11, 12}, {1, 50, 60, 80}), run("oracle", {99, 10, 10, 10}, {1, 100, 0, 80})};
+    std::vector<double> gaps = benefitGaps(runs[0], runs[1]);
+    EXPECT_NEAR(gaps[1], 0.5, 1e-12);
+    EXPECT_TRUE(std::isnan(gaps[2]));  // the oracle's benefit is 0: no gap
+    EXPECT_NEAR(gaps[3], 0, 1e-12);
+    std::vector<CompareRow> rows = compareRows(runs, &runs[1], 1);  // frame 0 is warm-up
+    ASSERT_EQ(rows.size(), 2u);
+    const CompareRow& a = rows[0];
+    EXPECT_EQ(a.counted, 3u);
+    EXPECT_NEAR(a.frameMs.mean, 32.0 / 3, 1e-12);
+    EXPECT_EQ(a.frameMs.max, 12);
+    EXPECT_NEAR(a.relErrorP99, 0.2, 1e-12);  // |12 - 10| / 10
+    EXPECT_NEAR(a.relErrorMean, 0.4 / 3, 1e-12);
+    EXPECT_NEAR(a.benefitMean, 190.0 / 3, 1e-12);
+    EXPECT_NEAR(a.gapMean, 0.25, 1e-12);  // frames 1 and 3
+    EXPECT_NEAR(a.togglesPerFrame, 1.0 / 3, 1e-12);
+    EXPECT_NEAR(a.togglesPerMetre, 1.0 / 4, 1e-12);  // 4 m from frame 1 to frame 3
+    EXPECT_NEAR(a.selectionMs.max, 1.5, 1e-12);
+    EXPECT_NEAR(a.trianglesMean, 102, 1e-12);
+    EXPECT_NEAR(rows[1].gapMean, 0, 1e-12);
+    std::vector<CompareRow> noOracle = compareRows(runs, nullptr, 1);
+    EXPECT_TRUE(std::isnan(noOracle[0].gapMean));
+    std::ostringstream csv, text;
+    writeCompareCsv(csv, noOracle);
+    EXPECT_NE(csv.str().find("\na,4,3,"), std::string::npos) << csv.str();
+    EXPECT_NE(csv.str().find(",,"), std::string::npos);  // the empty gap field
+    writeCompareText(text, noOracle);
+    EXPECT_NE(text.str().find("oracle"), std::string::npos);
+    EXPECT_NE(compareJson(noOracle, {}).find("\"gap_mean\": null"), std::string::npos);
+}
+
+// Fixed step: frame i is sampled at i x step whatever the frames took; preload: every node
+// resident before the first frame.
+TEST(Compare, FixedStepReplayAndPreload) {
+    Skeleton s = test::gridSkeleton(2, 2, 3, 512, 50);
+    auto src = memorySource(s);
+    CostModelRenderer renderer;
+    PlayerOptions po;
+    po.threadedLoader = false;
+    po.preload = true;
+    Player player(src, Constants{}, renderer, po);
+    for (uint32_t id = 0; id < s.nodes.size(); ++id) EXPECT_TRUE(player.resident(id));
+    CameraPath path;
+    path.keys.resize(2);
+    path.keys[1].time = 1;
+    path.keys[1].position[0] = 10;
+    ReplayOptions ro;
+    ro.fixedStepMs = 40;
+    auto frames = replayPath(player, path, ro);
+    ASSERT_EQ(frames.size(), 26u);  // 0, 0.04, ..., 1.00 s
+    for (size_t i = 0; i < frames.size(); ++i) EXPECT_NEAR(frames[i].timeSeconds, 0.04 * i, 1e-12);
+    EXPECT_EQ(renderer.uploads(), s.nodes.size());  // nothing loaded twice, nothing evicted
+}
