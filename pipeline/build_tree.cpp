@@ -21,6 +21,7 @@
 #include <cmath>
 #include <deque>
 #include <map>
+#include <optional>
 
 namespace hlod {
 namespace {
@@ -37,10 +38,13 @@ struct Pending {
     uint32_t parentLocal;
 };
 
-// Source textures of one block, loaded on first use.
+// Source textures of one block, loaded on first use. One that fails to decode (truncated,
+// corrupt: its header passed checkTextures) is a TextureProblem and its material untextured in
+// this block, or, with BuildOptions::strict, fatal.
 class TextureCache {
 public:
-    explicit TextureCache(const std::vector<Material>& materials) : materials_(materials) {}
+    TextureCache(const std::vector<Material>& materials, bool strict, std::vector<TextureProblem>& problems, Progress* progress)
+        : materials_(materials), strict_(strict), problems_(problems), progress_(progress) {}
 
     // The material's texture downsampled for `level` (factor); nullptr when untextured.
     const Image* get(uint32_t material, uint32_t level, double factor) {
@@ -49,8 +53,9 @@ public:
         if (!source && materials_[material].texturePath.empty()) return nullptr;
         if (!source) {
             auto it = sources_.find(material);
-            if (it == sources_.end()) it = sources_.emplace(material, loadTexture(materials_[material].texturePath)).first;
-            source = &it->second;
+            if (it == sources_.end()) it = sources_.emplace(material, load(material)).first;
+            if (!it->second) return nullptr;
+            source = &*it->second;
         }
         if (factor <= 1) return source;
         auto it = scaled_.find({material, level});
@@ -59,8 +64,23 @@ public:
     }
 
 private:
+    std::optional<Image> load(uint32_t material) {
+        try {
+            Image image = loadTexture(materials_[material].texturePath);
+            if (progress_) progress_->textureLoaded(uint64_t{image.width} * image.height);
+            return image;
+        } catch (const InputError& e) {
+            if (strict_) throw InputError(std::string(e.what()) + " (--strict)");
+            problems_.push_back({e.what(), materials_[material].name});
+            return std::nullopt;
+        }
+    }
+
     const std::vector<Material>& materials_;
-    std::map<uint32_t, Image> sources_;
+    bool strict_;
+    std::vector<TextureProblem>& problems_;
+    Progress* progress_;
+    std::map<uint32_t, std::optional<Image>> sources_;
     std::map<std::pair<uint32_t, uint32_t>, Image> scaled_;
 };
 
@@ -107,7 +127,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     const uint32_t levelFactor = static_cast<uint32_t>(c.levelFactor);
     BlockStats stats;
     stats.inputTriangles = block.mesh.triangleCount();
-    TextureCache textures(materials);
+    TextureCache textures(materials, options.strict, stats.textureProblems, progress);
     std::deque<Pending> queue;
     Piece welded = weldPiece(block, options.draco.positionStep / 2);  // weld.cpp: chunk borders become interior
     const double rootFactor = static_cast<double>(welded.mesh.triangleCount()) / c.desiredTris;  // §3.2 hlod0

@@ -23,6 +23,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace hlod {
@@ -40,9 +41,19 @@ struct Piece {
     std::vector<uint32_t> materials;  // per triangle, index into the block's material list
 };
 
+// A texture that cannot be used (README "Inputs: textures"): missing, empty, not an image, of an
+// absurd size, or corrupt. By default its material is left untextured and the build goes on,
+// counting it in the summary and the build report; `hlod build --strict` makes it fatal (exit 2).
+struct TextureProblem {
+    std::string what;      // one line naming the file: "INPUT: texture 'PATH' is empty (0 bytes)"
+    std::string material;  // the material left untextured
+    bool operator<(const TextureProblem& o) const { return std::tie(what, material) < std::tie(o.what, o.material); }
+};
+
 struct ReadStats {
     uint64_t degenerateDropped = 0;  // triangles with repeated vertices or zero area
     std::vector<std::string> warnings;
+    std::vector<TextureProblem> textureProblems;
 };
 
 struct SourceMesh {
@@ -102,8 +113,8 @@ bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& 
 size_t readBufferBytes(std::FILE* file);
 
 // Readers. Throw InputError("FILE: problem") on a missing, truncated or corrupt file.
-// References outside the folder of `path` are refused (resolveReference); missing textures give
-// a warning and untextured triangles.
+// References outside the folder of `path` are refused (resolveReference); unusable textures give
+// a TextureProblem (stats) and untextured triangles.
 SourceMesh readPly(const std::string& path, const ReadOptions& options = {});
 SourceMesh readObj(const std::string& path, const ReadOptions& options = {});
 SourceMesh readGltf(const std::string& path, const ReadOptions& options = {});
@@ -117,12 +128,14 @@ SourceMesh readMesh(const std::string& path, const ReadOptions& options = {});  
 inline constexpr uint64_t kMaxTextureTexels = 16384ull * 16384ull;
 
 // input.cpp: rejects NaN/Inf attributes, out-of-range indices and empty meshes (InputError
-// naming `name`), drops degenerate triangles (counted in stats), turns missing textures into
-// warnings (untextured).
+// naming `name`), drops degenerate triangles (counted in stats), turns unusable textures into
+// TextureProblems (untextured).
 void sanitize(SourceMesh& source, const std::string& name);
 // The cross product of the edges is exactly zero (the test sanitize() drops triangles by).
 bool zeroArea(const float* a, const float* b, const float* c);
-// Missing texture files, or no texture coordinates: a warning, and the material is untextured.
+// Every texture file checked up front (textureProblem: missing, empty, not an image, absurd size):
+// a TextureProblem in stats and the material untextured. No texture coordinates: a warning, and
+// the material is untextured.
 void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const std::string& name, ReadStats& stats);
 // The one confinement rule for every file an input refers to (MTL libraries and their
 // textures, PLY TextureFile comments, glTF buffers and images, the meshes of a folder input):
@@ -233,7 +246,11 @@ SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vec
 // factor (sqrt(factor) per side, stb_image_resize box filter), then the UV charts its triangles use (connected
 // triangles; bounding rectangle + 1 texel margin each) repacked into one atlas; UVs rewritten
 // affinely per chart, exactly.
-Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError
+Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError (corrupt, truncated)
+// What makes a texture file unusable, found from its header alone ("is missing", "is empty (0
+// bytes)", "is not a readable image (...)", "has absurd size ..."), or "" when it looks usable
+// (its pixels are decoded, and a truncated or corrupt body found, when a block loads it).
+std::string textureProblem(const std::string& path);
 Image downsampleTexture(const Image& source, double factor);
 Image atlasTexture(const Image& scaled, MeshData& mesh);
 
@@ -267,18 +284,43 @@ struct BuildOptions {
     int jobs = 0;                  // 0 = all cores
     std::string tempDir;           // empty = next to the output
     ReadOptions read;              // --allow-outside-input
+    bool strict = false;           // --strict: a TextureProblem is fatal (InputError, exit 2)
+    std::string up;                // --up y|z; empty: by the input's format (chooseUpAxis)
 };
 
-// progress.cpp: per-stage figures and, on a terminal, a live line (stage, percent, items/s,
-// ETA, current and peak RSS); otherwise one summary line per stage. Thread-safe.
+// build.cpp: the up axis recorded in the database (META "up", FORMAT.md) and why: `requested`
+// (--up) when given; otherwise y for glTF (glTF 2.0 is y-up) and z for OBJ and PLY (the
+// convention of scanners and of every database before the key). A folder takes its meshes'
+// convention; one that mixes glTF with OBJ/PLY is an InputError asking for --up.
+struct UpChoice {
+    std::string axis;    // "y" or "z"
+    std::string reason;
+};
+UpChoice chooseUpAxis(const std::string& input, const std::string& requested);
+
+// progress.cpp: per-stage figures and a progress line at least every `interval` seconds while a
+// stage runs: on a terminal one line redrawn in place (every 0.25 s), otherwise (a pipe, a log
+// file) one plain line per `interval` (5 s), or one JSON object per line with --progress-json.
+// A line names the stage, its percent, the textures loaded so far and an ETA only once the stage
+// has a rate ("ETA --" before). Each stage also ends with one summary line. Thread-safe.
+struct ProgressOptions {
+    bool live = false;          // a terminal: redraw one line in place
+    bool json = false;          // {"stage", "done", "total", "unit", "textures", "texels", "elapsed_s", "eta_s"} per line
+    double interval = 5;        // seconds between lines when not live
+    bool thread = true;         // a ticker thread calls poll(); false: the caller does (tests)
+    std::function<double()> clock;  // seconds; empty = std::chrono::steady_clock
+};
 class Progress {
 public:
-    Progress(std::ostream& out, bool live);
+    Progress(std::ostream& out, bool live);  // ProgressOptions{live}
+    Progress(std::ostream& out, ProgressOptions options);
     ~Progress();
     void beginStage(const std::string& name, uint64_t totalItems, const std::string& unit = "tri");
     void advance(uint64_t items);
+    void textureLoaded(uint64_t texels);  // a source texture decoded (work the item count does not show)
     void endStage();
     void message(const std::string& line);  // a warning or note, on its own line
+    void poll();  // prints the progress line if one is due (the ticker thread calls it)
     std::vector<BuildStage> stages() const;
 
 private:
@@ -323,6 +365,7 @@ struct BlockStats {
     uint64_t degenerateDropped = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<std::string> warnings;
+    std::vector<TextureProblem> textureProblems;  // of reading the block, and textures that failed to decode
 };
 
 // build_tree.cpp: the §3.2 recursion over one block; nodes breadth-first, hlod0 first.
@@ -383,6 +426,7 @@ struct BuildRequest {
 };
 struct BuildSummary {
     uint32_t blockCount = 0;
+    std::vector<TextureProblem> textureProblems;  // distinct, sorted; each material left untextured
     uint64_t inputTriangles = 0;
     std::vector<uint64_t> nodesPerLevel;
 };

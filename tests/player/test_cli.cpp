@@ -234,3 +234,33 @@ TEST_F(Cli, CorruptNodeIsSkippedWithOneWarningUnlessStrict) {
         << r.err;
     EXPECT_FALSE(fs::exists(csv));
 }
+
+// player/CAMERA_PATH.md "Eye height": `hlod path` decodes a cut of the database for the ground
+// and says so; a geometry blob that does not read back is left out with one warning, and the
+// path is still written (exit 0).
+TEST_F(Cli, PathReadsTheGroundAndSurvivesACorruptBlob) {
+    const std::string out = (dir / "p.path").string();
+    RunResult r = runHlod({"path", db, "-o", out});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("ground: the lowest of "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("passes through the geometry between "), std::string::npos) << r.out;
+    EXPECT_EQ(r.err, "");
+    uint64_t offset = 0;
+    {
+        const Database d = Database::open(db);
+        for (const BlobRef& b : d.skeleton().blobs)
+            if (b.kind == BlobKind::Geometry && d.skeleton().nodes[b.node].firstChild == kNone) offset = b.offset + b.size / 2;
+    }
+    ASSERT_GT(offset, 0u);
+    {
+        std::fstream f(db, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(std::streamoff(offset));
+        const char byte = char(f.get() ^ 0x5A);
+        f.seekp(std::streamoff(offset));
+        f.put(byte);
+    }
+    r = runHlod({"path", db, "-o", out});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("hlod path: warning: 1 geometry blobs left out of the ground (first: "), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::exists(out));
+}
