@@ -10,6 +10,7 @@
 //   hlod_bench_bake [--runs N]   (median CPU time of N runs, default 9; single thread)
 #include "pipeline/chart.h"
 #include "pipeline/pipeline.h"
+#include "tests/support/synthetic.h"
 
 #include <algorithm>
 #include <array>
@@ -25,18 +26,6 @@
 using namespace hlod;
 
 namespace {
-
-Image smoothTexture(uint32_t size, int seed) {
-    Image img{size, size, 3, {}};
-    for (uint32_t y = 0; y < size; ++y)
-        for (uint32_t x = 0; x < size; ++x) {
-            const double u = double(x) / size, v = double(y) / size;
-            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::sin(6.0 * u + seed)));
-            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::cos(5.0 * v - seed)));
-            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::sin(4.0 * (u + v) + 2 * seed)));
-        }
-    return img;
-}
 
 // n x n quads over [0, 100]^2, u = x / 100, v = y / 100; material 1 for x >= 50.
 Piece terrain(uint32_t n) {

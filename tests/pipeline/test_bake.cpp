@@ -8,6 +8,7 @@
 #include "helpers.h"
 
 #include "pipeline/chart.h"
+#include "tests/support/synthetic.h"
 
 #include <array>
 #include <cmath>
@@ -15,19 +16,6 @@
 
 namespace hlod::test {
 namespace {
-
-// A smooth RGB texture: low-frequency waves, different per material `seed`.
-Image smoothTexture(uint32_t size, int seed) {
-    Image img{size, size, 3, {}};
-    for (uint32_t y = 0; y < size; ++y)
-        for (uint32_t x = 0; x < size; ++x) {
-            const double u = double(x) / size, v = double(y) / size;
-            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::sin(6.0 * u + seed)));
-            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::cos(5.0 * v - seed)));
-            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::sin(4.0 * (u + v) + 2 * seed)));
-        }
-    return img;
-}
 
 Image constantTexture(uint32_t size, uint8_t r, uint8_t g, uint8_t b) {
     Image img{size, size, 3, {}};
