@@ -38,6 +38,11 @@ void writeBuildReport(const std::string& path, const BuildReport& r) {
     j["output_bytes"] = r.outputBytes;
     j["nodes_per_level"] = r.nodesPerLevel;
     j["texture_problems"] = r.textureProblems;
+    j["nodes"] = nlohmann::json::array();
+    for (const NodeQuality& n : r.nodes)
+        j["nodes"].push_back({{"block", n.block}, {"node", n.node}, {"level", n.level}, {"triangles", n.triangles},
+                              {"texels", n.texels}, {"error_one_sided", n.errorOneSided}, {"error_mean", n.errorMean},
+                              {"error_max", n.errorMax}, {"baked", n.baked}, {"bake_psnr_db", n.bakePsnrDb}});
     std::ofstream out(path);
     if (!(out << j.dump(2) << "\n")) throw std::runtime_error(path + ": cannot write build report");
 }
@@ -68,6 +73,16 @@ std::optional<BuildReport> readBuildReport(const std::string& path) {
     if (j.contains("memory_limit_bytes")) r.memoryLimitBytes = field<uint64_t>(j, "memory_limit_bytes", path);
     if (j.contains("nodes_per_level")) r.nodesPerLevel = field<std::vector<uint64_t>>(j, "nodes_per_level", path);
     if (j.contains("texture_problems")) r.textureProblems = field<std::vector<std::string>>(j, "texture_problems", path);
+    if (j.contains("nodes")) {
+        const auto nodes = field<nlohmann::json>(j, "nodes", path);
+        if (!nodes.is_array()) throw InputError(path + ": \"nodes\" is not an array");
+        for (const auto& n : nodes)
+            r.nodes.push_back({field<uint32_t>(n, "block", path), field<uint32_t>(n, "node", path), field<uint32_t>(n, "level", path),
+                               field<uint64_t>(n, "triangles", path), field<uint64_t>(n, "texels", path),
+                               field<double>(n, "error_one_sided", path), field<double>(n, "error_mean", path),
+                               field<double>(n, "error_max", path), field<bool>(n, "baked", path),
+                               field<double>(n, "bake_psnr_db", path)});
+    }
     return r;
 }
 

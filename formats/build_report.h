@@ -16,6 +16,18 @@ struct BuildStage {
     uint64_t items = 0;
 };
 
+// What the build measured of one node (issue #16): its error against the original surface it
+// stands for (pipeline/error.cpp) and, for a node whose texture was baked (pipeline/bake.cpp),
+// the baked texture's PSNR against the source over the texels its triangles cover.
+struct NodeQuality {
+    uint32_t block = 0, node = 0, level = 0;  // node: index within its block, breadth-first (hlod0 = 0)
+    uint64_t triangles = 0, texels = 0;
+    double errorOneSided = 0;                 // simplified -> original only (the measure before #16)
+    double errorMean = 0, errorMax = 0;       // two-sided; errorMax is the node's stored geometric error before the subtree max
+    bool baked = false;
+    double bakePsnrDb = 0;                    // 0 when not baked
+};
+
 struct BuildReport {
     std::vector<BuildStage> stages;
     uint64_t peakRssBytes = 0, memoryLimitBytes = 0, inputTriangles = 0, outputBytes = 0;
@@ -24,6 +36,7 @@ struct BuildReport {
     // One line per unusable texture (README "Inputs: textures"), its material left untextured;
     // absent from reports written before the key existed (read as none).
     std::vector<std::string> textureProblems;
+    std::vector<NodeQuality> nodes;  // in block order, then breadth-first; absent from older reports
 };
 
 // "<DB>.build.json".

@@ -347,6 +347,10 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
         summary.inputTriangles += stats[b].inputTriangles;
         if (summary.nodesPerLevel.size() < stats[b].nodesPerLevel.size()) summary.nodesPerLevel.resize(stats[b].nodesPerLevel.size());
         for (size_t l = 0; l < stats[b].nodesPerLevel.size(); ++l) summary.nodesPerLevel[l] += stats[b].nodesPerLevel[l];
+        const BlockStats& st = stats[b];
+        for (uint32_t i = 0; i < st.measured.size(); ++i)
+            summary.nodes.push_back({b, i, st.levels[i], st.triangles[i], st.texels[i], st.measured[i].oneSided, st.measured[i].mean,
+                                     st.measured[i].max, st.baked[i] != 0, st.bakePsnr[i]});
     }
     summary.textureProblems.assign(problems.begin(), problems.end());
     ShardInfo shard{blockCount, {}, buildMeta(request.input, blockOptions)};

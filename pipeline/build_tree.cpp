@@ -165,6 +165,12 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         stats.measured.push_back(error);
         stats.baked.push_back(simplified.geometryOnly);
         stats.bakePsnr.push_back(static_cast<float>(psnr));
+        stats.levels.push_back(p.level);
+        uint64_t triangles = 0, texels = 0;
+        for (const SubMesh& part : parts) triangles += part.mesh.triangleCount();
+        for (const Image& image : images) texels += uint64_t(image.width) * image.height;
+        stats.triangles.push_back(triangles);
+        stats.texels.push_back(texels);
         if (leaf) continue;
         for (Piece& child : dividePiece(p.piece, levelFactor, options.planes))  // §3.2: simplification_hlod(i+1)
             queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});

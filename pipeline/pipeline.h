@@ -362,6 +362,8 @@ struct BlockStats {
     std::vector<SurfaceError> measured;  // per local node: its own measure (0 for leaves)
     std::vector<uint8_t> baked;          // per local node: simplified geometry only, texture baked
     std::vector<float> bakePsnr;         // per local node: the baked texture's PSNR (dB), 0 when none
+    std::vector<uint32_t> levels;        // per local node
+    std::vector<uint64_t> triangles, texels;  // per local node, as stored
     uint64_t degenerateDropped = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<std::string> warnings;
@@ -429,6 +431,7 @@ struct BuildSummary {
     std::vector<TextureProblem> textureProblems;  // distinct, sorted; each material left untextured
     uint64_t inputTriangles = 0;
     std::vector<uint64_t> nodesPerLevel;
+    std::vector<NodeQuality> nodes;  // per node of the blocks built (the build report's "nodes")
 };
 BuildSummary runBuild(const BuildRequest& request, Progress& progress);
 

@@ -59,6 +59,7 @@ void writeReport(const std::string& db, const std::vector<BuildStage>& stages, c
     r.cpuSeconds = cpu;
     r.outputBytes = std::filesystem::file_size(db);
     r.nodesPerLevel = summary.nodesPerLevel;
+    r.nodes = summary.nodes;
     for (const TextureProblem& p : summary.textureProblems) r.textureProblems.push_back(p.what + "; material '" + p.material + "' left untextured");
     writeBuildReport(buildReportPath(db), r);
 }

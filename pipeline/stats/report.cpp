@@ -124,6 +124,12 @@ nlohmann::json toJson(const Stats& s) {
             stages.push_back({{"name", st.name}, {"seconds", st.seconds}, {"items", st.items}});
         j["build"] = {{"sidecar", buildReportPath(s.summary.path)}, {"stages", stages}, {"wall_seconds", s.build->wallSeconds},
                       {"cpu_seconds", s.build->cpuSeconds}, {"peak_rss_bytes", s.build->peakRssBytes}};
+        nlohmann::json quality = nlohmann::json::array();
+        for (const LevelQuality& q : levelQuality(s.build->nodes))
+            quality.push_back({{"nodes", q.nodes}, {"error_mean", q.errorMean}, {"error_max", q.errorMax},
+                               {"error_one_sided_max", q.oneSidedMax}, {"baked_nodes", q.baked}, {"bake_psnr_min_db", q.psnrMin},
+                               {"bake_psnr_mean_db", q.psnrMean}, {"texels", q.texels}});
+        j["build"]["measured_per_level"] = quality;
     }
     if (s.city)
         j["synthetic_city"] = {{"manifest", s.city->path}, {"scale", s.city->scale}, {"seed", s.city->seed},
@@ -188,6 +194,17 @@ void printStats(std::ostream& os, const Stats& s) {
                       kTargetSlack, c.worstRatio, versus.c_str());
         else
             os << fmt("level %zu: %s, ok\n", l, versus.c_str());
+    }
+    if (s.build && !s.build->nodes.empty()) {  // what the build measured (two-sided error, baking)
+        os << "measured by the build (" << buildReportPath(s.summary.path) << "): error against the original surface (input units)\n";
+        const std::vector<LevelQuality> quality = levelQuality(s.build->nodes);
+        for (size_t l = 0; l < quality.size(); ++l) {
+            const LevelQuality& q = quality[l];
+            os << fmt("  level %zu: two-sided mean %.3g max %.3g (one-sided max %.3g)", l, q.errorMean, q.errorMax, q.oneSidedMax);
+            if (q.baked) os << fmt(", %llu of %llu nodes baked, PSNR min %.1f mean %.1f dB", (unsigned long long)q.baked,
+                                   (unsigned long long)q.nodes, q.psnrMin, q.psnrMean);
+            os << "\n";
+        }
     }
     if (h0)
         os << "hlod0 resident set (always in memory): " << h0->nodes << " nodes, " << levelTriangles(*h0)

@@ -97,4 +97,26 @@ uint64_t inputTriangles(const Stats& s) {
     return s.build && s.build->inputTriangles ? s.build->inputTriangles : s.leafTriangles;
 }
 
+std::vector<LevelQuality> levelQuality(const std::vector<NodeQuality>& nodes) {
+    std::vector<LevelQuality> levels;
+    for (const NodeQuality& n : nodes) {
+        if (levels.size() <= n.level) levels.resize(n.level + 1);
+        LevelQuality& q = levels[n.level];
+        ++q.nodes;
+        q.texels += n.texels;
+        q.errorMean += n.errorMean;  // summed here, divided below
+        q.errorMax = std::max(q.errorMax, n.errorMax);
+        q.oneSidedMax = std::max(q.oneSidedMax, n.errorOneSided);
+        if (!n.baked) continue;
+        q.psnrMin = q.baked ? std::min(q.psnrMin, n.bakePsnrDb) : n.bakePsnrDb;
+        q.psnrMean += n.bakePsnrDb;
+        ++q.baked;
+    }
+    for (LevelQuality& q : levels) {
+        if (q.nodes) q.errorMean /= double(q.nodes);
+        if (q.baked) q.psnrMean /= double(q.baked);
+    }
+    return levels;
+}
+
 }  // namespace hlod::stats

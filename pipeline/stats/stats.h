@@ -68,6 +68,16 @@ struct TreeArithmetic {
 };
 TreeArithmetic thesisArithmetic(const Constants& c);
 
+// What the build measured per level (the build report's "nodes", issue #16): the two-sided error
+// against the original surface (mean of the nodes' means, largest max), the one-sided error it
+// replaced (largest), the nodes whose texture was baked and their PSNR against the source.
+struct LevelQuality {
+    uint64_t nodes = 0, baked = 0, texels = 0;
+    double errorMean = 0, errorMax = 0, oneSidedMax = 0;
+    double psnrMin = 0, psnrMean = 0;  // over the baked nodes (0 when none)
+};
+std::vector<LevelQuality> levelQuality(const std::vector<NodeQuality>& nodes);
+
 struct Stats {
     DatabaseSummary summary;
     std::vector<LevelCheck> checks;  // per level

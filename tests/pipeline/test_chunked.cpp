@@ -9,6 +9,9 @@
 
 #include "formats/validate.h"
 #include "tests/support/chunked_scan.h"
+#include "tests/support/run_hlod.h"
+
+#include "formats/build_report.h"
 
 #include <array>
 #include <cmath>
@@ -139,6 +142,37 @@ TEST(Chunked, BuildOfChunkedFacadeValidates) {
     runBuild(r, progress);
     const Database db = Database::open(dir.file("f.hlod"));
     for (const Violation& v : validate(db, ValidateOptions{})) ADD_FAILURE() << "node " << v.node << ": " << v.message;
+}
+
+// `hlod build` reports what it measured per node (issue #16: texels, the two-sided error and the
+// one-sided one, baked nodes with their PSNR) in DB.build.json, and `hlod stats` prints it per level.
+TEST(Chunked, BuildReportAndStatsGiveEveryNodesMeasuredQuality) {
+    TempDir dir;
+    ChunkedScanOptions options;
+    options.chartCells = 4;  // fragmented charts: hlod0 is baked
+    const ChunkedScan scan = writeChunkedScan(dir.path.string(), "facade", facadeMesh(120), options);
+    const std::string db = dir.file("f.hlod");
+    const RunResult build = runHlod({"build", scan.obj, "-o", db, "-j", "1"});
+    ASSERT_EQ(build.exitCode, 0) << build.outAndErr();
+    const std::optional<BuildReport> report = readBuildReport(buildReportPath(db));
+    ASSERT_TRUE(report);
+    const Database database = Database::open(db);
+    ASSERT_EQ(report->nodes.size(), database.skeleton().nodes.size());
+    uint64_t baked = 0;
+    for (const NodeQuality& n : report->nodes) {
+        EXPECT_GE(n.errorMax, n.errorMean);
+        EXPECT_GE(n.errorMax, n.errorOneSided);
+        EXPECT_GT(n.texels, 0u) << "block " << n.block << " node " << n.node;
+        if (!n.baked) continue;
+        ++baked;
+        EXPECT_GE(n.bakePsnrDb, 25.0) << "block " << n.block << " node " << n.node;
+    }
+    EXPECT_GT(baked, 0u);
+    EXPECT_EQ(report->nodes.front().level, 0u);
+    const RunResult stats = runHlod({"stats", db});
+    ASSERT_EQ(stats.exitCode, 0) << stats.outAndErr();
+    EXPECT_NE(stats.out.find("level 0: two-sided mean"), std::string::npos) << stats.out;
+    EXPECT_NE(stats.out.find("nodes baked, PSNR min"), std::string::npos) << stats.out;
 }
 
 // Welding: positions within epsilon become one, a vertex on a bounding-box face never moves,
