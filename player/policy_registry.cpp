@@ -18,6 +18,7 @@ std::unique_ptr<SelectionPolicy> makeSseBudgetPolicy(const PolicyOptions& option
 // Solvers over blocks x levels (player/choice.h): declare their factories below this line.
 std::unique_ptr<SelectionPolicy> makeFsGreedyPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeFsIncrementalPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeHoldPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeRhPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeGbPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeOraclePolicy(const PolicyOptions& options);
@@ -41,6 +42,8 @@ const PolicyInfo kPolicies[] = {
      "allow_skip pixel_ms fs_benefit focus motion hysteresis literal best_single", makeFsGreedyPolicy},
     {"fs-incremental", "Funkhouser & Sequin 1993 §6 incremental raise/lower from last frame's cuts",
      "allow_skip pixel_ms fs_benefit focus motion hysteresis", makeFsIncrementalPolicy},
+    {"fs-hold", "FS 1993 §6 raise/lower from last frame's cuts with a symmetric dead band, + a swap to the greedy's",
+     "allow_skip pixel_ms headroom swap_gain", makeHoldPolicy},
     {"rh", "Robin Hood (Hernandez & Benes) §5: time shared by value, remainders passed simple to complex",
      "allow_skip pixel_ms value c logic_ms", makeRhPolicy},
     {"gb", "Gobbetti & Bouvier 1999: continuous resolutions by a barrier method, rounded onto the cuts",
