@@ -14,6 +14,7 @@ std::unique_ptr<SelectionPolicy> makeStaticPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeFeedbackPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeSsePolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeSseBudgetPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeNodeHoldPolicy(const PolicyOptions& options);  // player/policy_hold.cpp
 
 // Solvers over blocks x levels (player/choice.h): declare their factories below this line.
 std::unique_ptr<SelectionPolicy> makeFsGreedyPolicy(const PolicyOptions& options);
@@ -36,6 +37,8 @@ const PolicyInfo kPolicies[] = {
     {"feedback", "static with N scaled by last frame's actual / target (FS 1993 §7 c)", "pixels", makeFeedbackPolicy},
     {"sse", "refine while projected geometric error > tolerance pixels (3D Tiles, Nexus)", "tolerance", makeSsePolicy},
     {"sse-budget", "sse with the tolerance scaled by sqrt(actual / target) each frame", "tolerance", makeSseBudgetPolicy},
+    {"hold", "the thesis traversal with kept refine flags changed by FS 1993 §6 raise/lower steps in a dead band",
+     "headroom exchange_gain", makeNodeHoldPolicy},
 
     // Solvers over blocks x levels (player/choice.h): their rows go below this line.
     {"fs-greedy", "Funkhouser & Sequin 1993 §6 greedy by value over blocks x cuts, + best single tuple",
