@@ -3,7 +3,7 @@
 // frames in place of time slices and hysteresis counters, and the flags changed by the two
 // steps of Funkhouser & Séquin's incremental optimisation (SIGGRAPH 1993 §6), one sibling set at
 // a time, against the thesis's own estimate (v_time x sum of cost_n + overhead, §4.2 eq. 3.1):
-//  - lower: while the estimate exceeds the target, coarsen the sibling set of lowest Value
+//  - lower: while the estimate exceeds target x (1 + overrun), coarsen the sibling set of lowest Value
 //    (FS §6: "decrements the accuracy attributes of the object tuples with the lowest current
 //    Value until the cumulative cost ... is less than the target frame time");
 //  - raise: while a refinement fits under target x (1 - headroom), refine the front node of
@@ -29,8 +29,10 @@ namespace {
 class HoldPolicy final : public SelectionPolicy {
 public:
     explicit HoldPolicy(const PolicyOptions& o)
-        : headroom_(o.get("hold.headroom", 0.02)), exchangeGain_(o.get("hold.exchange_gain", 0.5)) {
+        : headroom_(o.get("hold.headroom", 0.03)), overrun_(o.get("hold.overrun", 0.03)),
+          exchangeGain_(o.get("hold.exchange_gain", 1)) {
         if (headroom_ < 0 || headroom_ >= 1) throw std::invalid_argument("hold.headroom must be in [0, 1)");
+        if (overrun_ < 0) throw std::invalid_argument("hold.overrun must be >= 0");
     }
     const char* name() const override { return "hold"; }
 
@@ -58,7 +60,7 @@ public:
         std::sort(down.begin(), down.end(), [](const Step& a, const Step& b) { return a.value < b.value; });
         size_t u = 0, d = 0;
         uint32_t steps = 0;
-        while (ms * cost > budget && d < down.size()) {  // lower
+        while (ms * cost > budget * (1 + overrun_) && d < down.size()) {  // lower
             refine_[down[d].node] = 0, cost -= down[d].dc, ++d, ++steps;
         }
         auto parentKept = [&](uint32_t id) { return s.nodes[id].parent == kNone || refine_[s.nodes[id].parent]; };
@@ -116,7 +118,7 @@ private:
         return std::move(front);
     }
 
-    double headroom_, exchangeGain_;
+    double headroom_, overrun_, exchangeGain_;
     std::vector<uint8_t> refine_;          // per node: refine when its children allow (kept across frames)
     std::vector<uint32_t> drawnChildren_;  // scratch
 };

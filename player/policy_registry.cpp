@@ -38,7 +38,7 @@ const PolicyInfo kPolicies[] = {
     {"sse", "refine while projected geometric error > tolerance pixels (3D Tiles, Nexus)", "tolerance", makeSsePolicy},
     {"sse-budget", "sse with the tolerance scaled by sqrt(actual / target) each frame", "tolerance", makeSseBudgetPolicy},
     {"hold", "the thesis traversal with kept refine flags changed by FS 1993 §6 raise/lower steps in a dead band",
-     "headroom exchange_gain", makeNodeHoldPolicy},
+     "headroom overrun exchange_gain", makeNodeHoldPolicy},
 
     // Solvers over blocks x levels (player/choice.h): their rows go below this line.
     {"fs-greedy", "Funkhouser & Sequin 1993 §6 greedy by value over blocks x cuts, + best single tuple",

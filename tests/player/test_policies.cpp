@@ -324,8 +324,9 @@ TEST(Policies, FeedbackPoliciesFollowTheMeasuredFrameTime) {
 }
 
 // hold (player/policy_hold.cpp): on a still view with everything resident it fills the budget
-// from hlod0 one level a frame, never past the target, then keeps its front (no toggles); a
-// lower target coarsens it until the estimate fits, and the old target refills it.
+// from hlod0 one level a frame, up to target x (1 - headroom), then keeps its front (no
+// toggles); a lower target coarsens it until the estimate is within target x (1 + overrun), and
+// the old target refills it.
 TEST(Policies, HoldSettlesUnderTheTargetAndKeepsItsFront) {
     Skeleton s = errorGrid(3, 3, 4);
     Harness h(s);
@@ -347,7 +348,7 @@ TEST(Policies, HoldSettlesUnderTheTargetAndKeepsItsFront) {
     uint64_t frame = 0;
     double est = 0;
     for (; frame < 30; ++frame) est = frameCost(200, frame).first;
-    EXPECT_LE(est, 200);
+    EXPECT_LE(est, 2 + 198 * 0.97);  // the default headroom
     EXPECT_GT(est, 200 * 0.8);  // filled (one refinement is at most 3 x 5.12 ms of 200)
     for (int k = 0; k < 10; ++k, ++frame) {
         auto [e, toggles] = frameCost(200, frame);
@@ -355,7 +356,7 @@ TEST(Policies, HoldSettlesUnderTheTargetAndKeepsItsFront) {
         EXPECT_EQ(toggles, 0u);
     }
     for (int k = 0; k < 10; ++k, ++frame) est = frameCost(120, frame).first;
-    EXPECT_LE(est, 120);
+    EXPECT_LE(est, 2 + 118 * 1.03);  // the default overrun
     for (int k = 0; k < 30; ++k, ++frame) est = frameCost(200, frame).first;
     EXPECT_GT(est, 200 * 0.8);
     EXPECT_LE(est, 200);
