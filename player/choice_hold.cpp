@@ -1,5 +1,5 @@
 // Selection with symmetric hysteresis over the frame's multiple-choice knapsack (player/choice.h;
-// the project's own policy `fs-hold`, player/POLICIES.md "The default policy"). It keeps last
+// the project's own policy `fs-hold`, player/DEFAULT_POLICY.md). It keeps last
 // frame's choice and changes it only when it must or when it gains enough:
 //  - lower: while the cost exceeds the budget, lower the object whose current increment has the
 //    lowest Value (Funkhouser & Séquin 1993 §6, the decrement step of their incremental

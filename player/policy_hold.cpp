@@ -1,14 +1,14 @@
-// `hold`: the project's own node-granular policy (player/POLICIES.md "The default policy vs the
-// goal"). The thesis's breadth-first traversal (§4.2) with a per-node refine flag kept across
-// frames in place of time slices and hysteresis counters, and the flags changed by the two
-// steps of Funkhouser & Séquin's incremental optimisation (SIGGRAPH 1993 §6), one sibling set at
-// a time, against the thesis's own estimate (v_time x sum of cost_n + overhead, §4.2 eq. 3.1):
-//  - lower: while the estimate exceeds target x (1 + overrun), coarsen the sibling set of lowest Value
-//    (FS §6: "decrements the accuracy attributes of the object tuples with the lowest current
+// `hold`: the project's own node-granular policy (player/DEFAULT_POLICY.md). The thesis's
+// breadth-first traversal (§4.2) with a per-node refine flag kept across frames in place of time
+// slices and hysteresis counters, and the flags changed by the two steps of Funkhouser &
+// Séquin's incremental optimisation (SIGGRAPH 1993 §6), one sibling set at a time, against the
+// thesis's own estimate (v_time x sum of cost_n + overhead, §4.2 eq. 3.1):
+//  - lower: while the estimate exceeds target x (1 + overrun), coarsen the sibling set of lowest
+//    Value (FS §6: "decrements the accuracy attributes of the object tuples with the lowest current
 //    Value until the cumulative cost ... is less than the target frame time");
 //  - raise: while a refinement fits under target x (1 - headroom), refine the front node of
 //    highest Value (FS §6's increment step). A node refined under the headroom is coarsened again
-//    only after the estimate has grown past the target: a dead band, the same on the way up and
+//    only after the estimate has grown past target x (1 + overrun): a dead band, the same on the way up and
 //    on the way down (symmetric hysteresis; the thesis's own is per node and asymmetric);
 //  - exchange: while the best refinement's Value exceeds the worst coarsening's by more than
 //    `exchange_gain` (a fraction) and both fit together, do both (what holding alone would never

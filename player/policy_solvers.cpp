@@ -157,7 +157,7 @@ private:
     double lastEye_[3] = {0, 0, 0};
 };
 
-// The project's own policy (player/POLICIES.md "The default policy"): FS §6's raise and lower
+// The project's own policy (player/DEFAULT_POLICY.md): FS §6's raise and lower
 // steps from last frame's cuts with a symmetric dead band, and a swap to the greedy's choice when
 // it gains more than swap_gain (choice_hold.cpp).
 class HoldPolicy final : public SolverPolicy {

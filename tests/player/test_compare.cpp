@@ -65,7 +65,8 @@ size_t expectRefiningNeverLowersBenefit(const Skeleton& s, uint32_t views, uint3
         for (const Node& n : s.nodes) {
             if (n.firstChild == kNone) continue;
             double children = 0;
-            for (uint32_t c = n.firstChild; c != kNone; c = s.nodes[c].nextSibling) children += nodeBenefit(s, s.nodes[c], p);
+            for (uint32_t c = n.firstChild; c != kNone; c = s.nodes[c].nextSibling)
+                children += nodeBenefit(s, s.nodes[c], p);
             double own = nodeBenefit(s, n, p);
             EXPECT_GE(children, own * (1 - 1e-6)) << "node " << n.id << " view " << v;
             ++checked;
@@ -83,7 +84,8 @@ TEST(Benefit, RefiningNeverLowersTheBenefitOnFixtureTrees) {
         Skeleton s = test::gridSkeleton(3, 2, levels, 512, 40);
         for (Node& n : s.nodes) {
             float parentError = n.parent == kNone ? 2.f : s.nodes[n.parent].geometricError;
-            n.geometricError = n.firstChild == kNone ? 0.f : parentError * std::uniform_real_distribution<float>(0, 1)(rng);
+            float share = std::uniform_real_distribution<float>(0, 1)(rng);
+            n.geometricError = n.firstChild == kNone ? 0.f : parentError * share;
         }
         EXPECT_GT(expectRefiningNeverLowersBenefit(s, 200, levels), 0u);
     }
