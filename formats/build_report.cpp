@@ -37,6 +37,7 @@ void writeBuildReport(const std::string& path, const BuildReport& r) {
     j["cpu_seconds"] = r.cpuSeconds;
     j["output_bytes"] = r.outputBytes;
     j["nodes_per_level"] = r.nodesPerLevel;
+    j["texture_problems"] = r.textureProblems;
     std::ofstream out(path);
     if (!(out << j.dump(2) << "\n")) throw std::runtime_error(path + ": cannot write build report");
 }
@@ -66,6 +67,7 @@ std::optional<BuildReport> readBuildReport(const std::string& path) {
     r.cpuSeconds = field<double>(j, "cpu_seconds", path);
     if (j.contains("memory_limit_bytes")) r.memoryLimitBytes = field<uint64_t>(j, "memory_limit_bytes", path);
     if (j.contains("nodes_per_level")) r.nodesPerLevel = field<std::vector<uint64_t>>(j, "nodes_per_level", path);
+    if (j.contains("texture_problems")) r.textureProblems = field<std::vector<std::string>>(j, "texture_problems", path);
     return r;
 }
 

@@ -21,6 +21,9 @@ struct BuildReport {
     uint64_t peakRssBytes = 0, memoryLimitBytes = 0, inputTriangles = 0, outputBytes = 0;
     double wallSeconds = 0, cpuSeconds = 0;
     std::vector<uint64_t> nodesPerLevel;
+    // One line per unusable texture (README "Inputs: textures"), its material left untextured;
+    // absent from reports written before the key existed (read as none).
+    std::vector<std::string> textureProblems;
 };
 
 // "<DB>.build.json".

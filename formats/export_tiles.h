@@ -28,6 +28,7 @@ std::array<double, 16> eastNorthUpToEcef(const Geodetic& origin);
 struct TilesOptions {
     std::optional<Geodetic> origin;  // none: the tileset stays in the database's local frame
     bool archive = false;            // one .3tz file (a stored ZIP with its index) instead of a folder
+    std::string up;                  // "y" or "z"; empty: the database's (upAxisOf)
 };
 
 struct TilesReport {

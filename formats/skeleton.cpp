@@ -1,6 +1,7 @@
 // Skeleton serialisation (FORMAT.md §Skeleton, §Header) and the skeleton's tree queries.
 // Node links follow thesis §3.3 (first child / next sibling lists); cost is eq. 3.1.
 #include "formats/layout.h"
+#include "formats/up_axis.h"
 
 #include <xxhash.h>
 
@@ -112,6 +113,19 @@ const std::string* Skeleton::findMeta(const std::string& key) const {
     for (const auto& kv : meta)
         if (kv.first == key) return &kv.second;
     return nullptr;
+}
+
+UpAxis upAxisOf(const Skeleton& skeleton, const std::string& name) {
+    const std::string* up = skeleton.findMeta("up");
+    if (!up) return {};
+    if (*up != "y" && *up != "z") throw FormatError(name + ": META up '" + *up + "' is neither y nor z");
+    return {*up == "y" ? 1 : 2, true};
+}
+
+int parseUpAxis(const std::string& text, const std::string& option) {
+    if (text == "y") return 1;
+    if (text == "z") return 2;
+    throw std::invalid_argument(option + " '" + text + "': y or z");
 }
 
 std::vector<uint32_t> Skeleton::roots() const {

@@ -7,10 +7,14 @@
 // geometricError is the database's measured error in metres, raised to the largest of its
 // children's where a database breaks the non-increasing rule; the root's is the diagonal of the
 // whole model (the error of drawing nothing) and at least every hlod0 node's. --origin places the
-// local frame as east-north-up at a WGS84 point through the root's transform.
+// local frame as east-north-up at a WGS84 point through the root's transform. A y-up database
+// (META "up", a glTF input) keeps its boxes and GLBs in its own frame and gets a root transform
+// that turns its y up into the tileset's z up, (x, y, z) -> (x, -z, y), before any placement.
 #include "formats/tiles_detail.h"
+#include "formats/up_axis.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -42,6 +46,19 @@ std::array<double, 16> eastNorthUpToEcef(const Geodetic& g) {
 namespace tiles {
 
 namespace {
+
+using Matrix = std::array<double, 16>;  // column-major, as 3D Tiles' transform
+
+// The database's y-up frame to the tileset's z-up frame: x stays, y (up) becomes z, z becomes -y.
+constexpr Matrix kYUpToZUp = {1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1};
+
+Matrix multiply(const Matrix& a, const Matrix& b) {
+    Matrix c{};
+    for (int col = 0; col < 4; ++col)
+        for (int row = 0; row < 4; ++row)
+            for (int k = 0; k < 4; ++k) c[col * 4 + row] += a[k * 4 + row] * b[col * 4 + k];
+    return c;
+}
 
 Box3f unite(const Box3f& a, const Box3f& b) {
     return {{std::min(a.min.x, b.min.x), std::min(a.min.y, b.min.y), std::min(a.min.z, b.min.z)},
@@ -113,15 +130,19 @@ nlohmann::json tilesetJson(const Skeleton& s, const std::vector<std::optional<Bo
     nlohmann::json root = {{"boundingVolume", boxJson(all)}, {"geometricError", rootError}, {"refine", "REPLACE"},
                            {"children", std::move(children)}};
     nlohmann::json frame;
+    const bool yUp = (options.up.empty() ? upAxisOf(s, name).axis : parseUpAxis(options.up, "--up")) == 1;
+    const std::string axes = yUp ? "the database's x, -z, y (its y up)" : "the database's x, y, z";
     if (options.origin) {
-        root["transform"] = eastNorthUpToEcef(*options.origin);
-        frame = {{"frame", "east-north-up at origin, metres (the database's x, y, z)"},
+        root["transform"] = yUp ? multiply(eastNorthUpToEcef(*options.origin), kYUpToZUp) : eastNorthUpToEcef(*options.origin);
+        frame = {{"frame", "east-north-up at origin, metres (" + axes + ")"},
                  {"origin", {{"latitude", options.origin->latitude}, {"longitude", options.origin->longitude},
                              {"height", options.origin->height}}}};
     } else {
-        frame = {{"frame", "local: the database's x, y, z in metres, z up; not placed on the globe "
+        if (yUp) root["transform"] = kYUpToZUp;
+        frame = {{"frame", "local: " + axes + " in metres, z up; not placed on the globe "
                            "(hlod export tiles --origin LAT,LON,HEIGHT places it)"}};
     }
+    frame["up"] = yUp ? "y" : "z";
     return {{"asset", {{"version", "1.1"}, {"generator", "hlod export tiles"}, {"extras", {{"hlod", frame}}}}},
             {"geometricError", rootError},
             {"root", std::move(root)}};

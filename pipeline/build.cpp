@@ -6,6 +6,7 @@
 #include "pipeline/pipeline.h"
 
 #include "formats/temp_files.h"
+#include "formats/up_axis.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
+#include <set>
 
 #ifndef HLOD_VERSION
 #define HLOD_VERSION "0.0.0"
@@ -41,6 +43,7 @@ struct Inputs {
     std::vector<BlockSource> blocks;
     std::vector<Material> materials;  // of a single-mesh input
     double positionStep = 0;          // one position lattice for the grid's blocks; 0 = per block
+    std::vector<TextureProblem> textureProblems;  // of a single-mesh input
 };
 
 std::string extensionOf(const fs::path& p) {
@@ -82,8 +85,19 @@ bool isStreamable(const std::string& input) {
     return (ext == ".ply" || ext == ".obj") && fs::is_regular_file(input);
 }
 
+// The textures rule (README "Inputs: textures"): with --strict the first unusable texture ends the
+// build (InputError, exit 2) before any block is built; otherwise its material is untextured.
+void enforceTextures(const std::vector<TextureProblem>& problems, const BuildOptions& options) {
+    if (options.strict && !problems.empty()) throw InputError(problems.front().what + " (--strict)");
+}
+
+std::string untexturedWarning(const TextureProblem& p) {
+    return "warning: " + p.what + "; material '" + p.material + "' left untextured";
+}
+
 void reportRead(const std::string& input, const ReadStats& stats, Progress& progress) {
     for (const std::string& w : stats.warnings) progress.message("warning: " + w);
+    for (const TextureProblem& p : stats.textureProblems) progress.message(untexturedWarning(p));
     if (stats.degenerateDropped)
         progress.message(input + ": dropped " + std::to_string(stats.degenerateDropped) + " degenerate triangles");
 }
@@ -102,6 +116,7 @@ Inputs streamBlocks(const std::string& input, const BuildOptions& options, const
         else parseObj(input, raw, options.read);
         progress.endStage();
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
+        enforceTextures(raw.stats.textureProblems, options);
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
         in.positionStep = gridPositionStep(raw.bounds, grid, options.draco.positionBits);
         progress.beginStage("split", raw.triangles.size());
@@ -109,6 +124,7 @@ Inputs streamBlocks(const std::string& input, const BuildOptions& options, const
             in.blocks.push_back({cell.file, true, cell.triangles});
         progress.endStage();
         reportRead(input, raw.stats, progress);
+        in.textureProblems = raw.stats.textureProblems;
         in.materials = std::move(raw.materials);
     }
     fs::remove_all(rawDir);
@@ -134,7 +150,9 @@ Inputs findBlocks(const std::string& input, const BuildOptions& options, const s
     SourceMesh source = readMesh(input, options.read);
     progress.advance(source.piece.mesh.triangleCount());
     progress.endStage();
+    enforceTextures(source.stats.textureProblems, options);
     reportRead(input, source.stats, progress);
+    in.textureProblems = source.stats.textureProblems;
     progress.beginStage("split", source.piece.mesh.triangleCount());
     const GridSpec grid = chooseGrid(pieceBounds(source.piece.mesh), source.piece.mesh.triangleCount(), blockTarget(options),
                                      options.blockSize);
@@ -183,6 +201,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
         mesh.materials = materials;
     } else {
         mesh = readMesh(source.file, options.read);
+        enforceTextures(mesh.stats.textureProblems, options);
     }
     const GateTicket ticket(gate, blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh)));
     BlockRecordWriter records(blockRecordPath(dir, index));
@@ -192,6 +211,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
     records.finish();
     stats.degenerateDropped = mesh.stats.degenerateDropped;
     stats.warnings = mesh.stats.warnings;
+    stats.textureProblems.insert(stats.textureProblems.begin(), mesh.stats.textureProblems.begin(), mesh.stats.textureProblems.end());
 }
 
 // Triangles the §3.2 recursion will visit (each level goes over the block's originals), for
@@ -208,6 +228,27 @@ uint64_t expectedWork(const std::vector<BlockSource>& blocks, uint32_t first, ui
 }
 
 }  // namespace
+
+UpChoice chooseUpAxis(const std::string& input, const std::string& requested) {
+    if (!requested.empty()) {
+        parseUpAxis(requested, "--up");
+        return {requested, "--up"};
+    }
+    bool gltf = false, other = false;
+    if (fs::is_directory(input)) {
+        for (const auto& entry : fs::directory_iterator(input))
+            if (entry.is_regular_file() && isMeshFile(entry.path())) {
+                const std::string ext = extensionOf(entry.path());
+                (ext == ".gltf" || ext == ".glb" ? gltf : other) = true;
+            }
+    } else {
+        const std::string ext = extensionOf(input);
+        (ext == ".gltf" || ext == ".glb" ? gltf : other) = true;
+    }
+    if (gltf && other) throw InputError(input + ": folder mixes glTF (y up) and OBJ/PLY (z up) meshes; give --up y or --up z");
+    if (gltf) return {"y", "glTF is y-up"};
+    return {"z", "OBJ/PLY: z up by convention; --up y for a y-up scan"};
+}
 
 void MemoryGate::acquire(uint64_t bytes) {
     std::unique_lock lock(mutex_);
@@ -243,6 +284,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
                std::to_string(o.draco.texcoordBits) + " --draco-level " + std::to_string(o.draco.compressionLevel) +
                " --jpeg-quality " + std::to_string(o.jpegQuality);
     if (o.draco.positionStep > 0) command += " --draco-position-step " + std::to_string(o.draco.positionStep);
+    if (!o.up.empty()) command += " --up " + o.up;
     for (const auto& [name, value] : constantsAsPairs(o.constants, kUsedByBuild)) command += " --set " + name + "=" + value;
     meta.emplace_back("command", command);
     for (const auto& pair : constantsAsPairs(o.constants, kUsedByBuild)) meta.push_back(pair);
@@ -257,12 +299,15 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     meta.emplace_back("draco.compressionLevel", std::to_string(o.draco.compressionLevel));
     meta.emplace_back("draco.positionStep", o.draco.positionStep > 0 ? std::to_string(o.draco.positionStep) : "auto");
     meta.emplace_back("jpeg.quality", std::to_string(o.jpegQuality));
+    if (!o.up.empty()) meta.emplace_back("up", o.up);
     return meta;
 }
 
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const BuildOptions& options = request.options;
     validateConstants(options.constants, kUsedByBuild);
+    const UpChoice up = chooseUpAxis(request.input, options.up);
+    progress.message("up axis: " + up.axis + " (" + up.reason + ")");
     const fs::path outputParent = fs::absolute(request.output).parent_path();
     TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
     const Inputs inputs = findBlocks(request.input, options, temp.path, progress);
@@ -279,6 +324,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     MemoryGate gate(options.memoryLimit);
     BuildOptions blockOptions = options;  // a grid's blocks share one position lattice: no cracks between them
     if (blockOptions.draco.positionStep <= 0) blockOptions.draco.positionStep = inputs.positionStep;
+    blockOptions.up = up.axis;
     progress.beginStage("build", expectedWork(inputs.blocks, first, last, options.constants));
     tbb::task_arena arena(std::max(1, cores));
     arena.execute([&] {
@@ -290,8 +336,11 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
 
     BuildSummary summary;
     summary.blockCount = blockCount;
+    std::set<TextureProblem> problems(inputs.textureProblems.begin(), inputs.textureProblems.end());
     for (uint32_t b = first; b < last; ++b) {
         for (const std::string& w : stats[b].warnings) progress.message("warning: " + w);
+        for (const TextureProblem& p : stats[b].textureProblems)
+            if (problems.insert(p).second) progress.message(untexturedWarning(p));  // a source shared by blocks: once
         if (stats[b].degenerateDropped)
             progress.message(inputs.blocks[b].file + ": dropped " + std::to_string(stats[b].degenerateDropped) +
                              " degenerate triangles");
@@ -299,6 +348,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
         if (summary.nodesPerLevel.size() < stats[b].nodesPerLevel.size()) summary.nodesPerLevel.resize(stats[b].nodesPerLevel.size());
         for (size_t l = 0; l < stats[b].nodesPerLevel.size(); ++l) summary.nodesPerLevel[l] += stats[b].nodesPerLevel[l];
     }
+    summary.textureProblems.assign(problems.begin(), problems.end());
     ShardInfo shard{blockCount, {}, buildMeta(request.input, blockOptions)};
     for (uint32_t b = first; b < last; ++b) shard.blocks.push_back(b);
     writeShardInfo(recordDir, shard);

@@ -1,24 +1,35 @@
-// The HLOD recursion of thesis §3.2 for one block, breadth-first:
+// The HLOD recursion of thesis §3.2 for one block, breadth-first, on the block welded by
+// position (weld.cpp):
 //   simplification_hlod0 = numTriangles_b / c_desiredTris,
 //   simplification_hlod(i+1) = simplification_hlod(i) / c_levelFactor,
-// each node simplifying the piece's ORIGINAL triangles by its factor, then dividing the piece
+// each node simplifying the piece's ORIGINAL triangles by its factor as one mesh (simplify.cpp),
+// then dividing the piece
 // into c_levelFactor children by c_levelFactor - 1 plane cuts (cut.cpp), "until the factor
 // becomes less than 1". Leaves keep the original triangles; which node is a leaf is the
 // --leaf-rule (tree_rules.h, pipeline/TREE.md): below-one (default) divides every node whose
 // factor is > 1, so leaves have a factor in (1/c_levelFactor, 1]; stop-before divides a node only
 // when its children's factor would still be >= 1, so leaves have a factor in [1, c_levelFactor)
 // (or the block's own, when it is below 1). Textures are cropped and downsampled by the same
-// factor (texture.cpp, leaves keep the source's); the
-// geometric error is measured against the original piece (error.cpp). All nodes are encoded on
+// factor (texture.cpp, leaves keep the source's) while the simplification keeps the source's
+// UV seams; a node simplified as geometry only gets a baked texture. The geometric error is the
+// two-sided distance to the original piece (error.cpp). All nodes are encoded on
 // one position lattice (DracoOptions::positionStep, by default the block root's), so the
 // borders the cuts made identical stay identical after quantization.
 #include "pipeline/pipeline.h"
 
+#include <algorithm>
+#include <cmath>
 #include <deque>
 #include <map>
+#include <optional>
 
 namespace hlod {
 namespace {
+
+// The smallest hole the geometric error must see, as a fraction of the node's extent (issue #16).
+constexpr double kMeasuredHole = 10;
+// Smallest baked atlas: 64 x 64 texels (a coarse node of a small piece would otherwise get a few texels).
+constexpr uint64_t kMinBakeTexels = 64 * 64;
 
 struct Pending {
     Piece piece;
@@ -27,10 +38,13 @@ struct Pending {
     uint32_t parentLocal;
 };
 
-// Source textures of one block, loaded on first use.
+// Source textures of one block, loaded on first use. One that fails to decode (truncated,
+// corrupt: its header passed checkTextures) is a TextureProblem and its material untextured in
+// this block, or, with BuildOptions::strict, fatal.
 class TextureCache {
 public:
-    explicit TextureCache(const std::vector<Material>& materials) : materials_(materials) {}
+    TextureCache(const std::vector<Material>& materials, bool strict, std::vector<TextureProblem>& problems, Progress* progress)
+        : materials_(materials), strict_(strict), problems_(problems), progress_(progress) {}
 
     // The material's texture downsampled for `level` (factor); nullptr when untextured.
     const Image* get(uint32_t material, uint32_t level, double factor) {
@@ -39,8 +53,9 @@ public:
         if (!source && materials_[material].texturePath.empty()) return nullptr;
         if (!source) {
             auto it = sources_.find(material);
-            if (it == sources_.end()) it = sources_.emplace(material, loadTexture(materials_[material].texturePath)).first;
-            source = &it->second;
+            if (it == sources_.end()) it = sources_.emplace(material, load(material)).first;
+            if (!it->second) return nullptr;
+            source = &*it->second;
         }
         if (factor <= 1) return source;
         auto it = scaled_.find({material, level});
@@ -49,10 +64,57 @@ public:
     }
 
 private:
+    std::optional<Image> load(uint32_t material) {
+        try {
+            Image image = loadTexture(materials_[material].texturePath);
+            if (progress_) progress_->textureLoaded(uint64_t{image.width} * image.height);
+            return image;
+        } catch (const InputError& e) {
+            if (strict_) throw InputError(std::string(e.what()) + " (--strict)");
+            problems_.push_back({e.what(), materials_[material].name});
+            return std::nullopt;
+        }
+    }
+
     const std::vector<Material>& materials_;
-    std::map<uint32_t, Image> sources_;
+    bool strict_;
+    std::vector<TextureProblem>& problems_;
+    Progress* progress_;
+    std::map<uint32_t, std::optional<Image>> sources_;
     std::map<std::pair<uint32_t, uint32_t>, Image> scaled_;
 };
+
+// Source texels the triangles of `mesh` cover in `texture` (the area of their UV triangles).
+double usedTexels(const MeshData& mesh, const Image& texture) {
+    double area = 0;
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const float* a = &mesh.texcoords[2 * mesh.indices[3 * t]];
+        const float* b = &mesh.texcoords[2 * mesh.indices[3 * t + 1]];
+        const float* c = &mesh.texcoords[2 * mesh.indices[3 * t + 2]];
+        area += 0.5 * std::abs(double(b[0] - a[0]) * (c[1] - a[1]) - double(c[0] - a[0]) * (b[1] - a[1]));
+    }
+    return area * texture.width * texture.height;
+}
+
+// A node simplified as geometry only (simplify.cpp): a new texture baked from the piece's
+// original triangles and their textures downsampled for the level (bake.cpp; pipeline/BAKE.md
+// "Integration": ~one source texel per baked texel, so its sub-samples do not alias). texelBudget
+// is the texels those triangles use in the downsampled textures, i.e. the source texels divided
+// by the node's factor (thesis §3.2: texture "down-sampled by this simplification factor", as
+// the cropped atlases of the other nodes are), at least kMinBakeTexels. An untextured piece is
+// not baked (image empty): its node stays untextured.
+BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, uint32_t level, double factor, TextureCache& textures) {
+    const std::vector<SubMesh> original = splitByMaterial(piece);
+    std::vector<BakeSource> sources;
+    double texels = 0;
+    for (const SubMesh& part : original) {
+        const Image* texture = part.mesh.texcoords.empty() ? nullptr : textures.get(part.material, level, factor);
+        if (texture) texels += usedTexels(part.mesh, *texture);
+        sources.push_back({&part.mesh, texture});
+    }
+    if (texels <= 0) return {};
+    return bakeTexture(simplified, sources, std::max<uint64_t>(kMinBakeTexels, static_cast<uint64_t>(texels)));
+}
 
 }  // namespace
 
@@ -65,31 +127,44 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     const uint32_t levelFactor = static_cast<uint32_t>(c.levelFactor);
     BlockStats stats;
     stats.inputTriangles = block.mesh.triangleCount();
-    TextureCache textures(materials);
+    TextureCache textures(materials, options.strict, stats.textureProblems, progress);
     std::deque<Pending> queue;
-    queue.push_back({block, static_cast<double>(block.mesh.triangleCount()) / c.desiredTris, 0, kNone});  // §3.2 hlod0
+    Piece welded = weldPiece(block, options.draco.positionStep / 2);  // weld.cpp: chunk borders become interior
+    const double rootFactor = static_cast<double>(welded.mesh.triangleCount()) / c.desiredTris;  // §3.2 hlod0
+    queue.push_back({std::move(welded), rootFactor, 0, kNone});
     std::vector<uint32_t> parentOf;
     while (!queue.empty()) {
         Pending p = std::move(queue.front());
         queue.pop_front();
-        const std::vector<SubMesh> original = splitByMaterial(p.piece);
         const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
-        std::vector<SubMesh> parts = original;
-        if (!leaf)
-            for (SubMesh& part : parts) part.mesh = simplifyMesh(part.mesh, p.factor, options.simplifier, part.locked);
-        const double error = leaf ? 0.0 : surfaceDistance(parts, original);
+        const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier);
+        std::vector<SubMesh> parts = splitByMaterial(simplified.piece);
+        const Box3f bounds = pieceBounds(p.piece.mesh);
+        const double extent = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
+        // Sample spacing: a hole of 1 / kMeasuredHole of the node's extent holds samples (error.cpp).
+        const SurfaceError error = leaf ? SurfaceError{} : surfaceError(parts, {SubMesh{0, p.piece.mesh, {}}}, extent / (2 * kMeasuredHole));
         const double textureFactor = leaf ? 1.0 : p.factor;  // a leaf keeps the source's texels
         std::vector<Image> images(parts.size());
-        for (size_t i = 0; i < parts.size(); ++i)
-            if (const Image* scaled = textures.get(parts[i].material, p.level, textureFactor))
-                images[i] = atlasTexture(*scaled, parts[i].mesh);
-        emit(packNode(parts, images, pieceBounds(p.piece.mesh), p.parentLocal, p.level, blockIndex, error, options));
+        double psnr = 0;
+        if (simplified.geometryOnly) {
+            if (BakedTexture baked = bakeNode(parts.at(0).mesh, p.piece, p.level, p.factor, textures); baked.image.width > 0) {
+                parts[0].mesh = std::move(baked.mesh), images[0] = std::move(baked.image), psnr = baked.psnr;
+            }
+        } else {
+            for (size_t i = 0; i < parts.size(); ++i)
+                if (const Image* scaled = textures.get(parts[i].material, p.level, textureFactor))
+                    images[i] = atlasTexture(*scaled, parts[i].mesh);
+        }
+        emit(packNode(parts, images, bounds, p.parentLocal, p.level, blockIndex, error.max, options));
         if (stats.nodesPerLevel.size() <= p.level) stats.nodesPerLevel.resize(p.level + 1);
         ++stats.nodesPerLevel[p.level];
         if (progress) progress->advance(p.piece.mesh.triangleCount());
         const uint32_t self = static_cast<uint32_t>(parentOf.size());
         parentOf.push_back(p.parentLocal);
-        stats.geometricErrors.push_back(static_cast<float>(error));
+        stats.geometricErrors.push_back(static_cast<float>(error.max));
+        stats.measured.push_back(error);
+        stats.baked.push_back(simplified.geometryOnly);
+        stats.bakePsnr.push_back(static_cast<float>(psnr));
         if (leaf) continue;
         for (Piece& child : dividePiece(p.piece, levelFactor, options.planes))  // §3.2: simplification_hlod(i+1)
             queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});

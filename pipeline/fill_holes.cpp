@@ -8,7 +8,7 @@
 // vertices are the same welded vertices all around), so the patch samples the texels the chart
 // has between them. A loop is closable when it is
 //   - closed and simple (every vertex on it has exactly one border edge in and one out),
-//   - free of locked vertices (cut-plane borders and material seams stay: no cracks, §3.2),
+//   - free of locked vertices (cut-plane borders stay: no cracks, §3.2),
 //   - not the outline of its connected surface (the longest loop of the component: filling that
 //     would lay a second surface over the first),
 //   - at most kMaxHoleVertices long (the search is cubic in the worst case).

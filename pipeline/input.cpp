@@ -1,7 +1,7 @@
 // Input checks shared by every reader: non-finite attributes and
 // out-of-range indices are errors, degenerate triangles are dropped and counted, texture paths
-// and every other reference stay inside the input's folder (resolveReference), missing textures
-// are warnings. readMesh picks the reader.
+// and every other reference stay inside the input's folder (resolveReference), unusable textures
+// (missing, empty, not an image, absurd size) are TextureProblems: the material is untextured. readMesh picks the reader.
 #include "pipeline/pipeline.h"
 
 #include <cmath>
@@ -104,12 +104,18 @@ void sanitize(SourceMesh& source, const std::string& name) {
 void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const std::string& name, ReadStats& stats) {
     for (Material& material : materials) {
         if (material.texturePath.empty() && !material.image) continue;
-        if (!hasTexcoords || (!material.image && !fs::is_regular_file(material.texturePath))) {
-            stats.warnings.push_back(name + ": " + (!hasTexcoords ? "no texture coordinates for '" : "missing texture '") +
-                                     material.texturePath + "', material '" + material.name + "' is untextured");
-            material.texturePath.clear();
-            material.image.reset();
+        if (!hasTexcoords) {
+            stats.warnings.push_back(name + ": no texture coordinates for '" + material.texturePath + "', material '" +
+                                     material.name + "' is untextured");
+        } else if (material.image) {
+            continue;  // embedded, already decoded
+        } else if (const std::string problem = textureProblem(material.texturePath); !problem.empty()) {
+            stats.textureProblems.push_back({name + ": texture '" + material.texturePath + "' " + problem, material.name});
+        } else {
+            continue;
         }
+        material.texturePath.clear();
+        material.image.reset();
     }
 }
 

@@ -23,6 +23,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace hlod {
@@ -40,9 +41,19 @@ struct Piece {
     std::vector<uint32_t> materials;  // per triangle, index into the block's material list
 };
 
+// A texture that cannot be used (README "Inputs: textures"): missing, empty, not an image, of an
+// absurd size, or corrupt. By default its material is left untextured and the build goes on,
+// counting it in the summary and the build report; `hlod build --strict` makes it fatal (exit 2).
+struct TextureProblem {
+    std::string what;      // one line naming the file: "INPUT: texture 'PATH' is empty (0 bytes)"
+    std::string material;  // the material left untextured
+    bool operator<(const TextureProblem& o) const { return std::tie(what, material) < std::tie(o.what, o.material); }
+};
+
 struct ReadStats {
     uint64_t degenerateDropped = 0;  // triangles with repeated vertices or zero area
     std::vector<std::string> warnings;
+    std::vector<TextureProblem> textureProblems;
 };
 
 struct SourceMesh {
@@ -102,8 +113,8 @@ bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& 
 size_t readBufferBytes(std::FILE* file);
 
 // Readers. Throw InputError("FILE: problem") on a missing, truncated or corrupt file.
-// References outside the folder of `path` are refused (resolveReference); missing textures give
-// a warning and untextured triangles.
+// References outside the folder of `path` are refused (resolveReference); unusable textures give
+// a TextureProblem (stats) and untextured triangles.
 SourceMesh readPly(const std::string& path, const ReadOptions& options = {});
 SourceMesh readObj(const std::string& path, const ReadOptions& options = {});
 SourceMesh readGltf(const std::string& path, const ReadOptions& options = {});
@@ -117,12 +128,14 @@ SourceMesh readMesh(const std::string& path, const ReadOptions& options = {});  
 inline constexpr uint64_t kMaxTextureTexels = 16384ull * 16384ull;
 
 // input.cpp: rejects NaN/Inf attributes, out-of-range indices and empty meshes (InputError
-// naming `name`), drops degenerate triangles (counted in stats), turns missing textures into
-// warnings (untextured).
+// naming `name`), drops degenerate triangles (counted in stats), turns unusable textures into
+// TextureProblems (untextured).
 void sanitize(SourceMesh& source, const std::string& name);
 // The cross product of the edges is exactly zero (the test sanitize() drops triangles by).
 bool zeroArea(const float* a, const float* b, const float* c);
-// Missing texture files, or no texture coordinates: a warning, and the material is untextured.
+// Every texture file checked up front (textureProblem: missing, empty, not an image, absurd size):
+// a TextureProblem in stats and the material untextured. No texture coordinates: a warning, and
+// the material is untextured.
 void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const std::string& name, ReadStats& stats);
 // The one confinement rule for every file an input refers to (MTL libraries and their
 // textures, PLY TextureFile comments, glTF buffers and images, the meshes of a folder input):
@@ -181,19 +194,33 @@ std::vector<CellFile> streamSplit(const RawMesh& raw, const GridSpec& grid, cons
 void appendPiece(const std::string& file, const Piece& piece);
 Piece loadPiece(const std::string& file);
 
-// simplify.cpp. Simplifies each material's triangles to about triangleCount / factor with
-// quadric error metrics, keeping locked the vertices neighbours share: open-border vertices on
-// the piece's bounding-box faces (the cut planes) and material-seam vertices. When the result
-// exceeds kTargetSlack x the target, closable scan holes are filled and it is simplified again.
+// weld.cpp: before the recursion, vertices closer than `epsilon` move onto one position (a
+// vertex on the piece's bounding-box faces never moves), degenerate triangles are dropped,
+// normals dropped, and every vertex serves one material (identical vertices merged).
+Piece weldPiece(const Piece& piece, double epsilon);
+
+// simplify.cpp. simplifyNode simplifies a (welded) piece as one mesh to about
+// triangleCount / factor with quadric error metrics, material and UV changes being attribute
+// seams; locked are the vertices neighbours share: open-border vertices on the piece's
+// bounding-box faces (the cut planes). When seams keep it above kTargetSlack x the target, it
+// simplifies the geometry alone (geometryOnly: no texture coordinates, all material 0). When a
+// result exceeds kTargetSlack x the target, closable scan holes are filled and it is simplified
+// again.
 enum class Simplifier { Meshopt, OpenMesh };
 struct SubMesh {
     uint32_t material = 0;
     MeshData mesh;
     std::vector<uint8_t> locked;  // per vertex, from splitByMaterial (sharedVertices of the piece)
 };
+struct SimplifiedNode {
+    Piece piece;
+    bool geometryOnly = false;  // the source UVs no longer apply: the node needs a baked texture
+};
 std::vector<uint8_t> sharedVertices(const Piece& piece);  // per vertex: must stay for crack-free borders
 std::vector<SubMesh> splitByMaterial(const Piece& piece);
-// `locked` per vertex of `mesh`; when empty, sharedVertices of the mesh alone.
+SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier);
+// One mesh on its own (positions and attributes as they are); `locked` per vertex of `mesh`;
+// when empty, sharedVertices of the mesh alone.
 MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier, const std::vector<uint8_t>& locked = {});
 
 // fill_holes.cpp: triangles (indices into `mesh`'s vertices) closing the scan holes of the
@@ -205,14 +232,44 @@ std::vector<uint32_t> holePatches(const MeshData& mesh, const std::vector<uint32
 // error.cpp: largest distance from points sampled on `simplified` (edge midpoints and
 // centroids) to the surface of `original` (CGAL AABB tree). 0 when either is empty.
 double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original);
+// The node's geometric error: the two-sided (symmetric) Hausdorff distance between the node and
+// the original surface, both sampled with points at most `spacing` apart (a hole wider than
+// 2 x spacing is measured), each side against an AABB tree of the other.
+struct SurfaceError {
+    double oneSided = 0;  // simplified -> original only (the measure before issue #16)
+    double max = 0;       // two-sided Hausdorff distance
+    double mean = 0;      // mean distance over the sample points of both sides
+};
+SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original, double spacing);
 
 // texture.cpp. A node's texture for one material: the source atlas downsampled by the node's
 // factor (sqrt(factor) per side, stb_image_resize box filter), then the UV charts its triangles use (connected
 // triangles; bounding rectangle + 1 texel margin each) repacked into one atlas; UVs rewritten
 // affinely per chart, exactly.
-Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError
+Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError (corrupt, truncated)
+// What makes a texture file unusable, found from its header alone ("is missing", "is empty (0
+// bytes)", "is not a readable image (...)", "has absurd size ..."), or "" when it looks usable
+// (its pixels are decoded, and a truncated or corrupt body found, when a block loads it).
+std::string textureProblem(const std::string& path);
 Image downsampleTexture(const Image& source, double factor);
 Image atlasTexture(const Image& scaled, MeshData& mesh);
+
+// bake.cpp (charts: chart.cpp; pipeline/BAKE.md): a new parameterisation of a simplified node
+// and a texture baked from its original surface, for nodes whose source UVs no longer apply.
+// `simplified` carries positions and indices (texcoords, if any, are replaced); each source is the
+// original triangles of one material and its texture (nullptr = untextured: vertex colours, else
+// grey), best prefiltered to about the node's texel density (downsampleTexture by the node's
+// factor): each texel takes 2 x 2 bilinear sub-samples. The result's triangles are grouped by chart, its vertices split where charts meet, its
+// zero-area triangles (zeroArea) dropped; the
+// atlas (RGB) holds at most texelBudget texels unless there are more than texelBudget / 64 charts.
+struct BakeSource { const MeshData* mesh = nullptr; const Image* texture = nullptr; };  // original triangles of one material; texture nullptr = untextured
+struct BakedTexture {
+    MeshData mesh;              // `simplified` with new texcoords (vertices split where charts meet)
+    Image image;                // the baked atlas
+    double psnr = 0;            // dB, baked vs source colours over covered texels
+    uint64_t coveredTexels = 0;
+};
+BakedTexture bakeTexture(const MeshData& simplified, const std::vector<BakeSource>& original, uint64_t texelBudget);
 
 struct BuildOptions {
     Constants constants;
@@ -227,18 +284,43 @@ struct BuildOptions {
     int jobs = 0;                  // 0 = all cores
     std::string tempDir;           // empty = next to the output
     ReadOptions read;              // --allow-outside-input
+    bool strict = false;           // --strict: a TextureProblem is fatal (InputError, exit 2)
+    std::string up;                // --up y|z; empty: by the input's format (chooseUpAxis)
 };
 
-// progress.cpp: per-stage figures and, on a terminal, a live line (stage, percent, items/s,
-// ETA, current and peak RSS); otherwise one summary line per stage. Thread-safe.
+// build.cpp: the up axis recorded in the database (META "up", FORMAT.md) and why: `requested`
+// (--up) when given; otherwise y for glTF (glTF 2.0 is y-up) and z for OBJ and PLY (the
+// convention of scanners and of every database before the key). A folder takes its meshes'
+// convention; one that mixes glTF with OBJ/PLY is an InputError asking for --up.
+struct UpChoice {
+    std::string axis;    // "y" or "z"
+    std::string reason;
+};
+UpChoice chooseUpAxis(const std::string& input, const std::string& requested);
+
+// progress.cpp: per-stage figures and a progress line at least every `interval` seconds while a
+// stage runs: on a terminal one line redrawn in place (every 0.25 s), otherwise (a pipe, a log
+// file) one plain line per `interval` (5 s), or one JSON object per line with --progress-json.
+// A line names the stage, its percent, the textures loaded so far and an ETA only once the stage
+// has a rate ("ETA --" before). Each stage also ends with one summary line. Thread-safe.
+struct ProgressOptions {
+    bool live = false;          // a terminal: redraw one line in place
+    bool json = false;          // {"stage", "done", "total", "unit", "textures", "texels", "elapsed_s", "eta_s"} per line
+    double interval = 5;        // seconds between lines when not live
+    bool thread = true;         // a ticker thread calls poll(); false: the caller does (tests)
+    std::function<double()> clock;  // seconds; empty = std::chrono::steady_clock
+};
 class Progress {
 public:
-    Progress(std::ostream& out, bool live);
+    Progress(std::ostream& out, bool live);  // ProgressOptions{live}
+    Progress(std::ostream& out, ProgressOptions options);
     ~Progress();
     void beginStage(const std::string& name, uint64_t totalItems, const std::string& unit = "tri");
     void advance(uint64_t items);
+    void textureLoaded(uint64_t texels);  // a source texture decoded (work the item count does not show)
     void endStage();
     void message(const std::string& line);  // a warning or note, on its own line
+    void poll();  // prints the progress line if one is due (the ticker thread calls it)
     std::vector<BuildStage> stages() const;
 
 private:
@@ -277,9 +359,13 @@ struct NodeRecord {
 struct BlockStats {
     uint64_t inputTriangles = 0;
     std::vector<float> geometricErrors;  // per local node: max of its own measure and its children's
+    std::vector<SurfaceError> measured;  // per local node: its own measure (0 for leaves)
+    std::vector<uint8_t> baked;          // per local node: simplified geometry only, texture baked
+    std::vector<float> bakePsnr;         // per local node: the baked texture's PSNR (dB), 0 when none
     uint64_t degenerateDropped = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<std::string> warnings;
+    std::vector<TextureProblem> textureProblems;  // of reading the block, and textures that failed to decode
 };
 
 // build_tree.cpp: the §3.2 recursion over one block; nodes breadth-first, hlod0 first.
@@ -340,6 +426,7 @@ struct BuildRequest {
 };
 struct BuildSummary {
     uint32_t blockCount = 0;
+    std::vector<TextureProblem> textureProblems;  // distinct, sorted; each material left untextured
     uint64_t inputTriangles = 0;
     std::vector<uint64_t> nodesPerLevel;
 };

@@ -1,6 +1,12 @@
-// Live progress of a build: on a terminal a line redrawn four times a
-// second with stage, percent, items/s, ETA, current and peak RSS; otherwise one summary line
-// per stage. Figures per stage are kept for the final summary and the build report (formats/build_report.h).
+// Progress of a build: on a terminal a line redrawn four times a second with stage, percent,
+// items/s, textures loaded, ETA, current and peak RSS; otherwise (a pipe, a log) the same line
+// printed once when a stage begins and then every ProgressOptions::interval (5 s), or one JSON
+// object per line (--progress-json), so a long build is never silent. The ETA is the remaining
+// items over the stage's mean rate so far, and is shown only once the stage has a rate (at
+// least one item done): a stage that has done nothing yet (the first block decoding its
+// textures) says "ETA --" instead of a made-up 0 s, and the textures it decodes are counted on
+// the line. Each stage ends with one summary line. Figures per stage are kept for the final
+// summary and the build report (formats/build_report.h).
 #include "pipeline/pipeline.h"
 
 #include <sys/resource.h>
@@ -9,11 +15,14 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <fstream>
 #include <mutex>
 #include <ostream>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 namespace hlod {
@@ -38,50 +47,111 @@ std::string formatBytes(uint64_t bytes) {
     return text;
 }
 
+namespace {
+
+// A JSON string literal (stage names, units and messages: file names may hold anything).
+std::string quoted(const std::string& text) {
+    std::string out = "\"";
+    for (const char c : text) {
+        if (c == '"' || c == '\\') out += '\\', out += c;
+        else if (static_cast<unsigned char>(c) < 0x20) {
+            char escape[8];
+            std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+            out += escape;
+        } else out += c;
+    }
+    return out + "\"";
+}
+
+}  // namespace
+
 struct Progress::Impl {
-    using Clock = std::chrono::steady_clock;
-    Impl(std::ostream& o, bool l) : out(o), live(l) {}
+    Impl(std::ostream& o, ProgressOptions p) : out(o), options(std::move(p)) {
+        if (!options.clock) {
+            const auto origin = std::chrono::steady_clock::now();
+            options.clock = [origin] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - origin).count(); };
+        }
+    }
     std::ostream& out;
-    bool live;
+    ProgressOptions options;
     mutable std::mutex mutex;
     std::condition_variable wake;
     bool stop = false;
     std::string stage, unit;
     uint64_t total = 0;
-    std::atomic<uint64_t> done{0};
-    Clock::time_point start;
+    std::atomic<uint64_t> done{0}, textures{0}, texels{0};
+    double start = 0, lastLine = 0;
     bool active = false;
     std::vector<BuildStage> figures;
     std::thread ticker;
 
-    std::string line() const {  // caller holds mutex
-        const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        const uint64_t d = done.load();
-        const double rate = seconds > 0 ? d / seconds : 0;
-        char text[256];
-        const double percent = total ? std::min(100.0, 100.0 * d / total) : 0.0;
-        const double eta = rate > 0 && total > d ? (total - d) / rate : 0;
-        if (total)
-            std::snprintf(text, sizeof text, "%-8s %5.1f%%  %8.0f k%s/s  ETA %5.0f s  RSS %s (peak %s)", stage.c_str(), percent,
-                          rate / 1000, unit.c_str(), eta, formatBytes(currentRss()).c_str(), formatBytes(std::max(peakRss(), currentRss())).c_str());
-        else
-            std::snprintf(text, sizeof text, "%-8s %12llu %s  %8.0f k%s/s  RSS %s (peak %s)", stage.c_str(),
-                          static_cast<unsigned long long>(d), unit.c_str(), rate / 1000, unit.c_str(),
-                          formatBytes(currentRss()).c_str(), formatBytes(std::max(peakRss(), currentRss())).c_str());
+    // Seconds left, or < 0 while the stage has no rate (nothing done yet) or no known total.
+    double eta(double elapsed, uint64_t d) const {
+        if (!total || d == 0 || elapsed <= 0) return -1;
+        return d >= total ? 0 : (total - d) / (d / elapsed);
+    }
+
+    std::string line(double now) const {  // caller holds mutex
+        const double elapsed = now - start;
+        const uint64_t d = done.load(), n = textures.load(), t = texels.load();
+        const double left = eta(elapsed, d);
+        char text[384];
+        if (options.json) {
+            std::snprintf(text, sizeof text,
+                          "{\"stage\": %s, \"done\": %llu, \"total\": %llu, \"unit\": %s, \"textures\": %llu, \"texels\": %llu, "
+                          "\"elapsed_s\": %.1f, \"eta_s\": %s}",
+                          quoted(stage).c_str(), static_cast<unsigned long long>(d), static_cast<unsigned long long>(total),
+                          quoted(unit).c_str(), static_cast<unsigned long long>(n), static_cast<unsigned long long>(t), elapsed,
+                          left < 0 ? "null" : std::to_string(static_cast<long long>(std::lround(left))).c_str());
+            return text;
+        }
+        const double rate = elapsed > 0 ? d / elapsed : 0;
+        char amount[64], textureText[64] = "", etaText[32] = "ETA --";
+        if (total) std::snprintf(amount, sizeof amount, "%5.1f%%", std::min(100.0, 100.0 * d / total));
+        else std::snprintf(amount, sizeof amount, "%llu %s", static_cast<unsigned long long>(d), unit.c_str());
+        if (n) std::snprintf(textureText, sizeof textureText, "  textures %llu (%.1f Mtexel)", static_cast<unsigned long long>(n), t / 1e6);
+        if (left >= 0) std::snprintf(etaText, sizeof etaText, "ETA %.0f s", left);
+        std::snprintf(text, sizeof text, "%-8s %s  %8.0f k%s/s%s  %s  RSS %s (peak %s)", stage.c_str(), amount, rate / 1000,
+                      unit.c_str(), textureText, total ? etaText : "", formatBytes(currentRss()).c_str(),
+                      formatBytes(std::max(peakRss(), currentRss())).c_str());
         return text;
     }
 
+    void print(double now) {  // caller holds mutex
+        if (options.live) out << "\r" << line(now) << "\x1b[K" << std::flush;
+        else out << line(now) << "\n" << std::flush;
+        lastLine = now;
+    }
+
+    void poll() {  // caller holds mutex
+        if (!active) return;
+        const double now = options.clock();
+        if (options.live || now - lastLine >= options.interval) print(now);
+    }
+
     void tick() {
+        const auto period = std::chrono::duration<double>(options.live ? 0.25 : std::min(0.25, options.interval));
         std::unique_lock lock(mutex);
         while (!stop) {
-            if (active) out << "\r" << line() << "\x1b[K" << std::flush;
-            wake.wait_for(lock, std::chrono::milliseconds(250));
+            poll();
+            wake.wait_for(lock, period);
         }
     }
 };
 
-Progress::Progress(std::ostream& out, bool live) : impl_(new Impl{out, live}) {
-    if (live) impl_->ticker = std::thread([this] { impl_->tick(); });
+namespace {
+ProgressOptions liveOrNot(bool live) {
+    ProgressOptions options;
+    options.live = live;
+    return options;
+}
+}  // namespace
+
+Progress::Progress(std::ostream& out, bool live) : Progress(out, liveOrNot(live)) {}
+
+Progress::Progress(std::ostream& out, ProgressOptions options) : impl_(new Impl{out, std::move(options)}) {
+    if (!(impl_->options.interval > 0)) throw std::invalid_argument("progress interval must be positive");
+    if (impl_->options.thread) impl_->ticker = std::thread([this] { impl_->tick(); });
 }
 
 Progress::~Progress() {
@@ -96,31 +166,48 @@ Progress::~Progress() {
 void Progress::beginStage(const std::string& name, uint64_t totalItems, const std::string& unit) {
     std::lock_guard lock(impl_->mutex);
     impl_->stage = name, impl_->unit = unit, impl_->total = totalItems;
-    impl_->done = 0;
-    impl_->start = Impl::Clock::now();
+    impl_->done = 0, impl_->textures = 0, impl_->texels = 0;
+    impl_->start = impl_->options.clock();
     impl_->active = true;
+    if (!impl_->options.live) impl_->print(impl_->start);  // a pipe sees every stage begin
 }
 
 void Progress::advance(uint64_t items) {
     impl_->done += items;
 }
 
+void Progress::textureLoaded(uint64_t texels) {
+    ++impl_->textures;
+    impl_->texels += texels;
+}
+
+void Progress::poll() {
+    std::lock_guard lock(impl_->mutex);
+    impl_->poll();
+}
+
 void Progress::endStage() {
     std::lock_guard lock(impl_->mutex);
-    const double seconds = std::chrono::duration<double>(Impl::Clock::now() - impl_->start).count();
-    impl_->figures.push_back({impl_->stage, seconds, impl_->done.load()});
+    const double seconds = impl_->options.clock() - impl_->start;
+    const uint64_t done = impl_->done.load();
+    impl_->figures.push_back({impl_->stage, seconds, done});
     impl_->active = false;
-    char text[256];
-    std::snprintf(text, sizeof text, "%-8s %8.2f s  %12llu %s  %8.0f k%s/s  peak RSS %s", impl_->stage.c_str(), seconds,
-                  static_cast<unsigned long long>(impl_->done.load()), impl_->unit.c_str(),
-                  seconds > 0 ? impl_->done.load() / seconds / 1000 : 0.0, impl_->unit.c_str(),
-                  formatBytes(peakRss()).c_str());
-    impl_->out << (impl_->live ? "\r" : "") << text << (impl_->live ? "\x1b[K\n" : "\n") << std::flush;
+    char text[384];
+    if (impl_->options.json)
+        std::snprintf(text, sizeof text, "{\"stage\": %s, \"done\": %llu, \"total\": %llu, \"unit\": %s, \"seconds\": %.2f, \"end\": true}",
+                      quoted(impl_->stage).c_str(), static_cast<unsigned long long>(done),
+                      static_cast<unsigned long long>(impl_->total), quoted(impl_->unit).c_str(), seconds);
+    else
+        std::snprintf(text, sizeof text, "%-8s %8.2f s  %12llu %s  %8.0f k%s/s  peak RSS %s", impl_->stage.c_str(), seconds,
+                      static_cast<unsigned long long>(done), impl_->unit.c_str(), seconds > 0 ? done / seconds / 1000 : 0.0,
+                      impl_->unit.c_str(), formatBytes(peakRss()).c_str());
+    impl_->out << (impl_->options.live ? "\r" : "") << text << (impl_->options.live ? "\x1b[K\n" : "\n") << std::flush;
 }
 
 void Progress::message(const std::string& line) {
     std::lock_guard lock(impl_->mutex);
-    impl_->out << (impl_->live ? "\r\x1b[K" : "") << line << "\n" << std::flush;
+    if (impl_->options.json) impl_->out << "{\"message\": " << quoted(line) << "}\n" << std::flush;
+    else impl_->out << (impl_->options.live ? "\r\x1b[K" : "") << line << "\n" << std::flush;
 }
 
 std::vector<BuildStage> Progress::stages() const {

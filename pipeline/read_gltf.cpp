@@ -4,7 +4,9 @@
 // the inverse transpose, normalised) and COLOR_0 (RGB or RGBA, float or normalised integers, to
 // 8 bits) as the PLY reader reads them: an attribute is kept when every primitive has it.
 // Mirroring transforms reverse the winding back. Base-colour textures: embedded images
-// decoded by stb_image, external ones by path (loaded later through OpenImageIO). External
+// decoded by stb_image (one that does not decode or claims too many texels is a TextureProblem,
+// its material untextured),
+// external ones by path (loaded later through OpenImageIO). External
 // images and buffers are confined to the input's folder (resolveReference). Every accessor is
 // checked against its buffer view and buffer before it is read: corrupt files give
 // InputError("FILE: problem").
@@ -20,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 
 namespace hlod {
 namespace {
@@ -80,6 +83,7 @@ struct Context {
     std::vector<uint32_t> materialOfGltf;  // glTF material -> index in out.materials
     bool allNormals = true, allColors = true;
     uint32_t skippedPrimitives = 0;
+    const std::map<int, std::string>& unusableImages;  // image index -> why it was not decoded (loadImageChecked)
 };
 
 // Accessor `index` located in its buffer: element i's first byte is data + stride * i, and
@@ -295,7 +299,9 @@ void addMaterials(Context& cx) {
             const int source = cx.model.textures[static_cast<size_t>(tex)].source;
             if (source >= 0 && source < static_cast<int>(cx.model.images.size())) {
                 const tinygltf::Image& img = cx.model.images[static_cast<size_t>(source)];
-                if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0)
+                if (const auto failed = cx.unusableImages.find(source); failed != cx.unusableImages.end())
+                    cx.out.stats.textureProblems.push_back({cx.path + ": image " + std::to_string(source) + " " + failed->second, out.name});
+                else if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0)
                     out.image = decodedImage(cx, img, static_cast<size_t>(source));
                 else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
                     out.texturePath = resolveReference(cx.path, folderOf(cx.path), img.uri, "image", cx.options);
@@ -350,31 +356,27 @@ bool readBuffer(std::vector<unsigned char>* out, std::string* err, const std::st
 
 // Embedded images are decoded by stb_image inside tinygltf; a few hundred bytes of PNG can claim
 // 20000 x 16000 texels (a decompression bomb). The header is read first: an image above
-// kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, leaves its
-// material untextured with a warning, as a missing texture file does (README "Inputs").
-struct ImageCheck {
-    std::string path;
-    std::vector<std::string> warnings;
-};
-
+// kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, is kept in
+// `user` (std::map<int, std::string>*: image index -> why) instead of failing the whole file,
+// and becomes a TextureProblem of each material using it (addMaterials): the one rule for every
+// unusable texture (README "Inputs: textures").
 bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
                       const unsigned char* bytes, int size, void* user) {
-    auto* check = static_cast<ImageCheck*>(user);
-    const std::string what = check->path + ": image " + std::to_string(index);
+    auto& unusable = *static_cast<std::map<int, std::string>*>(user);
+    (void)err;
     int w = 0, h = 0, components = 0;
     if (!stbi_info_from_memory(bytes, size, &w, &h, &components)) {
-        check->warnings.push_back(what + " cannot be decoded (" + stbi_failure_reason() + "): its material is untextured");
+        unusable[index] = std::string("cannot be decoded (") + stbi_failure_reason() + ")";
         return true;
     }
     if (uint64_t(w) * uint64_t(h) > kMaxTextureTexels) {
-        check->warnings.push_back(what + " claims " + std::to_string(w) + "x" + std::to_string(h) + " texels (more than " +
-                                  std::to_string(kMaxTextureTexels) + "): not decoded, its material is untextured");
+        unusable[index] = "claims " + std::to_string(w) + "x" + std::to_string(h) + " texels (more than " +
+                          std::to_string(kMaxTextureTexels) + "): not decoded";
         return true;
     }
     std::string decodeError;
     if (tinygltf::LoadImageData(image, index, &decodeError, warn, width, height, bytes, size, nullptr)) return true;
-    (void)err;
-    check->warnings.push_back(what + " cannot be decoded: its material is untextured");
+    unusable[index] = "cannot be decoded (" + decodeError.substr(0, decodeError.find('\n')) + ")";
     *image = tinygltf::Image{};
     return true;
 }
@@ -398,8 +400,8 @@ SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const s
     std::string err, warn;
     BufferFiles files{path, folderOf(path), options, {}};
     loader.SetFsCallbacks({bufferExists, expandPath, readBuffer, nullptr, &files});
-    ImageCheck images{path, {}};
-    loader.SetImageLoader(loadImageChecked, &images);
+    std::map<int, std::string> unusableImages;
+    loader.SetImageLoader(loadImageChecked, &unusableImages);
     const unsigned int length = static_cast<unsigned int>(bytes.size());
     const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), length, files.folder)
                            : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
@@ -407,8 +409,7 @@ SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const s
     if (!files.refused.empty()) throw InputError(files.refused);
     if (!ok) throw InputError(path + ": corrupt glTF (" + err.substr(0, err.find('\n')) + ")");
     SourceMesh out;
-    out.stats.warnings = std::move(images.warnings);
-    Context cx{model, path, options, out, {}};
+    Context cx{model, path, options, out, {}, true, true, 0, unusableImages};
     addMaterials(cx);
     const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;

@@ -1,17 +1,28 @@
 // Simplification of thesis §3.2 ("Qslim ... with a metric such that the number of triangles
-// decrease by a factor"): quadric error metrics down to triangleCount / factor. The vertices a
-// neighbouring node can share are locked, so pieces of any level meet without cracks: open-border
-// vertices on the piece's bounding-box faces (every cut plane, of the block grid or of §3.2's
-// division, is such a face) and vertices on a material seam (materials are simplified apart).
-// Other open borders (scan holes, occlusion gaps, the edge of the scanned area) simplify freely:
-// locking every border, as meshopt_SimplifyLockBorder does, keeps a hole-riddled scan from ever
-// reaching its target. Both simplifiers only collapse edges onto existing vertices, so texture
-// coordinates stay exact. meshoptimizer (default, ~1.4 M tri/s) or OpenMesh's Decimater with
-// ModQuadric (~50 k tri/s, selectable with --simplifier openmesh).
-// Neither closes a hole, so a mesh with many scan holes stops far above its target. Fallback:
-// when the result exceeds kTargetSlack x the target, the closable holes of the result (no locked
-// vertex, not a surface's outline: fill_holes.cpp) are triangulated and the result simplified
-// again, up to kFillRounds times. Locked vertices never move, so borders stay crack-free.
+// decrease by a factor"): quadric error metrics down to triangleCount / factor. A node is
+// simplified as ONE mesh (simplifyNode), welded by position first (weld.cpp), so that chunk and
+// material borders are interior edges: a change of texture coordinates or material is an
+// attribute seam, not a topological border (issue #16: simplifying each material apart, with its
+// seam vertices locked, kept coarse levels of chunked multi-atlas scans at 40-55 % of the input).
+// The vertices a neighbouring node shares are locked, so pieces of any level meet without
+// cracks: open-border vertices on the piece's bounding-box faces (every cut plane, of the block
+// grid or of §3.2's division, is such a face). Other open borders (scan holes, occlusion gaps,
+// the edge of the scanned area) simplify freely: locking every border, as
+// meshopt_SimplifyLockBorder does, keeps a hole-riddled scan from ever reaching its target. Both
+// simplifiers only collapse edges onto existing vertices, so texture coordinates stay exact.
+// meshoptimizer (default, ~1.4 M tri/s) or OpenMesh's Decimater with ModQuadric (~50 k tri/s,
+// selectable with --simplifier openmesh; it has no seams, so seam vertices are locked for it).
+// Two passes (simplifyNode):
+//   1. seam-preserving: all vertices, seams kept (a seam vertex collapses only along its seam);
+//   2. when pass 1 ends above kTargetSlack x the target (fragmented photogrammetry UVs: every
+//      chart outline is a seam), geometry only: one vertex per position, no texture
+//      coordinates, cut-plane borders still locked; build_tree.cpp gives such a node a new
+//      texture (baked) instead of cropping the source atlases.
+// Neither simplifier closes a hole, so a mesh with many scan holes stops far above its target.
+// Fallback in both passes: when the result exceeds kTargetSlack x the target, the closable holes
+// of the result (no locked vertex, not a surface's outline: fill_holes.cpp) are triangulated and
+// the result simplified again, up to kFillRounds times. Locked vertices never move, so borders
+// stay crack-free.
 #include "pipeline/pipeline.h"
 
 #include <meshoptimizer.h>
@@ -104,14 +115,11 @@ std::vector<uint8_t> sharedVertices(const Piece& piece) {
     std::vector<uint32_t> position(vc);  // vertices with equal positions share an id
     meshopt_generateVertexRemap(position.data(), nullptr, vc, m.positions.data(), vc, 3 * sizeof(float));
     std::unordered_map<uint64_t, uint32_t> edgeUses;
-    std::vector<uint32_t> material(vc, kNone);
-    std::vector<uint8_t> seam(vc), border(vc);
+    std::vector<uint8_t> border(vc);
     for (size_t t = 0; t < m.triangleCount(); ++t)
         for (int k = 0; k < 3; ++k) {
             const uint32_t a = position[m.indices[3 * t + k]], b = position[m.indices[3 * t + (k + 1) % 3]];
             ++edgeUses[(uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
-            if (material[a] == kNone) material[a] = piece.materials[t];
-            else if (material[a] != piece.materials[t]) seam[a] = 1;
         }
     for (const auto& [edge, uses] : edgeUses)
         if (uses == 1) border[edge >> 32] = border[edge & 0xFFFFFFFFu] = 1;
@@ -121,7 +129,7 @@ std::vector<uint8_t> sharedVertices(const Piece& piece) {
     for (size_t i = 0; i < vc; ++i) {
         const float* p = &m.positions[3 * i];
         const bool onFace = p[0] == lo[0] || p[0] == hi[0] || p[1] == lo[1] || p[1] == hi[1] || p[2] == lo[2] || p[2] == hi[2];
-        locked[i] = seam[position[i]] || (border[position[i]] && onFace);
+        locked[i] = border[position[i]] && onFace;
     }
     return locked;
 }
@@ -148,22 +156,84 @@ std::vector<SubMesh> splitByMaterial(const Piece& piece) {
     return parts;
 }
 
-MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier, const std::vector<uint8_t>& locked) {
-    if (factor <= 1 || mesh.triangleCount() < 2) return mesh;
-    const std::vector<uint8_t> lock = locked.size() == mesh.vertexCount() ? locked : sharedVertices({mesh, std::vector<uint32_t>(mesh.triangleCount())});
-    const size_t target = std::max<size_t>(1, static_cast<size_t>(std::llround(mesh.triangleCount() / factor)));
-    auto simplify = [&](const std::vector<uint32_t>& indices) {
-        return simplifier == Simplifier::Meshopt ? simplifyMeshopt(mesh, indices, target, lock)
-                                                 : simplifyOpenMesh(mesh, indices, target, lock);
+namespace {
+
+// Simplifies `indices` (into `mesh`) to about `target` triangles; when the result exceeds
+// kTargetSlack x target, the hole-filling fallback of the header comment.
+std::vector<uint32_t> simplifyToTarget(const MeshData& mesh, const std::vector<uint32_t>& indices, size_t target,
+                                       const std::vector<uint8_t>& lock, Simplifier simplifier) {
+    auto simplify = [&](const std::vector<uint32_t>& in) {
+        return simplifier == Simplifier::Meshopt ? simplifyMeshopt(mesh, in, target, lock)
+                                                 : simplifyOpenMesh(mesh, in, target, lock);
     };
-    std::vector<uint32_t> result = simplify(mesh.indices);
+    std::vector<uint32_t> result = simplify(indices);
     for (int round = 0; round < kFillRounds && double(result.size() / 3) > kTargetSlack * double(target); ++round) {
         const std::vector<uint32_t> patches = holePatches(mesh, result, lock);
         if (patches.empty()) break;
         result.insert(result.end(), patches.begin(), patches.end());
         result = simplify(result);
     }
-    return compact(mesh, result);
+    return result;
+}
+
+size_t targetOf(size_t triangles, double factor) {
+    return std::max<size_t>(1, static_cast<size_t>(std::llround(triangles / factor)));
+}
+
+}  // namespace
+
+MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier, const std::vector<uint8_t>& locked) {
+    if (factor <= 1 || mesh.triangleCount() < 2) return mesh;
+    const std::vector<uint8_t> lock = locked.size() == mesh.vertexCount() ? locked : sharedVertices({mesh, std::vector<uint32_t>(mesh.triangleCount())});
+    return compact(mesh, simplifyToTarget(mesh, mesh.indices, targetOf(mesh.triangleCount(), factor), lock, simplifier));
+}
+
+SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier) {
+    SimplifiedNode out;
+    const MeshData& m = piece.mesh;
+    if (factor <= 1 || m.triangleCount() < 2) {
+        out.piece = piece;
+        return out;
+    }
+    const size_t vc = m.vertexCount(), target = targetOf(m.triangleCount(), factor);
+    const std::vector<uint8_t> lock = sharedVertices(piece);
+    std::vector<uint32_t> position(vc);  // vertices with equal positions share an id
+    const size_t positions = meshopt_generateVertexRemap(position.data(), nullptr, vc, m.positions.data(), vc, 3 * sizeof(float));
+    // 1. Seam-preserving: meshoptimizer keeps a seam's two sides together (a seam vertex only
+    // collapses along the seam, both sides at once). OpenMesh's decimater has no seams: the
+    // vertices of a seam are locked, as a material seam was before.
+    std::vector<uint8_t> seamLock = lock;
+    if (simplifier == Simplifier::OpenMesh) {
+        std::vector<uint32_t> wedges(positions);
+        for (uint32_t p : position) ++wedges[p];
+        for (size_t i = 0; i < vc; ++i) seamLock[i] = seamLock[i] || wedges[position[i]] > 1;
+    }
+    std::vector<uint32_t> result = simplifyToTarget(m, m.indices, target, seamLock, simplifier);
+    if (double(result.size() / 3) <= kTargetSlack * double(target)) {
+        std::vector<uint32_t> material(vc);  // weldPiece gives every vertex one material
+        for (size_t t = 0; t < m.triangleCount(); ++t)
+            for (int k = 0; k < 3; ++k) material[m.indices[3 * t + k]] = piece.materials[t];
+        for (size_t t = 0; t < result.size() / 3; ++t) out.piece.materials.push_back(material[result[3 * t]]);
+        out.piece.mesh = compact(m, result);
+        return out;
+    }
+    // 2. Geometry only (the charts are too fragmented for the seams to follow): one vertex per
+    // position, no texture coordinates; the caller bakes a new texture.
+    MeshData geometry;
+    geometry.positions.resize(3 * positions);
+    meshopt_remapVertexBuffer(geometry.positions.data(), m.positions.data(), vc, 3 * sizeof(float), position.data());
+    if (!m.colors.empty()) {
+        geometry.colors.resize(4 * positions);
+        meshopt_remapVertexBuffer(geometry.colors.data(), m.colors.data(), vc, 4, position.data());
+    }
+    std::vector<uint8_t> geometryLock(positions);
+    for (size_t i = 0; i < vc; ++i) geometryLock[position[i]] |= lock[i];
+    std::vector<uint32_t> indices(m.indices.size());
+    meshopt_remapIndexBuffer(indices.data(), m.indices.data(), m.indices.size(), position.data());
+    out.piece.mesh = compact(geometry, simplifyToTarget(geometry, indices, target, geometryLock, simplifier));
+    out.piece.materials.assign(out.piece.mesh.triangleCount(), 0);
+    out.geometryOnly = true;
+    return out;
 }
 
 }  // namespace hlod

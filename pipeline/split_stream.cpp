@@ -99,6 +99,7 @@ std::vector<CellFile> streamSplit(const RawMesh& raw, const GridSpec& grid, cons
                 if (++routed[c] % flushAt == 0) flush(c);
             }
     }
+    if (progress) progress->advance(raw.triangles.size() & 0xFFFF);  // the last, partial chunk
     if (kept == 0) throw InputError(name + ": empty mesh (no valid triangles)");
     std::vector<CellFile> out;
     for (size_t c = 0; c < cells; ++c) {

@@ -12,35 +12,65 @@
 // chart's colour bleeds into another through the compression.
 #include "pipeline/pipeline.h"
 
+#include "formats/layout.h"
+
 #include <OpenImageIO/imageio.h>
 #define STB_IMAGE_RESIZE_IMPLEMENTATION
 #include <stb_image_resize.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 namespace hlod {
 
+namespace {
+
+// The side limit of a stored texture (FORMAT.md "Limits"): a larger source could not be kept
+// at its leaves, and its header is refused before its pixels are allocated.
+constexpr int kMaxSourceSide = static_cast<int>(layout::kMaxTextureSide);
+
+std::string absurd(const OIIO::ImageSpec& spec) {
+    if (spec.width > 0 && spec.height > 0 && spec.width <= kMaxSourceSide && spec.height <= kMaxSourceSide && spec.nchannels > 0)
+        return "";
+    return "has absurd size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
+           std::to_string(spec.nchannels) + " (at most " + std::to_string(kMaxSourceSide) + " per side)";
+}
+
+std::string firstLine(std::string text) { return text.substr(0, text.find('\n')); }
+
+}  // namespace
+
+std::string textureProblem(const std::string& path) {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error)) return "is missing";
+    if (std::filesystem::file_size(path, error) == 0) return "is empty (0 bytes)";
+    auto input = OIIO::ImageInput::open(path);
+    if (!input) return "is not a readable image (" + firstLine(OIIO::geterror()) + ")";
+    return absurd(input->spec());
+}
+
 Image loadTexture(const std::string& path) {
     auto input = OIIO::ImageInput::open(path);
-    if (!input) throw InputError(path + ": cannot read texture (" + OIIO::geterror() + ")");
+    if (!input) throw InputError(path + ": cannot read texture (" + firstLine(OIIO::geterror()) + ")");
     const OIIO::ImageSpec& spec = input->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.width > 65536 || spec.height > 65536 || spec.nchannels <= 0)
-        throw InputError(path + ": texture has absurd size " + std::to_string(spec.width) + "x" + std::to_string(spec.height));
+    if (const std::string problem = absurd(spec); !problem.empty()) throw InputError(path + ": texture " + problem);
     Image image;
     image.width = static_cast<uint32_t>(spec.width);
     image.height = static_cast<uint32_t>(spec.height);
     image.channels = spec.nchannels >= 3 ? 3 : 1;
     image.pixels.resize(static_cast<size_t>(image.width) * image.height * image.channels);
-    if (!input->read_image(0, 0, 0, static_cast<int>(image.channels), OIIO::TypeDesc::UINT8, image.pixels.data()))
-        throw InputError(path + ": corrupt texture (" + input->geterror() + ")");
+    // A truncated JPEG decodes with a libjpeg warning ("premature end of data") that OpenImageIO
+    // keeps as an error while read_image still succeeds: either is a corrupt texture.
+    const bool read = input->read_image(0, 0, 0, static_cast<int>(image.channels), OIIO::TypeDesc::UINT8, image.pixels.data());
+    if (!read || input->has_error()) throw InputError(path + ": corrupt texture (" + firstLine(input->geterror()) + ")");
     return image;
 }
 
 uint64_t textureTexels(const std::string& path) {
     auto input = OIIO::ImageInput::open(path);
-    if (!input) return 0;
-    return static_cast<uint64_t>(std::max(0, input->spec().width)) * static_cast<uint64_t>(std::max(0, input->spec().height));
+    if (!input || !absurd(input->spec()).empty()) return 0;
+    return static_cast<uint64_t>(input->spec().width) * static_cast<uint64_t>(input->spec().height);
 }
 
 Image downsampleTexture(const Image& source, double factor) {

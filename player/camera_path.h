@@ -3,12 +3,14 @@
 // `hlod path` (walk, drive, fly, erratic - Funkhouser & Séquin 1993, viewpoint path C) from a database's bounds.
 #pragma once
 
+#include "formats/codec.h"
 #include "formats/db.h"
 #include "player/renderer.h"
 
 #include <cstdint>
 #include <iosfwd>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hlod {
@@ -66,6 +68,10 @@ struct PathOptions {
 // anything else is an object, walked around in kObjectLapSeconds (player/CAMERA_PATH.md).
 inline constexpr double kCityMinExtentM = 20, kCityMinFlatness = 4, kObjectLapSeconds = 60;
 inline constexpr double kWalkSpeedMps = 1.5, kDriveFactor = 10, kEyeHeightM = 1.7;
+// The eye of a city-like walk, drive, erratic, line or zigzag path climbs and sinks at most kMaxClimbMps (a
+// brisk stair climb: 2 steps of 17 cm a second), over the ground's median within
+// +-kGroundMedianSeconds (player/CAMERA_PATH.md "Eye height"): at most 0.25 m per 0.5 s key.
+inline constexpr double kMaxClimbMps = 0.5, kGroundMedianSeconds = 1.0;
 
 // What a generated path will do, in database units.
 struct PathPlan {
@@ -80,8 +86,42 @@ PathPlan planPath(const Skeleton& skeleton, const PathOptions& options);
 // Parses --units: m, cm, mm, km, or a positive number of metres per unit. Throws std::invalid_argument.
 double parseUnits(const std::string& text);
 
+// path_ground.cpp: the scanned surfaces under a walk, from decoded triangles (`hlod path` adds a
+// cut of the database, player/CAMERA_PATH.md "Eye height"). Queries index the triangles on first
+// use (not thread-safe until then).
+class SurfaceHeights {
+public:
+    explicit SurfaceHeights(int upAxis = 2);  // 1: y up, 2: z up
+    void add(const MeshData& mesh);
+    size_t triangles() const { return triangles_.size(); }
+    // Height along the up axis of the lowest surface above or below the horizontal point (x, y)
+    // (x along the first horizontal axis: x for z up, z for y up; y along the other); NaN where
+    // no triangle is (a hole in the scan, or off the model).
+    double lowest(double x, double y) const;
+    // Whether the segment from -> to (database frame) passes through a triangle.
+    bool crosses(const double from[3], const double to[3]) const;
+
+private:
+    struct Triangle {
+        float p[3][3];
+    };
+    int up_, a_, b_;
+    std::vector<Triangle> triangles_;
+    mutable std::vector<std::vector<uint32_t>> grid_;  // triangles by horizontal cell
+    mutable uint32_t cells_ = 1;
+    mutable double lo_[2] = {0, 0}, size_[2] = {1, 1};
+    void index() const;
+    std::pair<uint32_t, uint32_t> cell(double x, double y) const;
+};
+
 // The bounds of all hlod0 nodes.
 Box3f modelBounds(const Skeleton& skeleton);
-CameraPath generatePath(const Skeleton& skeleton, const PathOptions& options);
+// A city-like path (any kind but fly) keeps its eye above the lowest surface under it when
+// `surfaces` is given (the model's bottom where there is none), else above the node-box
+// estimate (player/CAMERA_PATH.md "Eye height").
+CameraPath generatePath(const Skeleton& skeleton, const PathOptions& options, const SurfaceHeights* surfaces = nullptr);
+// Key pairs (0.01 s or more apart) whose straight segment passes through a surface: where the
+// route goes through a wall (it does not avoid them).
+size_t countCrossings(const CameraPath& path, const SurfaceHeights& surfaces);
 
 }  // namespace hlod

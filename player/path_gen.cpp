@@ -3,7 +3,10 @@
 // with the whole model in view (§6.2), and an erratic walk with sudden 180-degree turns and
 // teleports (viewpoint path C of T. A. Funkhouser and C. H. Séquin, "Adaptive Display Algorithm
 // for Interactive Frame Rates During Visualization of Complex Virtual Environments", SIGGRAPH
-// 1993). Routes are ellipses inset in the bounds.
+// 1993). Routes are ellipses inset in the bounds. The eye of a city-like walk follows the lowest
+// scanned surface under it (SurfaceHeights, when given; else an estimate from the finest node
+// boxes), filtered so that it climbs and sinks at most kMaxClimbMps (player/CAMERA_PATH.md
+// "Eye height", "Indoors").
 #include "player/camera_path.h"
 
 #include <Eigen/Geometry>
@@ -46,9 +49,9 @@ void lookAlong(const Vector3d& forward, const Vector3d& up, double q[4]) {
     q[3] = qq.w();
 }
 
-// Ground under a horizontal point: the lowest top of the finest-level node boxes above it (a
-// terrain patch's top is at or above its surface, a street node's top is near street level
-// while facades reach higher), found through a uniform grid of those boxes' footprints.
+// Ground under a horizontal point without the geometry: the lowest top of the finest-level node
+// boxes above it (a terrain patch's top is at or above its surface, a street node's top is near
+// street level while facades reach higher), found through a uniform grid of the boxes' footprints.
 class GroundIndex {
 public:
     GroundIndex(const Skeleton& s, const Frame& f, double fallback) : f_(f), fallback_(fallback) {
@@ -115,6 +118,27 @@ struct Route {
 
 Vector3d unit(int i) { return Vector3d::Unit(i); }
 
+// The ground the eye follows along one continuous stretch of keys (no teleport in it): the
+// median over +-kGroundMedianSeconds (a key or two that stand out are dropped), then the largest
+// height curve at or below it whose slope is at most `rate` units per second (forward and
+// backward passes of s_i = min(g_i, s_j + rate |t_i - t_j|)): the eye never climbs or sinks
+// faster than `rate`, and never rises above the filtered ground, so a roof the route crosses
+// (it goes through buildings) or a ceiling-high box is not climbed unless it lasts.
+void smoothGround(const std::vector<double>& times, std::vector<double>& ground, double rate) {
+    const size_t n = ground.size();
+    std::vector<double> median(n);
+    for (size_t i = 0, lo = 0, hi = 0; i < n; ++i) {
+        while (times[i] - times[lo] > kGroundMedianSeconds) ++lo;
+        while (hi + 1 < n && times[hi + 1] - times[i] <= kGroundMedianSeconds) ++hi;
+        std::vector<double> window(ground.begin() + static_cast<std::ptrdiff_t>(lo), ground.begin() + static_cast<std::ptrdiff_t>(hi + 1));
+        std::nth_element(window.begin(), window.begin() + static_cast<std::ptrdiff_t>(window.size() / 2), window.end());
+        median[i] = window[window.size() / 2];
+    }
+    for (size_t i = 1; i < n; ++i) median[i] = std::min(median[i], median[i - 1] + rate * (times[i] - times[i - 1]));
+    for (size_t i = n - 1; i-- > 0;) median[i] = std::min(median[i], median[i + 1] + rate * (times[i + 1] - times[i]));
+    ground = std::move(median);
+}
+
 CameraKey key(double time, const Vector3d& p, const Vector3d& forward, const Vector3d& up) {
     CameraKey k;
     k.time = time;
@@ -124,6 +148,14 @@ CameraKey key(double time, const Vector3d& p, const Vector3d& forward, const Vec
 }
 
 }  // namespace
+
+size_t countCrossings(const CameraPath& path, const SurfaceHeights& surfaces) {
+    size_t crossings = 0;
+    for (size_t k = 1; k < path.keys.size(); ++k)
+        if (path.keys[k].time - path.keys[k - 1].time >= 0.01 && surfaces.crosses(path.keys[k - 1].position, path.keys[k].position))
+            ++crossings;
+    return crossings;
+}
 
 PathKind parsePathKind(const std::string& text) {
     if (text == "walk") return PathKind::Walk;
@@ -190,7 +222,7 @@ PathPlan planPath(const Skeleton& skeleton, const PathOptions& o) {
     return plan;
 }
 
-CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
+CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const SurfaceHeights* surfaces) {
     if (skeleton.nodes.empty()) throw std::invalid_argument("the database has no nodes");
     if (o.upAxis != 1 && o.upAxis != 2) throw std::invalid_argument("up axis must be y or z");
     if (!(o.keyInterval > 0) || o.duration < 0 || o.speed < 0) throw std::invalid_argument("durations and speeds must be positive");
@@ -219,6 +251,30 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
     }
 
     GroundIndex ground(skeleton, f, lo[f.up]);
+    // An object's ground is its bottom. A city's is the lowest surface under the eye, or where
+    // there is none (a gap in the scan, a street between block meshes) the model's bottom, as the
+    // box estimate's fallback; without surfaces, the box estimate.
+    auto groundAt = [&](const Vector3d& p) {
+        if (plan.object) return double(lo[f.up]);
+        if (!surfaces) return ground.at(p[f.a], p[f.b]);
+        const double surface = surfaces->lowest(p[f.a], p[f.b]);
+        return std::isnan(surface) ? double(lo[f.up]) : surface;
+    };
+    std::vector<double> heights;       // ground under each key
+    std::vector<size_t> stretches{0};  // first key of each stretch between teleports
+    // The eye over each stretch's filtered ground (smoothGround).
+    auto settle = [&] {
+        stretches.push_back(path.keys.size());
+        for (size_t s = 0; s + 1 < stretches.size(); ++s) {
+            std::vector<double> times, stretch(heights.begin() + static_cast<std::ptrdiff_t>(stretches[s]),
+                                               heights.begin() + static_cast<std::ptrdiff_t>(stretches[s + 1]));
+            for (size_t k = stretches[s]; k < stretches[s + 1]; ++k) times.push_back(path.keys[k].time);
+            if (!plan.object) smoothGround(times, stretch, kMaxClimbMps / o.metresPerUnit);
+            for (size_t k = stretches[s]; k < stretches[s + 1]; ++k)
+                path.keys[k].position[f.up] = stretch[k - stretches[s]] + plan.eyeHeight;
+        }
+        return path;
+    };
     if (o.kind == PathKind::Line || o.kind == PathKind::Zigzag) {
         // Waypoints inset 15 % in the bounds: a line from one corner to the opposite one; a zigzag
         // of four legs between the two long sides, so that the view turns sharply three times.
@@ -238,10 +294,10 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
             for (; leg + 1 < points.size() && s > (points[leg] - points[leg - 1]).norm(); ++leg) s -= (points[leg] - points[leg - 1]).norm();
             Vector3d dir = points[leg] - points[leg - 1];
             Vector3d p = points[leg - 1] + dir.normalized() * std::min(s, dir.norm());
-            p[f.up] = (plan.object ? lo[f.up] : ground.at(p[f.a], p[f.b])) + plan.eyeHeight;
+            heights.push_back(groundAt(p));
             path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : dir, up));
         }
-        return path;
+        return settle();
     }
     double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
     std::mt19937 rng(o.seed);
@@ -249,24 +305,25 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o) {
     double theta = 0, direction = 1, nextEvent = gap(rng);
     auto place = [&](double t, double th, double dir) {
         Vector3d p = route.at(th);
-        // An object's ground is its bottom; a city's is the ground estimate under the eye.
-        p[f.up] = (plan.object ? lo[f.up] : ground.at(p[f.a], p[f.b])) + plan.eyeHeight;
+        heights.push_back(groundAt(p));
         path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : Vector3d(dir * route.tangent(th)), up));
     };
     for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
         place(t, theta, direction);
         if (o.kind == PathKind::Erratic && t + o.keyInterval > nextEvent) {
-            if (coin(rng) < 0.5)
+            if (coin(rng) < 0.5) {
                 direction = -direction;  // sudden 180-degree turn
-            else
-                theta = angle(rng);      // teleport
+            } else {
+                theta = angle(rng);      // teleport: a new stretch, whose eye height starts afresh
+                stretches.push_back(path.keys.size());
+            }
             place(t + 1e-3, theta, direction);
             nextEvent += gap(rng);
         }
         double step = plan.speed * o.keyInterval / std::max(route.tangent(theta).norm(), 1e-9);
         theta += direction * step;
     }
-    return path;
+    return settle();
 }
 
 }  // namespace hlod

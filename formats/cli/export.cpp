@@ -4,6 +4,7 @@
 #include "formats/cli/subcommands.h"
 
 #include "formats/export_tiles.h"
+#include "formats/up_axis.h"
 
 #include <CLI/CLI.hpp>
 
@@ -16,7 +17,7 @@ namespace hlod::cli {
 namespace {
 
 struct TilesArgs {
-    std::string db, out, origin;
+    std::string db, out, origin, up;
     bool archive = false;
 };
 
@@ -24,6 +25,7 @@ int runTiles(const TilesArgs& a) {
     TilesOptions options;
     if (!a.origin.empty()) options.origin = parseGeodetic(a.origin);
     options.archive = a.archive;
+    options.up = a.up;
     const Database db = Database::open(a.db);
     const auto start = std::chrono::steady_clock::now();
     const TilesReport r = exportTiles(db, a.out, options);
@@ -39,6 +41,9 @@ int runTiles(const TilesArgs& a) {
     else
         std::printf("note: no --origin: the tileset stays in the database's local frame (metres, z up), "
                     "at the earth's centre in a globe viewer\n");
+    const bool yUp = (a.up.empty() ? upAxisOf(db.skeleton(), a.db).axis : parseUpAxis(a.up, "--up")) == 1;
+    std::printf("up axis: %s (%s)%s\n", yUp ? "y" : "z", a.up.empty() ? "the database's" : "--up",
+                yUp ? ": the root transform turns it to the tileset's z up" : "");
     return kExitOk;
 }
 
@@ -56,6 +61,8 @@ void addExport(CLI::App& app, int& status) {
                       "place the model's local frame (x east, y north, z up) at this WGS84 point; "
                       "without it the tileset stays in local coordinates")
         ->type_name("LAT,LON,HEIGHT");
+    tiles->add_option("--up", args->up, "up axis of the database, y or z (default: the one it records; z for a database without one)")
+        ->check(CLI::IsMember({"y", "z"}));
     tiles->add_flag("--3tz", args->archive, "write one .3tz archive (3D Tiles archive: stored ZIP with an index)");
     tiles->callback([args, &status] { status = runGuarded("export tiles", [&] { return runTiles(*args); }); });
 }

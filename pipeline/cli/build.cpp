@@ -1,7 +1,9 @@
-// `hlod build INPUT -o DB`: prints the constants it uses first, progress while it runs, a final
-// summary (nodes per level, time per stage, bytes per input triangle) and writes the run's
-// figures to the build report DB.build.json (formats/build_report.h; the database itself holds
-// nothing that varies run to run).
+// `hlod build INPUT -o DB`: prints the constants it uses first, the up axis it records and why,
+// progress while it runs (a line at least every --progress-interval seconds when stdout is not
+// a terminal, or JSON lines with --progress-json), a final summary (nodes per level, time per
+// stage, bytes per input triangle, unusable textures) and writes the run's figures to the build
+// report DB.build.json (formats/build_report.h; the database itself holds nothing that varies
+// run to run). --strict makes an unusable texture fatal (exit 2) instead of a warning.
 #include "pipeline/cli/subcommands.h"
 
 #include "formats/calibration.h"
@@ -26,6 +28,7 @@ struct BuildArgs {
     std::string leafRule = "below-one";
     std::string planes = "balanced";
     std::string blocks;  // "A:B" shard selection
+    ProgressOptions progress;
 };
 
 double cpuSeconds() {
@@ -56,6 +59,7 @@ void writeReport(const std::string& db, const std::vector<BuildStage>& stages, c
     r.cpuSeconds = cpu;
     r.outputBytes = std::filesystem::file_size(db);
     r.nodesPerLevel = summary.nodesPerLevel;
+    for (const TextureProblem& p : summary.textureProblems) r.textureProblems.push_back(p.what + "; material '" + p.material + "' left untextured");
     writeBuildReport(buildReportPath(db), r);
 }
 
@@ -69,6 +73,9 @@ void printSummary(const std::string& db, const BuildSummary& s, double wall, dou
               << (s.inputTriangles ? double(bytes) / s.inputTriangles : 0) << " B/input triangle), wall " << wall << " s, cpu "
               << cpu << " s (" << (cpu > 0 ? s.inputTriangles / cpu / 1000 : 0) << " k input tri/CPU-s), peak RSS "
               << formatBytes(peakRss()) << " (--memory-limit " << formatBytes(memoryLimit) << ")\n";
+    if (!s.textureProblems.empty())
+        std::cout << "textures: " << s.textureProblems.size()
+                  << " unusable, their materials left untextured (warnings above; --strict makes them fatal)\n";
     if (peakRss() > memoryLimit)
         std::cout << "warning: peak RSS " << formatBytes(peakRss()) << " exceeded --memory-limit " << formatBytes(memoryLimit) << "\n";
 }
@@ -87,7 +94,8 @@ int runBuildCommand(BuildArgs& a) {
     BuildSummary summary;
     std::vector<BuildStage> stages;
     {
-        Progress progress(std::cout, isatty(STDOUT_FILENO) != 0);
+        a.progress.live = !a.progress.json && isatty(STDOUT_FILENO) != 0;
+        Progress progress(std::cout, a.progress);
         summary = runBuild(a.request, progress);
         stages = progress.stages();
     }
@@ -141,6 +149,17 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_flag("--allow-outside-input", o.read.allowOutsideInput,
                   "let an input refer to files outside its folder (absolute paths, '..', symbolic links): MTL "
                   "textures, glTF buffers and images, the meshes of a folder input");
+    sub->add_option("--up", o.up, "up axis of the input, recorded in the database (default: y for glTF, z for OBJ/PLY)")
+        ->check(CLI::IsMember({"y", "z"}));
+    sub->add_flag("--progress-json", a->progress.json,
+                  "progress as one JSON object per line (stage, done, total, unit, textures, texels, elapsed_s, eta_s; "
+                  "null eta_s until the stage has a rate) instead of the progress line");
+    sub->add_option("--progress-interval", a->progress.interval,
+                    "seconds between progress lines when stdout is not a terminal (default 5)")
+        ->check(CLI::PositiveNumber);
+    sub->add_flag("--strict", o.strict,
+                  "an unusable texture (missing, empty, not an image, absurd size, corrupt) is fatal (exit 2) instead "
+                  "of a warning that leaves its material untextured");
     sub->add_option("--calibration", a->calibration, "calibration file of `hlod calibrate`: sets c_textured (eq. 3.1)");
     addConstantOptions(*sub, a->constants);
     sub->callback([a, &status] { status = runGuarded("build", [&] { return runBuildCommand(*a); }); });

@@ -177,11 +177,18 @@ void printStats(std::ostream& os, const Stats& s) {
                   mib(L.textureBytes).c_str(), L.nodes ? double(levelTriangles(L)) / double(L.nodes) : 0.0,
                   (unsigned long long)c.maxTriangles, (unsigned long long)c.missing, c.meanError, c.maxError);
     }
-    for (size_t l = 0; l < s.checks.size(); ++l)
-        if (s.checks[l].missing)
+    for (size_t l = 0; l < s.checks.size(); ++l) {  // every simplified level against its target
+        const LevelCheck& c = s.checks[l];
+        if (!c.simplifiedNodes) continue;
+        const double perNode = c.simplifiedTriangles / double(c.simplifiedNodes), target = c.targetTriangles / double(c.simplifiedNodes);
+        const std::string versus = fmt("%.0f tris/node vs target %.0f (%.2f x)", perNode, target, perNode / target);
+        if (c.missing)
             os << fmt("level %zu MISSES its target: %llu of %llu simplified nodes above %.2f x numTriangles / factor "
-                      "(worst %.2f x)\n", l, (unsigned long long)s.checks[l].missing,
-                      (unsigned long long)s.checks[l].simplifiedNodes, kTargetSlack, s.checks[l].worstRatio);
+                      "(worst %.2f x); %s\n", l, (unsigned long long)c.missing, (unsigned long long)c.simplifiedNodes,
+                      kTargetSlack, c.worstRatio, versus.c_str());
+        else
+            os << fmt("level %zu: %s, ok\n", l, versus.c_str());
+    }
     if (h0)
         os << "hlod0 resident set (always in memory): " << h0->nodes << " nodes, " << levelTriangles(*h0)
            << " triangles, " << h0->texels << " texels, " << mib(h0->geometryBytes + h0->textureBytes)

@@ -50,6 +50,7 @@ std::vector<LevelCheck> checkLevels(const Skeleton& sk, double desiredTris, doub
         const double target = desiredTris * std::pow(levelFactor, n.level) * leaves[id] / rootLeaves[id];
         const double ratio = n.triangles() / target;
         ++L.simplifiedNodes;
+        L.simplifiedTriangles += n.triangles(), L.targetTriangles += target;
         L.worstRatio = std::max(L.worstRatio, ratio);
         if (ratio > kTargetSlack) ++L.missing;
     }

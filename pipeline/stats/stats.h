@@ -55,6 +55,7 @@ struct LevelCheck {
     uint64_t simplifiedNodes = 0;  // nodes with children
     uint64_t missing = 0;          // simplified nodes above kTargetSlack x their target
     double worstRatio = 0;         // largest triangles / target of a simplified node
+    double simplifiedTriangles = 0, targetTriangles = 0;  // sums over the simplified nodes
     double meanError = 0, maxError = 0;  // stored geometric error (bounds the subtree's), all nodes
 };
 

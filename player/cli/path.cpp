@@ -4,10 +4,12 @@
 #include "player/cli/subcommands.h"
 
 #include "formats/db.h"
+#include "formats/up_axis.h"
 #include "player/camera_path.h"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -15,18 +17,62 @@ namespace hlod::cli {
 namespace {
 
 struct PathArgs {
-    std::string db, output, kind = "walk", up = "z", units = "m";
+    std::string db, output, kind = "walk", up, units = "m";  // up empty: the database's (FORMAT.md META "up")
     PathOptions options;
 };
 
+// The deepest level whose cut (its nodes and the leaves above it) holds at most
+// kMaxGroundTriangles: the surfaces a walk keeps its eye above (player/CAMERA_PATH.md).
+constexpr uint64_t kMaxGroundTriangles = 2'000'000;
+
+bool inCut(const Node& n, uint32_t level) { return n.level == level || (n.level < level && n.firstChild == kNone); }
+
+uint32_t groundLevel(const Skeleton& s) {
+    uint32_t deepest = 0;
+    for (const Node& n : s.nodes) deepest = std::max(deepest, n.level);
+    for (uint32_t level = deepest; level > 0; --level) {
+        uint64_t triangles = 0;
+        for (const Node& n : s.nodes)
+            if (inCut(n, level)) triangles += n.triangles();
+        if (triangles <= kMaxGroundTriangles) return level;
+    }
+    return 0;
+}
+
+// A blob that cannot be read or decoded is left out of the ground with one warning (as `hlod
+// play` skips a node it cannot load): the path is still written.
+void addSurfaces(const Database& db, uint32_t level, SurfaceHeights& surfaces) {
+    const Skeleton& s = db.skeleton();
+    uint64_t failed = 0;
+    std::string first;
+    for (const Node& n : s.nodes) {
+        if (!inCut(n, level)) continue;
+        for (uint32_t b = n.firstBlob; b < n.firstBlob + n.blobCount; ++b) {
+            if (s.blobs[b].kind != BlobKind::Geometry) continue;
+            try {
+                surfaces.add(decodeGeometry(db.readBlob(b), db.path() + ": blob " + std::to_string(b)));
+            } catch (const FormatError& e) {
+                if (failed++ == 0) first = e.what();
+            }
+        }
+    }
+    if (failed)
+        std::cerr << "hlod path: warning: " << failed << " geometry blobs left out of the ground (first: " << first << ")\n";
+}
+
 int runPath(PathArgs& a) {
     a.options.kind = parsePathKind(a.kind);
-    if (a.up != "y" && a.up != "z") throw std::invalid_argument("--up must be y or z");
-    a.options.upAxis = a.up == "y" ? 1 : 2;
+    if (!a.up.empty()) a.options.upAxis = parseUpAxis(a.up, "--up");
     a.options.metresPerUnit = parseUnits(a.units);
     Database db = Database::open(a.db);
+    const UpAxis stored = upAxisOf(db.skeleton(), a.db);
+    if (a.up.empty()) a.options.upAxis = stored.axis;
     const PathPlan plan = planPath(db.skeleton(), a.options);
-    CameraPath path = generatePath(db.skeleton(), a.options);
+    const bool onGround = !plan.object && a.options.kind != PathKind::Fly;
+    SurfaceHeights surfaces(a.options.upAxis);
+    const uint32_t level = onGround ? groundLevel(db.skeleton()) : 0;
+    if (onGround) addSurfaces(db, level, surfaces);
+    CameraPath path = generatePath(db.skeleton(), a.options, onGround ? &surfaces : nullptr);
     writeCameraPathFile(a.output, path);
     std::cout << a.output << ": " << a.kind << " path, " << path.keys.size() << " keys, duration " << path.duration()
               << " s\n";
@@ -34,8 +80,16 @@ int runPath(PathArgs& a) {
               << ", height " << plan.verticalExtent << " units; 1 unit = " << a.options.metresPerUnit << " m)";
     if (a.options.kind != PathKind::Fly)
         std::cout << "; speed " << plan.speed << " units/s, eye " << plan.eyeHeight << " units above the "
-                  << (plan.object ? "model's bottom" : "ground estimate");
+                  << (plan.object ? "model's bottom" : "ground");
     std::cout << '\n';
+    if (onGround)
+        std::cout << "ground: the lowest of " << surfaces.triangles() << " triangles (level " << level
+                  << " and the leaves above it) under the eye, climbing at most " << kMaxClimbMps
+                  << " m/s; the route does not avoid walls: it passes through the geometry between "
+                  << countCrossings(path, surfaces) << " of " << path.keys.size() - 1 << " key pairs\n";
+    std::cout << "up axis: " << (a.options.upAxis == 1 ? "y" : "z") << " ("
+              << (!a.up.empty() ? "--up" : stored.recorded ? "recorded in the database" : "not recorded: z, as before the database kept it")
+              << ")\n";
     return 0;
 }
 
@@ -56,7 +110,7 @@ void addPath(CLI::App& app, int& status) {
     sub->add_option("--units", a->units, "what one database unit is: m (default), cm, mm, km or a number of metres");
     sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys");
     sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports");
-    sub->add_option("--up", a->up, "up axis of the model: z (default) or y");
+    sub->add_option("--up", a->up, "up axis of the model, y or z (default: the one the database records; z for a database without one)");
     sub->add_flag("--look-at-center", a->options.lookAtCenter,
                   "walk, drive, erratic: look at the model's centre, not ahead (walking around an object scan)");
     sub->callback([a, &status] { status = runGuarded("path", [&] { return runPath(*a); }); });

@@ -5,6 +5,7 @@
 #include "player/cli/subcommands.h"
 
 #include "formats/constants.h"
+#include "formats/up_axis.h"
 #include "player/camera_path.h"
 #include "player/gl/gl_renderer.h"
 #include "player/player.h"
@@ -31,7 +32,7 @@ struct ViewArgs {
     bool colorByLevel = false;
     bool strict = false;
     double speed = 0;        // m/s; 0: a twentieth of the model's diagonal per second
-    std::string up = "z";
+    std::string up;  // empty: the database's (FORMAT.md META "up")
 };
 
 // Mouse and scroll state kept between frames (GLFW delivers scroll through a callback).
@@ -140,7 +141,9 @@ int runView(const ViewArgs& args) {
     options.onLoadFailure = [&db](const LoadFailure& f) { warnLoadFailure("view", db, f); };
     Player player(db, constants, *renderer, options);
     const Box3f bounds = modelBounds(db.skeleton());
-    Camera camera = startCamera(bounds, args.up == "y" ? 1 : 2, static_cast<double>(args.gl.width) / args.gl.height);
+    const int up = args.up.empty() ? upAxisOf(db.skeleton(), args.database).axis : parseUpAxis(args.up, "--up");
+    std::cout << "up axis: " << (up == 1 ? "y" : "z") << (args.up.empty() ? " (the database's)" : " (--up)") << "\n";
+    Camera camera = startCamera(bounds, up, static_cast<double>(args.gl.width) / args.gl.height);
     InputState input;
     input.speed = args.speed > 0 ? args.speed : std::max(0.1, diagonalOf(bounds) / 20);
     glfwSetWindowUserPointer(window, &input);
@@ -191,7 +194,8 @@ void addView(CLI::App& app, int& status) {
                   "a node that cannot be read or decoded ends the session (exit 1); by default it is skipped "
                   "with one warning and its parent stays drawn");
     sub->add_option("--speed", args->speed, "initial speed in m/s (default: model diagonal / 20)")->check(CLI::NonNegativeNumber);
-    sub->add_option("--up", args->up, "up axis of the model")->check(CLI::IsMember({"y", "z"}))->capture_default_str();
+    sub->add_option("--up", args->up, "up axis of the model (default: the one the database records; z for a database without one)")
+        ->check(CLI::IsMember({"y", "z"}));
     addConstantOptions(*sub, args->constants);
     sub->callback([args, &status] { status = runGuarded("view", [&] { return runView(*args); }); });
 }

@@ -200,7 +200,8 @@ void writeTree(const std::string& path, const std::vector<uint32_t>& hlod0) {
 }  // namespace
 
 // hlod0's target is c_desiredTris (900): 1,100 triangles are within 1.25 x, 2,000 are not, and
-// the level is flagged in the text and the JSON; leaves keep originals and have no target.
+// the level is flagged in the text and the JSON, with its triangles per node against the
+// target; leaves keep originals and have no target.
 TEST(Stats, FlagsALevelThatMissesItsTarget) {
     const fs::path dir = fs::temp_directory_path() / ("hlod_test_stats_miss_" + std::to_string(::getpid()));
     fs::create_directories(dir);
@@ -219,7 +220,10 @@ TEST(Stats, FlagsALevelThatMissesItsTarget) {
     RunResult text = runHlod({"stats", missed});
     EXPECT_NE(text.out.find("mean 1500, max 2000"), std::string::npos) << text.out;
     EXPECT_NE(text.out.find("level 0 MISSES its target: 1 of 2"), std::string::npos) << text.out;
-    EXPECT_EQ(runHlod({"stats", ok}).out.find("MISS"), std::string::npos);
+    EXPECT_NE(text.out.find("1500 tris/node vs target 900 (1.67 x)"), std::string::npos) << text.out;
+    const std::string okText = runHlod({"stats", ok}).out;
+    EXPECT_EQ(okText.find("MISS"), std::string::npos);
+    EXPECT_NE(okText.find("level 0: 1050 tris/node vs target 900 (1.17 x), ok"), std::string::npos) << okText;
     const nlohmann::json j = nlohmann::json::parse(runHlod({"stats", missed, "--json"}).out);
     EXPECT_TRUE(j["levels"][0]["misses_target"].get<bool>());
     EXPECT_FALSE(j["levels"][1]["misses_target"].get<bool>());

@@ -165,8 +165,8 @@ TEST(Gltf, EmbeddedAndExternalImages) {
     EXPECT_EQ(x.materials[0].texturePath, std::filesystem::canonical(dir.file("atlas.png")).string());
 }
 
-// Embedded images that cannot be used leave their material untextured with a warning, as a
-// missing texture file does: a PNG whose header claims 20000 x 16385 texels (more than
+// Embedded images that cannot be used are TextureProblems that leave their material untextured,
+// as a missing texture file does: a PNG whose header claims 20000 x 16385 texels (more than
 // kMaxTextureTexels: a decompression bomb of a few hundred bytes) is never decoded, and bytes
 // that are no image are reported as undecodable.
 TEST(GltfBadInput, EmbeddedImagesThatCannotBeUsedLeaveTheMaterialUntextured) {
@@ -186,8 +186,8 @@ TEST(GltfBadInput, EmbeddedImagesThatCannotBeUsedLeaveTheMaterialUntextured) {
         const SourceMesh mesh = readMesh(dir.file("bad.gltf"));
         EXPECT_FALSE(mesh.materials[0].image);
         EXPECT_TRUE(mesh.materials[0].texturePath.empty());
-        ASSERT_FALSE(mesh.stats.warnings.empty());
-        EXPECT_NE(mesh.stats.warnings[0].find(expected), std::string::npos) << mesh.stats.warnings[0];
+        ASSERT_EQ(mesh.stats.textureProblems.size(), 1u);  // README "Inputs: textures": counted, fatal with --strict
+        EXPECT_NE(mesh.stats.textureProblems[0].what.find(expected), std::string::npos) << mesh.stats.textureProblems[0].what;
     }
 }
 

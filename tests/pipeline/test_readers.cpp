@@ -181,8 +181,9 @@ TEST(BadInput, MissingTextureIsAWarningAndUntextured) {
     TempDir dir;
     writeObj(dir.file("m.obj"), terrain(4), "nothere.jpg");
     const SourceMesh s = readMesh(dir.file("m.obj"));
-    ASSERT_FALSE(s.stats.warnings.empty());
-    EXPECT_NE(s.stats.warnings[0].find("missing texture"), std::string::npos);
+    ASSERT_FALSE(s.stats.textureProblems.empty());
+    EXPECT_NE(s.stats.textureProblems[0].what.find("texture '"), std::string::npos);
+    EXPECT_NE(s.stats.textureProblems[0].what.find("nothere.jpg' is missing"), std::string::npos);
     for (const Material& m : s.materials) EXPECT_TRUE(m.texturePath.empty());
 }
 

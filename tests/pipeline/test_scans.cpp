@@ -41,16 +41,16 @@ TEST_P(Scans, BuildValidatesAndFollowsTheFactors) {
         if (n.firstChild != kNone) {
             EXPECT_GT(n.geometricError, 0.0f) << "node " << n.id;
         }
+        // Nodes simplified as geometry only (fragmented UVs, simplify.cpp) get a baked texture.
         if (GetParam().textured) {
             EXPECT_GT(n.texelCount, 0u) << "node " << n.id;
         }
     }
     for (size_t level = 0; level + 1 < perLevel.size(); ++level) {
         EXPECT_GE(perLevel[level], 0.8 * 900 * std::pow(4.0, double(level))) << "level " << level;
-        // UV seams of a photogrammetry atlas are locked like piece borders (UVs stay exact), so
-        // the banana's coarse levels keep up to ~3.5x more triangles than the factor asks.
-        const double slack = GetParam().textured ? 3.5 : 1.6;
-        EXPECT_LE(perLevel[level], slack * 900 * std::pow(4.0, double(level))) << "level " << level;
+        // Issue #16: each level within 1.5 x its target, the banana's fragmented atlas included
+        // (its coarse levels simplify the geometry alone where the UV seams stop the simplifier).
+        EXPECT_LE(perLevel[level], 1.5 * 900 * std::pow(4.0, double(level))) << "level " << level;
         EXPECT_LT(perLevel[level], perLevel[level + 1]) << "level " << level;
     }
 }

@@ -6,7 +6,10 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <random>
 #include <sstream>
 
 using namespace hlod;
@@ -221,6 +224,142 @@ TEST(CameraPath, UnitsParse) {
     EXPECT_EQ(parseUnits("cm"), 0.01);
     EXPECT_EQ(parseUnits("0.3048"), 0.3048);
     for (const char* bad : {"", "inch", "-1", "0", "2m", "nan"}) EXPECT_THROW(parseUnits(bad), std::invalid_argument) << bad;
+}
+
+namespace {
+
+// A rough scanned ground: 40 x 40 flat patches of 5 m (finest-level boxes 0.3 m thick) whose
+// tops are random in [0, 2.6] m, under one 200 x 200 m hlod0 node.
+Skeleton roughGround(std::vector<float>& tops) {
+    Skeleton s;
+    const uint32_t root = test::addNode(s, kNone, Box3f{{0, 0, -0.3f}, {200, 200, 2.6f}}, 512);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> top(0, 2.6f);
+    for (int j = 0; j < 40; ++j)
+        for (int i = 0; i < 40; ++i) {
+            tops.push_back(top(rng));
+            test::addNode(s, root, Box3f{{5.0f * i, 5.0f * j, tops.back() - 0.3f}, {5.0f * i + 5, 5.0f * j + 5, tops.back()}}, 64);
+        }
+    test::linkSkeleton(s);
+    return s;
+}
+
+}  // namespace
+
+// player/CAMERA_PATH.md "Eye height": over a ground whose estimate jumps by up to 2.6 m from one
+// patch to the next, the eye of a walk moves at most kMaxClimbMps x 0.5 s = 0.25 m between keys.
+TEST(CameraPath, WalkKeepsASteadyEyeHeightOverRoughGround) {
+    std::vector<float> tops;
+    const Skeleton s = roughGround(tops);
+    for (PathKind kind : {PathKind::Walk, PathKind::Drive, PathKind::Erratic}) {
+        PathOptions o;
+        o.kind = kind;  // one lap of the route
+        const CameraPath p = generatePath(s, o);
+        ASSERT_FALSE(planPath(s, o).object);
+        double rawJump = 0, eyeJump = 0;
+        auto topUnder = [&](const CameraKey& k) {
+            const int i = std::clamp(int(k.position[0] / 5), 0, 39), j = std::clamp(int(k.position[1] / 5), 0, 39);
+            return double(tops[size_t(j) * 40 + size_t(i)]);
+        };
+        for (size_t k = 1; k < p.keys.size(); ++k) {
+            const double dt = p.keys[k].time - p.keys[k - 1].time;
+            if (dt < 0.01) continue;  // an erratic teleport or turn (its extra key 1 ms later)
+            ASSERT_LE(dt, o.keyInterval + 1e-9);
+            rawJump = std::max(rawJump, std::abs(topUnder(p.keys[k]) - topUnder(p.keys[k - 1])));
+            eyeJump = std::max(eyeJump, std::abs(p.keys[k].position[2] - p.keys[k - 1].position[2]) / dt * o.keyInterval);
+        }
+        EXPECT_GT(rawJump, 2.0);                                      // the ground estimate is rough
+        EXPECT_LE(eyeJump, kMaxClimbMps * o.keyInterval + 1e-9);     // the eye is not: <= 0.25 m per 0.5 s
+        for (const CameraKey& k : p.keys) {
+            EXPECT_GE(k.position[2], kEyeHeightM);  // above the lowest patch
+            EXPECT_LE(k.position[2], 2.6 + kEyeHeightM);  // not above the highest
+        }
+    }
+}
+
+namespace {
+
+// Appends the quad a, b, c, d (two triangles) to `m`.
+void quad(MeshData& m, std::array<float, 3> a, std::array<float, 3> b, std::array<float, 3> c, std::array<float, 3> d) {
+    const uint32_t base = uint32_t(m.vertexCount());
+    for (const auto& p : {a, b, c, d}) m.positions.insert(m.positions.end(), p.begin(), p.end());
+    m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+}
+
+// A 30 x 20 x 3 m room: floor, ceiling, four walls, and with `divided` a wall across it at x = 15.
+MeshData room(bool divided) {
+    MeshData m;
+    quad(m, {0, 0, 0}, {30, 0, 0}, {30, 20, 0}, {0, 20, 0});
+    quad(m, {0, 0, 3}, {30, 0, 3}, {30, 20, 3}, {0, 20, 3});
+    quad(m, {0, 0, 0}, {30, 0, 0}, {30, 0, 3}, {0, 0, 3});
+    quad(m, {0, 20, 0}, {30, 20, 0}, {30, 20, 3}, {0, 20, 3});
+    quad(m, {0, 0, 0}, {0, 20, 0}, {0, 20, 3}, {0, 0, 3});
+    quad(m, {30, 0, 0}, {30, 20, 0}, {30, 20, 3}, {30, 0, 3});
+    if (divided) quad(m, {15, 0, 0}, {15, 20, 0}, {15, 20, 3}, {15, 0, 3});
+    return m;
+}
+
+}  // namespace
+
+// player/CAMERA_PATH.md "Indoors": in a 30 x 20 x 3 m room whose finest nodes are strips from
+// floor to ceiling (as the plane cuts leave a room), the walk over the room's surfaces keeps the
+// eye 1.7 m above the floor, under the ceiling, inside the walls, and passes through no surface;
+// from the node boxes alone the ground estimate is the ceiling (the eye 1.7 m above the roof).
+// A wall across the room is walked through, and counted.
+TEST(CameraPath, WalkInABoxRoomStaysInside) {
+    Skeleton s;
+    const uint32_t root = test::addNode(s, kNone, Box3f{{0, 0, 0}, {30, 20, 3}}, 512);
+    for (int i = 0; i < 6; ++i) test::addNode(s, root, Box3f{{5.0f * i, 0, 0}, {5.0f * i + 5, 20, 3}}, 64);
+    test::linkSkeleton(s);
+    SurfaceHeights surfaces;
+    surfaces.add(room(false));
+    for (PathKind kind : {PathKind::Walk, PathKind::Erratic}) {
+        PathOptions o;
+        o.kind = kind;
+        ASSERT_FALSE(planPath(s, o).object);  // city-like: the ground rule applies
+        for (const CameraKey& k : generatePath(s, o).keys) EXPECT_NEAR(k.position[2], 3 + kEyeHeightM, 1e-6);
+        const CameraPath p = generatePath(s, o, &surfaces);
+        ASSERT_GT(p.keys.size(), 50u);
+        for (const CameraKey& k : p.keys) {
+            EXPECT_GT(k.position[0], 0.1 * 30);
+            EXPECT_LT(k.position[0], 0.9 * 30);
+            EXPECT_GT(k.position[1], 0.1 * 20);
+            EXPECT_LT(k.position[1], 0.9 * 20);
+            EXPECT_NEAR(k.position[2], kEyeHeightM, 1e-5);  // on the floor, under the 3 m ceiling
+        }
+        EXPECT_EQ(countCrossings(p, surfaces), 0u);
+    }
+    SurfaceHeights divided;
+    divided.add(room(true));
+    PathOptions o;
+    EXPECT_EQ(countCrossings(generatePath(s, o, &divided), divided), 2u);  // the ellipse crosses x = 15 twice a lap
+}
+
+// Over scanned surfaces that step by up to 2.6 m from one 5 m patch to the next (and with holes),
+// the eye still moves at most 0.25 m per 0.5 s and stays above the lowest patch.
+TEST(CameraPath, WalkOverRoughSurfacesKeepsASteadyEyeHeight) {
+    std::vector<float> tops;
+    const Skeleton s = roughGround(tops);
+    SurfaceHeights surfaces;
+    MeshData m;
+    for (int j = 0; j < 40; ++j)
+        for (int i = 0; i < 40; ++i) {
+            if ((i * 7 + j * 3) % 11 == 0) continue;  // a hole in the scan
+            const float x = 5.0f * i, y = 5.0f * j, z = tops[size_t(j) * 40 + size_t(i)];
+            quad(m, {x, y, z}, {x + 5, y, z}, {x + 5, y + 5, z}, {x, y + 5, z});
+        }
+    surfaces.add(m);
+    PathOptions o;
+    const CameraPath p = generatePath(s, o, &surfaces);
+    double jump = 0;
+    for (size_t k = 1; k < p.keys.size(); ++k) jump = std::max(jump, std::abs(p.keys[k].position[2] - p.keys[k - 1].position[2]));
+    EXPECT_LE(jump, kMaxClimbMps * o.keyInterval + 1e-9);
+    for (const CameraKey& k : p.keys) {
+        EXPECT_GE(k.position[2], -0.3 + kEyeHeightM - 1e-6);  // a hole: the model's bottom (its root box's)
+        EXPECT_LE(k.position[2], 2.6 + kEyeHeightM);
+    }
+    EXPECT_TRUE(std::isnan(surfaces.lowest(-10, -10)));
+    EXPECT_NEAR(surfaces.lowest(2.5, 7.5), tops[40], 1e-5);
 }
 
 // Robin Hood's path kinds (Table 2): `line` keeps one heading at walking speed; `zigzag` turns

@@ -5,6 +5,7 @@
 #include "player/stats.h"
 #include "tests/support/run_hlod.h"
 #include "tests/support/synthetic.h"
+#include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -18,16 +19,10 @@
 namespace fs = std::filesystem;
 using namespace hlod;
 using hlod::test::RunResult;
+using hlod::test::readText;
 using hlod::test::runHlod;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 class Cli : public ::testing::Test {
 protected:
@@ -64,7 +59,7 @@ TEST_F(Cli, PlayWritesCsvAndJsonSummary) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("constants: "), std::string::npos);
     EXPECT_NE(r.out.find("c_targetTime=20"), std::string::npos);
-    std::istringstream in(slurp(csv));
+    std::istringstream in(readText(csv));
     std::string line, header;
     int rows = 0;
     while (std::getline(in, line)) {
@@ -78,7 +73,7 @@ TEST_F(Cli, PlayWritesCsvAndJsonSummary) {
     for (const std::string& h : statsHeader(3)) expected += (expected.empty() ? "" : ",") + h;
     EXPECT_EQ(header, expected);
     EXPECT_EQ(rows, 100);
-    auto j = nlohmann::json::parse(slurp(json));
+    auto j = nlohmann::json::parse(readText(json));
     EXPECT_EQ(j["frames"], 100);
     EXPECT_EQ(j["constants"]["c_targetTime"], "20");
 }
@@ -128,7 +123,7 @@ TEST_F(Cli, PathKindsAndBadDatabase) {
         std::string out = (dir / (std::string(kind) + ".path")).string();
         RunResult r = runHlod({"path", db, "--kind", kind, "-o", out});
         EXPECT_EQ(r.exitCode, 0) << kind << r.err;
-        EXPECT_TRUE(slurp(out).starts_with("hlod-camera-path 1\n"));
+        EXPECT_TRUE(readText(out).starts_with("hlod-camera-path 1\n"));
     }
     // The scale it chose and the duration are printed; --units must be a unit or a number of metres.
     RunResult units = runHlod({"path", db, "--units", "mm", "-o", (dir / "mm.path").string()});
@@ -154,7 +149,7 @@ TEST_F(Cli, CalibrationFileSetsInitialVTimeAndOverhead) {
     std::string csv = (dir / "cal.csv").string();
     RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--frames", "5", "--calibration", cal, "--stats", csv});
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    std::string text = slurp(csv);
+    std::string text = readText(csv);
     EXPECT_NE(text.find("# overhead_ms: 4.500000"), std::string::npos) << text.substr(0, 600);
     EXPECT_NE(text.find("# initial_v_time: 0.012300"), std::string::npos) << text.substr(0, 600);
 
@@ -199,8 +194,8 @@ TEST_F(Cli, CorruptNodeIsSkippedWithOneWarningUnlessStrict) {
     EXPECT_EQ(r.err, "hlod play: warning: " + db + ": node " + std::to_string(node) + ": blob " + std::to_string(blob) +
                          ": checksum mismatch (corrupt data)\n");
     EXPECT_NE(r.out.find("failed loads 1,"), std::string::npos) << r.out;
-    EXPECT_EQ(nlohmann::json::parse(slurp(json))["failed_loads"], 1);
-    std::istringstream in(slurp(csv));
+    EXPECT_EQ(nlohmann::json::parse(readText(json))["failed_loads"], 1);
+    std::istringstream in(readText(csv));
     std::string line;
     std::vector<std::string> header;
     long column = -1, failed = 0, rows = 0;
@@ -233,4 +228,34 @@ TEST_F(Cli, CorruptNodeIsSkippedWithOneWarningUnlessStrict) {
               0u)
         << r.err;
     EXPECT_FALSE(fs::exists(csv));
+}
+
+// player/CAMERA_PATH.md "Eye height": `hlod path` decodes a cut of the database for the ground
+// and says so; a geometry blob that does not read back is left out with one warning, and the
+// path is still written (exit 0).
+TEST_F(Cli, PathReadsTheGroundAndSurvivesACorruptBlob) {
+    const std::string out = (dir / "p.path").string();
+    RunResult r = runHlod({"path", db, "-o", out});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("ground: the lowest of "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("passes through the geometry between "), std::string::npos) << r.out;
+    EXPECT_EQ(r.err, "");
+    uint64_t offset = 0;
+    {
+        const Database d = Database::open(db);
+        for (const BlobRef& b : d.skeleton().blobs)
+            if (b.kind == BlobKind::Geometry && d.skeleton().nodes[b.node].firstChild == kNone) offset = b.offset + b.size / 2;
+    }
+    ASSERT_GT(offset, 0u);
+    {
+        std::fstream f(db, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(std::streamoff(offset));
+        const char byte = char(f.get() ^ 0x5A);
+        f.seekp(std::streamoff(offset));
+        f.put(byte);
+    }
+    r = runHlod({"path", db, "-o", out});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("hlod path: warning: 1 geometry blobs left out of the ground (first: "), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::exists(out));
 }

@@ -4,6 +4,7 @@
 #include "formats/constants.h"
 #include "tests/support/run_hlod.h"
 #include "tests/support/synthetic.h"
+#include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -17,16 +18,10 @@
 namespace fs = std::filesystem;
 using namespace hlod;
 using hlod::test::RunResult;
+using hlod::test::readText;
 using hlod::test::runHlod;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 std::vector<std::string> splitLines(const std::string& s) {
     std::vector<std::string> out;
@@ -66,7 +61,7 @@ TEST_F(CompareCli, WritesOneRowPerPolicyInEveryForm) {
     EXPECT_EQ(r.err.find("invalid cut"), std::string::npos) << r.err;  // every frame of every policy a valid cut
     std::vector<std::string> names = {"thesis", "thesis-rh", "none", "static", "feedback", "sse", "sse-budget"};
 
-    std::vector<std::string> csv = splitLines(slurp(prefix + ".csv"));
+    std::vector<std::string> csv = splitLines(readText(prefix + ".csv"));
     ASSERT_EQ(csv.size(), names.size() + 1);
     EXPECT_EQ(csv[0].rfind("policy,frames,counted_frames,frame_ms_mean,frame_ms_max,frame_ms_sd,frame_ms_p99,rel_error_p99,"
                            "rel_error_mean,benefit_mean,gap_mean,toggles_per_frame,toggles_per_metre,reversals,selection_ms_mean",
@@ -77,7 +72,7 @@ TEST_F(CompareCli, WritesOneRowPerPolicyInEveryForm) {
         EXPECT_TRUE(csv[i + 1].ends_with(",0")) << csv[i + 1];  // invalid_cuts
     }
 
-    nlohmann::json j = nlohmann::json::parse(slurp(prefix + ".json"));
+    nlohmann::json j = nlohmann::json::parse(readText(prefix + ".json"));
     ASSERT_EQ(j["policies"].size(), names.size());
     for (size_t i = 0; i < names.size(); ++i) {
         const auto& row = j["policies"][i];
@@ -92,9 +87,9 @@ TEST_F(CompareCli, WritesOneRowPerPolicyInEveryForm) {
     double noneTris = j["policies"][2]["tris_mean"], thesisTris = j["policies"][0]["tris_mean"];
     EXPECT_GE(noneTris, thesisTris);
 
-    std::string text = slurp(prefix + ".txt");
+    std::string text = readText(prefix + ".txt");
     for (const std::string& n : names) EXPECT_NE(text.find("\n" + n + " "), std::string::npos) << n;
-    std::vector<std::string> frames = splitLines(slurp(prefix + "-frames.csv"));
+    std::vector<std::string> frames = splitLines(readText(prefix + "-frames.csv"));
     EXPECT_EQ(frames.size(), 1 + names.size() * 201);
     EXPECT_TRUE(fs::exists(prefix + "-frame-time.png"));
     EXPECT_GT(fs::file_size(prefix + "-frame-time.png"), 1000u);
@@ -123,13 +118,13 @@ TEST_F(CompareCli, PlayWritesThePolicyColumns) {
     RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--policy", "sse", "--policy-set",
                            "sse.tolerance=4", "--stats", csv});
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    std::vector<std::string> lines = splitLines(slurp(csv));
+    std::vector<std::string> lines = splitLines(readText(csv));
     auto header = std::find_if(lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("frame,", 0) == 0; });
     ASSERT_NE(header, lines.end());
     EXPECT_TRUE(header->ends_with(",policy,benefit,optimisation_ms,iterations,visible_tris,leftover_ms")) << *header;
     ASSERT_NE(header + 1, lines.end());
     EXPECT_NE((header + 1)->find(",sse,"), std::string::npos) << *(header + 1);
-    EXPECT_NE(slurp(csv).find("# policy: sse"), std::string::npos);
+    EXPECT_NE(readText(csv).find("# policy: sse"), std::string::npos);
 }
 
 TEST_F(CompareCli, FlatTriangleRateIsTheGivenOneOrConsistentWithCTextured) {

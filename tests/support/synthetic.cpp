@@ -161,4 +161,16 @@ void writeSyntheticDatabase(const std::string& path, const SyntheticOptions& o) 
     w.finish();
 }
 
+Image smoothTexture(uint32_t size, int seed) {
+    Image img{size, size, 3, {}};
+    for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) {
+            const double u = double(x) / size, v = double(y) / size;
+            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::sin(6.0 * u + seed)));
+            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::cos(5.0 * v - seed)));
+            img.pixels.push_back(static_cast<uint8_t>(127.5 + 120 * std::sin(4.0 * (u + v) + 2 * seed)));
+        }
+    return img;
+}
+
 }  // namespace hlod

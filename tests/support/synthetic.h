@@ -4,6 +4,8 @@
 // benchmarks and the fuzz seed corpus; not a substitute for the pipeline.
 #pragma once
 
+#include "formats/codec.h"
+
 #include <cstdint>
 #include <string>
 
@@ -21,5 +23,9 @@ struct SyntheticOptions {
 
 // Writes the database atomically; throws std::runtime_error.
 void writeSyntheticDatabase(const std::string& path, const SyntheticOptions& options);
+
+// A smooth RGB texture of size x size texels: low-frequency waves, different per `seed` (the
+// baking tests and benchmark).
+Image smoothTexture(uint32_t size, int seed);
 
 }  // namespace hlod

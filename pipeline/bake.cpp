@@ -1,0 +1,336 @@
+// Baked textures for simplified nodes whose source UVs no longer apply: Cignoni, Montani, Rocchini
+// & Scopigno 1998, "A general method for preserving attribute values on simplified meshes"
+// (each texel of the simplified surface takes the attribute of the closest point on the original
+// surface), on the charts of chart.cpp (Sander et al. 2001), packed into one atlas.
+// - Packing (pack_charts.cpp): one scale for all charts, so texel area follows world area; Lévy
+//   et al. 2002's horizon packing on 8 x 8 texel blocks, each owned by one chart, with every texel
+//   within kChartGutter of a chart in its own blocks; width x height <= texelBudget.
+// - Baking: the centre of every texel a simplified triangle covers (or, for a triangle that covers
+//   no texel centre, the texel of its centroid) is lifted to the simplified surface and its
+//   closest original triangle found (CGAL AABB tree, the previous texel's answer as the hint);
+//   when that triangle faces away from the simplified one (the far side of a thin sheet), the
+//   nearest facing triangle along the simplified normal, both ways, within kFacingReach x the
+//   closest distance, replaces it (Sander et al. 2001 cast along the normal throughout).
+//   The texel's footprint, kSuper x kSuper sub-samples, is projected onto that triangle (clamped
+//   to it), and each sub-sample takes the source colour there: bilinear in the material's
+//   texture at the interpolated source UV (clamped to the edge), else the interpolated vertex
+//   colour, else kUntexturedGrey. The texel is their mean. The rest of the chart's blocks (gutter,
+//   padding) is filled breadth-first with copies of the nearest baked texel, so bilinear taps and
+//   JPEG blocks only ever mix one chart's colours.
+// - Quality: psnr = 10 log10(255^2 / MSE), MSE over every sub-sample of every covered texel and
+//   the three channels, between the sub-sample's source colour and the baked atlas read back
+//   bilinearly at the sub-sample's UV: the colour a renderer shows there against the original's.
+//   It counts detail finer than the budget's texels and bilinear reconstruction; MSE 0 reads 100
+//   dB, no covered texel 0. pipeline/BAKE.md has the figures.
+#include "pipeline/chart.h"
+#include "pipeline/pipeline.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace hlod {
+namespace {
+
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using Vector = Kernel::Vector_3;
+using Triangle = Kernel::Triangle_3;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+constexpr int kSuper = 2;   // sub-samples per texel side
+constexpr float kUntexturedGrey = 191;
+constexpr double kFacingReach = 8;  // a facing triangle replaces a closer one facing away within this factor
+
+struct Rgb {
+    float c[3] = {0, 0, 0};
+};
+
+Point vertex(const MeshData& m, uint32_t i) { return {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]}; }
+
+// Barycentric weights of the point of triangle abc closest to p (Ericson, "Real-Time Collision
+// Detection" 2005, ClosestPtPointTriangle).
+void closestWeights(const Point& a, const Point& b, const Point& c, const Point& p, double w[3]) {
+    const Vector ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab * ap, d2 = ac * ap;
+    if (d1 <= 0 && d2 <= 0) return void((w[0] = 1, w[1] = 0, w[2] = 0));
+    const Vector bp = p - b;
+    const double d3 = ab * bp, d4 = ac * bp;
+    if (d3 >= 0 && d4 <= d3) return void((w[0] = 0, w[1] = 1, w[2] = 0));
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        const double v = d1 / (d1 - d3);
+        return void((w[0] = 1 - v, w[1] = v, w[2] = 0));
+    }
+    const Vector cp = p - c;
+    const double d5 = ab * cp, d6 = ac * cp;
+    if (d6 >= 0 && d5 <= d6) return void((w[0] = 0, w[1] = 0, w[2] = 1));
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        const double v = d2 / (d2 - d6);
+        return void((w[0] = 1 - v, w[1] = 0, w[2] = v));
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+        const double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return void((w[0] = 0, w[1] = 1 - v, w[2] = v));
+    }
+    const double denom = 1 / (va + vb + vc);
+    w[1] = vb * denom, w[2] = vc * denom, w[0] = 1 - w[1] - w[2];
+}
+
+// Bilinear sample at pixel coordinates (x, y) (pixel centres at +0.5), clamped to the edge.
+Rgb bilinear(const Image& image, double x, double y) {
+    x = std::clamp(x - 0.5, 0.0, image.width - 1.0), y = std::clamp(y - 0.5, 0.0, image.height - 1.0);
+    const uint32_t x0 = static_cast<uint32_t>(x), y0 = static_cast<uint32_t>(y);
+    const uint32_t x1 = std::min(x0 + 1, image.width - 1), y1 = std::min(y0 + 1, image.height - 1);
+    const double fx = x - x0, fy = y - y0;
+    const uint32_t nc = image.channels;
+    Rgb out;
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t ch = nc >= 3 ? k : 0;
+        auto at = [&](uint32_t px, uint32_t py) { return double(image.pixels[(size_t(py) * image.width + px) * nc + ch]); };
+        out.c[k] = static_cast<float>((at(x0, y0) * (1 - fx) + at(x1, y0) * fx) * (1 - fy) + (at(x0, y1) * (1 - fx) + at(x1, y1) * fx) * fy);
+    }
+    return out;
+}
+
+// The original triangles of every source in one AABB tree, with their colours.
+class OriginalSurface {
+public:
+    explicit OriginalSurface(const std::vector<BakeSource>& sources) : sources_(sources) {
+        for (uint32_t s = 0; s < sources.size(); ++s) {
+            if (!sources[s].mesh) continue;
+            const MeshData& m = *sources[s].mesh;
+            for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+                const uint32_t* i = &m.indices[3 * t];
+                const Triangle tri(vertex(m, i[0]), vertex(m, i[1]), vertex(m, i[2]));
+                if (tri.is_degenerate()) continue;
+                triangles_.push_back(tri), owner_.push_back({s, t});
+                normals_.push_back(CGAL::cross_product(tri[1] - tri[0], tri[2] - tri[0]));
+            }
+        }
+        if (triangles_.empty()) return;
+        tree_.insert(triangles_.begin(), triangles_.end());
+        tree_.build();
+        // The previous answer is the hint: a k-d tree of hints took 7 of the 14.5 CPU-ms fixed cost
+        // of a node with 32 k original triangles (pipeline/BAKE.md).
+        tree_.do_not_accelerate_distance_queries();
+    }
+
+    // Index of the original triangle closest to p (on a simplified triangle of normal n); kNone
+    // when there is none. When that triangle faces away from n (the far side of a thin sheet or
+    // wall), the nearest triangle facing n along the line p + t n within kFacingReach x the
+    // closest distance is taken instead, if there is one.
+    uint32_t closest(const Point& p, const Vector& n) {
+        if (triangles_.empty()) return kNone;
+        if (hint_) {  // the previous answer's triangle, at its point closest to p: a tight first bound
+            const Triangle& last = *hint_->second;
+            double w[3];
+            closestWeights(last[0], last[1], last[2], p, w);
+            hint_->first = CGAL::barycenter(last[0], w[0], last[1], w[1], last[2], w[2]);
+            hint_ = tree_.closest_point_and_primitive(p, *hint_);
+        } else {
+            hint_ = tree_.closest_point_and_primitive(p);
+        }
+        const uint32_t found = static_cast<uint32_t>(hint_->second - triangles_.begin());
+        if (normals_[found] * n >= 0) return found;
+        double reach = kFacingReach * std::sqrt(CGAL::squared_distance(p, hint_->first));
+        auto away = [&](Primitive::Id id) { return normals_[id - triangles_.begin()] * n <= 0; };
+        for (const Vector& direction : {n, -n}) {
+            const auto hit = tree_.first_intersection(Kernel::Ray_3(p, direction), away);
+            const Point* q = hit ? boost::get<Point>(&hit->first) : nullptr;
+            if (q && std::sqrt(CGAL::squared_distance(p, *q)) < reach) reach = std::sqrt(CGAL::squared_distance(p, *q)), hint_ = {*q, hit->second};
+        }
+        return static_cast<uint32_t>(hint_->second - triangles_.begin());
+    }
+
+    // The source colour at the point of triangle `index` closest to p.
+    Rgb colour(uint32_t index, const Point& p) const {
+        Rgb grey;
+        std::fill_n(grey.c, 3, kUntexturedGrey);
+        if (index == kNone) return grey;
+        const auto [s, t] = owner_[index];
+        const MeshData& m = *sources_[s].mesh;
+        const Triangle& tri = triangles_[index];
+        double w[3];
+        closestWeights(tri[0], tri[1], tri[2], p, w);
+        const uint32_t* i = &m.indices[3 * t];
+        const Image* image = sources_[s].texture;
+        if (image && image->channels > 0 && image->pixels.size() == size_t(image->width) * image->height * image->channels &&
+            !image->pixels.empty() && m.texcoords.size() == 2 * m.vertexCount()) {
+            double u = 0, v = 0;
+            for (int k = 0; k < 3; ++k) u += w[k] * m.texcoords[2 * i[k]], v += w[k] * m.texcoords[2 * i[k] + 1];
+            return bilinear(*image, u * image->width, v * image->height);
+        }
+        if (m.colors.size() != 4 * m.vertexCount()) return grey;
+        Rgb out;
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k) out.c[c] += static_cast<float>(w[k] * m.colors[4 * i[k] + c]);
+        return out;
+    }
+
+private:
+    const std::vector<BakeSource>& sources_;
+    std::vector<Triangle> triangles_;
+    std::vector<std::pair<uint32_t, uint32_t>> owner_;  // (source, triangle)
+    std::vector<Vector> normals_;                       // not normalised
+    Tree tree_;
+    std::optional<Tree::Point_and_primitive_id> hint_;
+};
+
+struct Sample {
+    float x, y;  // atlas texel coordinates
+    Rgb colour;
+};
+
+// Bakes the chart's covered texels into `atlas`, marking them 1 in `covered` and adding their
+// sub-samples to `samples`.
+void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLayout& l, const ChartPlacement& r, OriginalSurface& surface,
+               std::vector<uint8_t>& covered, Image& atlas, std::vector<Sample>& samples) {
+    const double ox = r.x + kChartGutter, oy = r.y + kChartGutter;
+    for (size_t j = 0; j < chart.triangles.size(); ++j) {
+        const double* uv = &chart.uv[6 * j];
+        const double tx[3] = {ox + uv[0] * l.scale, ox + uv[2] * l.scale, ox + uv[4] * l.scale};
+        const double ty[3] = {oy + uv[1] * l.scale, oy + uv[3] * l.scale, oy + uv[5] * l.scale};
+        const double area = (tx[1] - tx[0]) * (ty[2] - ty[0]) - (tx[2] - tx[0]) * (ty[1] - ty[0]);
+        if (area == 0) continue;
+        const uint32_t* vi = &simplified.indices[3 * chart.triangles[j]];
+        const Point p[3] = {vertex(simplified, vi[0]), vertex(simplified, vi[1]), vertex(simplified, vi[2])};
+        const Vector normal = CGAL::cross_product(p[1] - p[0], p[2] - p[0]);
+        auto lift = [&](double x, double y) {  // texel coordinates -> point of the simplified triangle's plane
+            const double b1 = ((x - tx[0]) * (ty[2] - ty[0]) - (tx[2] - tx[0]) * (y - ty[0])) / area;
+            const double b2 = ((tx[1] - tx[0]) * (y - ty[0]) - (x - tx[0]) * (ty[1] - ty[0])) / area;
+            return Point(p[0].x() + b1 * (p[1].x() - p[0].x()) + b2 * (p[2].x() - p[0].x()),
+                         p[0].y() + b1 * (p[1].y() - p[0].y()) + b2 * (p[2].y() - p[0].y()),
+                         p[0].z() + b1 * (p[1].z() - p[0].z()) + b2 * (p[2].z() - p[0].z()));
+        };
+        auto inside = [&](double x, double y) {
+            const double e[3] = {(tx[1] - tx[0]) * (y - ty[0]) - (x - tx[0]) * (ty[1] - ty[0]),
+                                 (tx[2] - tx[1]) * (y - ty[1]) - (x - tx[1]) * (ty[2] - ty[1]),
+                                 (tx[0] - tx[2]) * (y - ty[2]) - (x - tx[2]) * (ty[0] - ty[2])};
+            return area > 0 ? e[0] >= 0 && e[1] >= 0 && e[2] >= 0 : e[0] <= 0 && e[1] <= 0 && e[2] <= 0;
+        };
+        auto bake = [&](int x, int y) {
+            const size_t at = size_t(y) * atlas.width + x;
+            covered[at] = 1;
+            const uint32_t nearest = surface.closest(lift(x + 0.5, y + 0.5), normal);
+            Rgb sum;
+            for (int sy = 0; sy < kSuper; ++sy)
+                for (int sx = 0; sx < kSuper; ++sx) {
+                    const double qx = x + (sx + 0.5) / kSuper, qy = y + (sy + 0.5) / kSuper;
+                    const Rgb c = surface.colour(nearest, lift(qx, qy));
+                    samples.push_back({float(qx), float(qy), c});
+                    for (int k = 0; k < 3; ++k) sum.c[k] += c.c[k];
+                }
+            for (int k = 0; k < 3; ++k)
+                atlas.pixels[3 * at + k] = static_cast<uint8_t>(std::clamp(std::lround(sum.c[k] / (kSuper * kSuper)), 0l, 255l));
+        };
+        const int x0 = std::max(r.x, static_cast<int>(std::floor(std::min({tx[0], tx[1], tx[2]}) - 0.5)));
+        const int x1 = std::min(r.x + r.w - 1, static_cast<int>(std::ceil(std::max({tx[0], tx[1], tx[2]}) - 0.5)));
+        const int y0 = std::max(r.y, static_cast<int>(std::floor(std::min({ty[0], ty[1], ty[2]}) - 0.5)));
+        const int y1 = std::min(r.y + r.h - 1, static_cast<int>(std::ceil(std::max({ty[0], ty[1], ty[2]}) - 0.5)));
+        bool any = false;
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x)
+                if (inside(x + 0.5, y + 0.5)) {
+                    any = true;
+                    if (!covered[size_t(y) * atlas.width + x]) bake(x, y);
+                }
+        const int cx = static_cast<int>((tx[0] + tx[1] + tx[2]) / 3), cy = static_cast<int>((ty[0] + ty[1] + ty[2]) / 3);
+        if (!any && !covered[size_t(cy) * atlas.width + cx]) bake(cx, cy);
+    }
+}
+
+// Fills the texels of the chart's blocks that were not baked with copies of the nearest baked
+// one (breadth-first over 8-neighbours, in scan order: deterministic).
+void dilate(const AtlasLayout& l, uint32_t chart, std::vector<uint8_t>& covered, Image& atlas) {
+    const ChartPlacement& r = l.places[chart];
+    const int columns = l.width / kJpegBlock;
+    auto mine = [&](int x, int y) {
+        return x >= r.x && x < r.x + r.w && y >= r.y && y < r.y + r.h &&
+               l.blockOwner[size_t(y / kJpegBlock) * columns + x / kJpegBlock] == chart;
+    };
+    std::vector<size_t> queue;
+    for (int y = r.y; y < r.y + r.h; ++y)
+        for (int x = r.x; x < r.x + r.w; ++x)
+            if (covered[size_t(y) * atlas.width + x] == 1 && mine(x, y)) queue.push_back(size_t(y) * atlas.width + x);
+    for (size_t head = 0; head < queue.size(); ++head) {
+        const int x = static_cast<int>(queue[head] % atlas.width), y = static_cast<int>(queue[head] / atlas.width);
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                if (!mine(x + dx, y + dy)) continue;
+                const size_t at = size_t(y + dy) * atlas.width + (x + dx);
+                if (covered[at]) continue;
+                covered[at] = 2;  // filled, not baked
+                std::copy_n(&atlas.pixels[3 * queue[head]], 3, &atlas.pixels[3 * at]);
+                queue.push_back(at);
+            }
+    }
+}
+
+}  // namespace
+
+BakedTexture bakeTexture(const MeshData& input, const std::vector<BakeSource>& original, uint64_t texelBudget) {
+    BakedTexture out;
+    MeshData simplified;  // without its zero-area triangles, which cover nothing and have no chart
+    simplified.positions = input.positions, simplified.normals = input.normals, simplified.colors = input.colors;
+    for (size_t t = 0; t < input.triangleCount(); ++t) {
+        const uint32_t* i = &input.indices[3 * t];
+        if (!zeroArea(&input.positions[3 * i[0]], &input.positions[3 * i[1]], &input.positions[3 * i[2]]))
+            simplified.indices.insert(simplified.indices.end(), i, i + 3);
+    }
+    if (simplified.triangleCount() == 0) return out;
+    const std::vector<FlatChart> charts = flattenCharts(simplified);
+    const AtlasLayout l = packCharts(charts, texelBudget);
+    out.image = {static_cast<uint32_t>(l.width), static_cast<uint32_t>(l.height), 3, {}};
+    out.image.pixels.assign(size_t(l.width) * l.height * 3, static_cast<uint8_t>(kUntexturedGrey));
+    // The mesh: every chart gets its own copies of its vertices, UVs in [0, 1] over the atlas.
+    const bool normals = simplified.normals.size() == 3 * simplified.vertexCount();
+    const bool colors = simplified.colors.size() == 4 * simplified.vertexCount();
+    std::vector<uint32_t> copyOf(simplified.vertexCount(), kNone);
+    for (size_t c = 0; c < charts.size(); ++c) {
+        std::vector<uint32_t> touched;
+        for (size_t j = 0; j < charts[c].triangles.size(); ++j)
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t v = simplified.indices[3 * charts[c].triangles[j] + k];
+                if (copyOf[v] == kNone) {
+                    copyOf[v] = static_cast<uint32_t>(out.mesh.vertexCount());
+                    touched.push_back(v);
+                    MeshData& m = out.mesh;
+                    m.positions.insert(m.positions.end(), &simplified.positions[3 * v], &simplified.positions[3 * v + 3]);
+                    if (normals) m.normals.insert(m.normals.end(), &simplified.normals[3 * v], &simplified.normals[3 * v + 3]);
+                    if (colors) m.colors.insert(m.colors.end(), &simplified.colors[4 * v], &simplified.colors[4 * v + 4]);
+                    const double* uv = &charts[c].uv[6 * j + 2 * k];
+                    m.texcoords.push_back(static_cast<float>((l.places[c].x + kChartGutter + uv[0] * l.scale) / l.width));
+                    m.texcoords.push_back(static_cast<float>((l.places[c].y + kChartGutter + uv[1] * l.scale) / l.height));
+                }
+                out.mesh.indices.push_back(copyOf[v]);
+            }
+        for (uint32_t v : touched) copyOf[v] = kNone;
+    }
+    // Baking, then the gutters.
+    OriginalSurface surface(original);
+    std::vector<uint8_t> covered(size_t(l.width) * l.height, 0);
+    std::vector<Sample> samples;
+    for (size_t c = 0; c < charts.size(); ++c) bakeChart(simplified, charts[c], l, l.places[c], surface, covered, out.image, samples);
+    for (uint8_t v : covered) out.coveredTexels += v;
+    for (uint32_t c = 0; c < charts.size(); ++c) dilate(l, c, covered, out.image);
+    double squared = 0;
+    for (const Sample& s : samples) {
+        const Rgb baked = bilinear(out.image, s.x, s.y);
+        for (int k = 0; k < 3; ++k) squared += double(baked.c[k] - s.colour.c[k]) * (baked.c[k] - s.colour.c[k]);
+    }
+    if (samples.empty()) return out;  // psnr 0: nothing measured
+    const double mse = squared / (3.0 * double(samples.size()));
+    out.psnr = 10 * std::log10(255.0 * 255.0 / std::max(mse, 255.0 * 255.0 * 1e-10));
+    return out;
+}
+
+}  // namespace hlod

@@ -1,0 +1,316 @@
+// Inputs as a class (README "Inputs"): one rule for every unusable texture (missing, empty,
+// truncated, not an image, absurd size): a warning, its material untextured, counted in the
+// summary and the build report; fatal with --strict (exit 2). The up axis recorded in the
+// database. Progress lines when the output is not a terminal (injected clock, no wall time).
+#include "helpers.h"
+
+#include "formats/up_axis.h"
+#include "tests/support/run_hlod.h"
+#include "tests/support/synthetic.h"
+
+#include <nlohmann/json.hpp>
+
+#include <sstream>
+
+namespace hlod::test {
+namespace {
+
+// Writes an OBJ whose two materials both use `texture`, then the texture's bytes.
+void writeTexturedObj(TempDir& dir, const std::string& texture, const std::vector<uint8_t>& bytes, bool writeTexture = true) {
+    writeObj(dir.file("m.obj"), terrain(20, 100, true), texture);
+    if (writeTexture) writeFile(dir.file(texture), bytes);
+}
+
+std::vector<uint8_t> truncated(std::vector<uint8_t> bytes) {
+    bytes.resize(bytes.size() / 2);
+    return bytes;
+}
+
+std::vector<uint8_t> text(const std::string& s) { return {s.begin(), s.end()}; }
+
+struct BadTexture {
+    const char* label;
+    std::string file;
+    std::vector<uint8_t> bytes;
+    bool write = true;
+    const char* problem;  // in the warning
+};
+
+std::vector<BadTexture> badTextures() {
+    const std::vector<uint8_t> png = encodeTexture(testImage(64, 64), Codec::Png).bytes;
+    const std::vector<uint8_t> jpeg = encodeTexture(testImage(64, 64), Codec::Jpeg, 90).bytes;
+    return {
+        {"missing", "gone.png", {}, false, "is missing"},
+        {"empty", "empty.png", {}, true, "is empty (0 bytes)"},
+        {"truncated PNG", "half.png", truncated(png), true, "corrupt texture"},
+        {"truncated JPEG", "half.jpg", truncated(jpeg), true, "corrupt texture"},
+        {"not an image", "text.png", text("this is not a picture\n"), true, "is not a readable image"},
+        {"absurd size", "huge.ppm", text("P6\n100000 100000\n255\n\x01\x02\x03"), true, "has absurd size 100000x100000"},
+    };
+}
+
+TEST(Textures, EveryUnusableTextureWarnsAndLeavesItsMaterialUntextured) {
+    for (const BadTexture& bad : badTextures()) {
+        SCOPED_TRACE(bad.label);
+        TempDir dir;
+        writeTexturedObj(dir, bad.file, bad.bytes, bad.write);
+        const RunResult r = runHlod({"build", dir.file("m.obj"), "-o", dir.file("m.hlod"), "--set", "c_desiredTris=200"});
+        ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+        EXPECT_NE(r.out.find(bad.problem), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find(bad.file), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find("material 'mat0' left untextured"), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find("material 'mat1' left untextured"), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find("textures: 2 unusable"), std::string::npos) << r.out;
+        std::ifstream report(dir.file("m.hlod.build.json"));
+        const nlohmann::json j = nlohmann::json::parse(report);
+        ASSERT_EQ(j.at("texture_problems").size(), 2u);
+        EXPECT_NE(j.at("texture_problems")[0].get<std::string>().find(bad.problem), std::string::npos);
+        const Database db = Database::open(dir.file("m.hlod"));
+        for (const Node& n : db.skeleton().nodes) EXPECT_EQ(n.texturedTriangles, 0u) << "node " << n.id;
+        EXPECT_EQ(runHlod({"validate", dir.file("m.hlod")}).exitCode, 0);
+    }
+}
+
+TEST(Textures, StrictMakesEveryUnusableTextureFatal) {
+    for (const BadTexture& bad : badTextures()) {
+        SCOPED_TRACE(bad.label);
+        TempDir dir;
+        writeTexturedObj(dir, bad.file, bad.bytes, bad.write);
+        const RunResult r = runHlod({"build", dir.file("m.obj"), "-o", dir.file("m.hlod"), "--strict"});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();  // an input that cannot be read (formats/cli/command.h)
+        const size_t at = r.err.find("hlod build: ");
+        ASSERT_NE(at, std::string::npos) << r.err;
+        const std::string line = r.err.substr(at);
+        EXPECT_EQ(std::count(line.begin(), line.end(), '\n'), 1) << line;  // one line
+        EXPECT_NE(line.find(bad.file), std::string::npos) << line;
+        EXPECT_NE(line.find("(--strict)"), std::string::npos) << line;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("m.hlod")));
+    }
+}
+
+TEST(Textures, AGoodTextureIsNoProblemWithOrWithoutStrict) {
+    TempDir dir;
+    writeTexturedObj(dir, "atlas.png", encodeTexture(testImage(64, 64), Codec::Png).bytes);
+    const RunResult r = runHlod({"build", dir.file("m.obj"), "-o", dir.file("m.hlod"), "--strict"});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_EQ(r.out.find("unusable"), std::string::npos) << r.out;
+    const Database db = Database::open(dir.file("m.hlod"));
+    EXPECT_GT(db.skeleton().nodes[0].texturedTriangles, 0u);
+}
+
+TEST(Textures, ReadersReportTheProblemAndClearTheMaterial) {
+    TempDir dir;
+    writeTexturedObj(dir, "empty.png", {});
+    const SourceMesh s = readMesh(dir.file("m.obj"));
+    ASSERT_EQ(s.stats.textureProblems.size(), 2u);
+    EXPECT_NE(s.stats.textureProblems[0].what.find("is empty (0 bytes)"), std::string::npos);
+    for (const Material& m : s.materials) EXPECT_TRUE(m.texturePath.empty());
+}
+
+// One textured triangle as glTF with everything in data: URIs (buffer and image).
+std::string triangleGltf(const std::string& imageUri) {
+    const float values[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
+    const auto* p = reinterpret_cast<const uint8_t*>(values);
+    const std::string buffer = "data:application/octet-stream;base64," + base64({p, p + sizeof values});
+    return R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+  "materials": [{"name": "skin", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+  "buffers": [{"uri": ")" + buffer + R"(", "byteLength": 60}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],
+  "textures": [{"source": 0}], "images": [{"uri": ")" + imageUri + R"("}]}
+)";
+}
+
+// An embedded glTF image that does not decode follows the same rule instead of failing the file.
+TEST(Textures, AnUndecodableEmbeddedGltfImageIsATextureProblem) {
+    TempDir dir;
+    const std::vector<uint8_t> png = encodeTexture(testImage(16, 16), Codec::Png).bytes;
+    for (const auto& bytes : {text("not a picture"), truncated(png)}) {
+        std::ofstream(dir.file("t.gltf")) << triangleGltf("data:image/png;base64," + base64(bytes));
+        const SourceMesh s = readMesh(dir.file("t.gltf"));
+        ASSERT_EQ(s.stats.textureProblems.size(), 1u);
+        EXPECT_NE(s.stats.textureProblems[0].what.find(dir.file("t.gltf") + ": image 0 cannot be decoded"), std::string::npos)
+            << s.stats.textureProblems[0].what;
+        EXPECT_EQ(s.stats.textureProblems[0].material, "skin");
+        EXPECT_FALSE(s.materials[0].image);
+        const RunResult strict = runHlod({"build", dir.file("t.gltf"), "-o", dir.file("t.hlod"), "--strict"});
+        EXPECT_EQ(strict.exitCode, 2) << strict.outAndErr();
+        EXPECT_NE(strict.err.find("image 0 cannot be decoded"), std::string::npos) << strict.err;
+        const RunResult lenient = runHlod({"build", dir.file("t.gltf"), "-o", dir.file("t.hlod")});
+        EXPECT_EQ(lenient.exitCode, 0) << lenient.outAndErr();
+        EXPECT_NE(lenient.out.find("material 'skin' left untextured"), std::string::npos) << lenient.out;
+        EXPECT_NE(lenient.out.find("up axis: y (glTF is y-up)"), std::string::npos) << lenient.out;
+        EXPECT_EQ(*Database::open(dir.file("t.hlod")).skeleton().findMeta("up"), "y");
+    }
+    std::ofstream(dir.file("t.gltf")) << triangleGltf("data:image/png;base64," + base64(png));
+    const SourceMesh good = readMesh(dir.file("t.gltf"));
+    EXPECT_TRUE(good.stats.textureProblems.empty());
+    ASSERT_TRUE(good.materials[0].image);
+}
+
+TEST(UpAxis, ChosenByFormatOrOption) {
+    TempDir dir;
+    EXPECT_EQ(chooseUpAxis("a.gltf", "").axis, "y");
+    EXPECT_EQ(chooseUpAxis("a.GLB", "").axis, "y");
+    EXPECT_EQ(chooseUpAxis("a.obj", "").axis, "z");
+    EXPECT_EQ(chooseUpAxis("a.ply", "").axis, "z");
+    EXPECT_EQ(chooseUpAxis("a.gltf", "z").axis, "z");
+    EXPECT_EQ(chooseUpAxis("a.gltf", "z").reason, "--up");
+    EXPECT_THROW(chooseUpAxis("a.obj", "w"), std::invalid_argument);
+    std::filesystem::create_directories(dir.path / "mixed");
+    std::ofstream(dir.file("mixed/a.obj")) << "";
+    EXPECT_EQ(chooseUpAxis(dir.file("mixed"), "").axis, "z");
+    std::ofstream(dir.file("mixed/b.glb")) << "";
+    EXPECT_NE(errorOf([&] { chooseUpAxis(dir.file("mixed"), ""); }).find("give --up"), std::string::npos);
+    EXPECT_EQ(chooseUpAxis(dir.file("mixed"), "y").axis, "y");
+}
+
+TEST(UpAxis, RecordedInTheDatabaseAndUsedByPathAndExport) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(20).mesh, true);
+    const RunResult z = runHlod({"build", dir.file("t.ply"), "-o", dir.file("z.hlod"), "--set", "c_desiredTris=200"});
+    ASSERT_EQ(z.exitCode, 0) << z.outAndErr();
+    EXPECT_NE(z.out.find("up axis: z (OBJ/PLY"), std::string::npos) << z.out;
+    const RunResult y = runHlod({"build", dir.file("t.ply"), "-o", dir.file("y.hlod"), "--up", "y", "--set", "c_desiredTris=200"});
+    ASSERT_EQ(y.exitCode, 0) << y.outAndErr();
+    EXPECT_NE(y.out.find("up axis: y (--up)"), std::string::npos) << y.out;
+    const Database zdb = Database::open(dir.file("z.hlod")), ydb = Database::open(dir.file("y.hlod"));
+    EXPECT_EQ(*zdb.skeleton().findMeta("up"), "z");
+    EXPECT_EQ(upAxisOf(ydb.skeleton(), "y.hlod").axis, 1);
+    EXPECT_TRUE(upAxisOf(ydb.skeleton(), "y.hlod").recorded);
+    EXPECT_NE(ydb.skeleton().findMeta("command")->find("--up y"), std::string::npos);
+
+    const RunResult p = runHlod({"path", dir.file("y.hlod"), "-o", dir.file("y.path")});
+    ASSERT_EQ(p.exitCode, 0) << p.outAndErr();
+    EXPECT_NE(p.out.find("up axis: y (recorded in the database)"), std::string::npos) << p.out;
+    const RunResult po = runHlod({"path", dir.file("y.hlod"), "-o", dir.file("z.path"), "--up", "z"});
+    EXPECT_NE(po.out.find("up axis: z (--up)"), std::string::npos) << po.out;
+
+    ASSERT_EQ(runHlod({"export", "tiles", dir.file("y.hlod"), "-o", dir.file("ytiles")}).exitCode, 0);
+    ASSERT_EQ(runHlod({"export", "tiles", dir.file("z.hlod"), "-o", dir.file("ztiles")}).exitCode, 0);
+    std::ifstream yt(dir.file("ytiles/tileset.json")), zt(dir.file("ztiles/tileset.json"));
+    const nlohmann::json yj = nlohmann::json::parse(yt), zj = nlohmann::json::parse(zt);
+    EXPECT_EQ(yj.at("root").at("transform"), nlohmann::json({1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1}));
+    EXPECT_FALSE(zj.at("root").contains("transform"));
+    EXPECT_EQ(yj.at("asset").at("extras").at("hlod").at("up"), "y");
+
+    // With --origin the y-up turn comes before the east-north-up placement: columns (x, y, z, t)
+    // of the y-up transform are (east, up, -north, t) of the z-up one.
+    const std::string origin = "37.8716,-122.2727,60";
+    ASSERT_EQ(runHlod({"export", "tiles", dir.file("y.hlod"), "-o", dir.file("yplaced"), "--origin", origin}).exitCode, 0);
+    ASSERT_EQ(runHlod({"export", "tiles", dir.file("z.hlod"), "-o", dir.file("zplaced"), "--origin", origin}).exitCode, 0);
+    std::ifstream yp(dir.file("yplaced/tileset.json")), zp(dir.file("zplaced/tileset.json"));
+    const nlohmann::json ty = nlohmann::json::parse(yp).at("root").at("transform"), tz = nlohmann::json::parse(zp).at("root").at("transform");
+    for (int row = 0; row < 4; ++row) {
+        EXPECT_NEAR(ty[0 + row].get<double>(), tz[0 + row].get<double>(), 1e-9);
+        EXPECT_NEAR(ty[4 + row].get<double>(), tz[8 + row].get<double>(), 1e-9);
+        EXPECT_NEAR(ty[8 + row].get<double>(), -tz[4 + row].get<double>(), 1e-9);
+        EXPECT_NEAR(ty[12 + row].get<double>(), tz[12 + row].get<double>(), 1e-6);
+    }
+}
+
+TEST(UpAxis, ADatabaseWithoutTheKeyIsZUp) {
+    Skeleton s;
+    EXPECT_EQ(upAxisOf(s, "old.hlod").axis, 2);
+    EXPECT_FALSE(upAxisOf(s, "old.hlod").recorded);
+    s.meta.emplace_back("up", "w");
+    EXPECT_THROW(upAxisOf(s, "bad.hlod"), FormatError);
+}
+
+// FORMAT.md: a database written before the key (the Writer API alone writes no "up") reads as
+// z-up everywhere, as before.
+TEST(UpAxis, AnOldDatabaseIsReadAsZUpByPathAndExport) {
+    TempDir dir;
+    writeSyntheticDatabase(dir.file("old.hlod"), SyntheticOptions{});
+    ASSERT_EQ(Database::open(dir.file("old.hlod")).skeleton().findMeta("up"), nullptr);
+    const RunResult p = runHlod({"path", dir.file("old.hlod"), "-o", dir.file("old.path")});
+    ASSERT_EQ(p.exitCode, 0) << p.outAndErr();
+    EXPECT_NE(p.out.find("up axis: z (not recorded"), std::string::npos) << p.out;
+    ASSERT_EQ(runHlod({"export", "tiles", dir.file("old.hlod"), "-o", dir.file("tiles")}).exitCode, 0);
+    std::ifstream t(dir.file("tiles/tileset.json"));
+    EXPECT_FALSE(nlohmann::json::parse(t).at("root").contains("transform"));
+}
+
+// A fake clock: progress lines are due by the injected time, never the wall clock.
+struct FakeClock {
+    double now = 0;
+    ProgressOptions options(bool json = false) {
+        ProgressOptions o;
+        o.json = json, o.interval = 5, o.thread = false;
+        o.clock = [this] { return now; };
+        return o;
+    }
+};
+
+std::vector<std::string> linesOf(const std::string& s) {
+    std::vector<std::string> lines;
+    std::istringstream in(s);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+}
+
+TEST(Progress, APipeGetsALineEveryIntervalAndNoEtaBeforeARate) {
+    std::ostringstream out;
+    FakeClock clock;
+    Progress progress(out, clock.options());
+    progress.beginStage("build", 1000);
+    ASSERT_EQ(linesOf(out.str()).size(), 1u);  // the stage's first line, at once
+    EXPECT_NE(out.str().find("ETA --"), std::string::npos) << out.str();
+    // A slow stage: textures decoding, nothing done for 20 s; then items at 10 per second.
+    for (int second = 1; second <= 60; ++second) {
+        clock.now = second;
+        if (second <= 20 && second % 4 == 0) progress.textureLoaded(4096 * 4096);
+        if (second > 20) progress.advance(10);
+        progress.poll();
+    }
+    const std::vector<std::string> lines = linesOf(out.str());
+    EXPECT_EQ(lines.size(), 1u + 60 / 5) << out.str();  // one every 5 s of the injected clock
+    EXPECT_NE(lines[4].find("ETA --"), std::string::npos) << lines[4];  // t = 20 s, nothing done: no rate, no ETA
+    EXPECT_NE(lines[4].find("textures 5 (83.9 Mtexel)"), std::string::npos) << lines[4];
+    EXPECT_NE(lines[12].find("40.0%"), std::string::npos) << lines[12];  // t = 60 s: 400 of 1000
+    EXPECT_NE(lines[12].find("ETA 90 s"), std::string::npos) << lines[12];  // 600 left at 400 / 60 s
+    progress.endStage();
+    EXPECT_EQ(linesOf(out.str()).size(), lines.size() + 1);
+}
+
+TEST(Progress, JsonLines) {
+    std::ostringstream out;
+    FakeClock clock;
+    Progress progress(out, clock.options(true));
+    progress.beginStage("read", 200, "B");
+    clock.now = 5;
+    progress.advance(50);
+    progress.poll();
+    progress.message("warning: a \"quoted\" name");
+    progress.endStage();
+    const std::vector<std::string> lines = linesOf(out.str());
+    ASSERT_EQ(lines.size(), 4u) << out.str();
+    std::vector<nlohmann::json> j;
+    for (const std::string& line : lines) j.push_back(nlohmann::json::parse(line));
+    EXPECT_TRUE(j[0].at("eta_s").is_null());
+    EXPECT_EQ(j[1].at("stage"), "read");
+    EXPECT_EQ(j[1].at("done"), 50);
+    EXPECT_EQ(j[1].at("total"), 200);
+    EXPECT_EQ(j[1].at("eta_s"), 15);
+    EXPECT_EQ(j[2].at("message"), "warning: a \"quoted\" name");
+    EXPECT_EQ(j[3].at("end"), true);
+}
+
+TEST(Progress, ABuildIntoAPipePrintsStageLines) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(30).mesh, true);
+    const RunResult r = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--progress-json"});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    std::vector<std::string> stages;
+    for (const std::string& line : linesOf(r.out))
+        if (!line.empty() && line[0] == '{') {
+            const nlohmann::json j = nlohmann::json::parse(line);
+            if (j.contains("stage") && !j.contains("end")) stages.push_back(j.at("stage"));
+        }
+    EXPECT_EQ(stages, (std::vector<std::string>{"read", "split", "build", "write"})) << r.out;
+}
+
+}  // namespace
+}  // namespace hlod::test
