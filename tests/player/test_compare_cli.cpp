@@ -132,12 +132,12 @@ TEST_F(CompareCli, FlatTriangleRateIsTheGivenOneOrConsistentWithCTextured) {
     RunResult r = runHlod({"compare", db, "--path", path, "--policies", "none", "--step-ms", "30", "--no-plots",
                            "--model-ms-per-tri", "0.004", "--model-ms-per-flat-tri", "0.5", "-o", prefix});
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    nlohmann::json j = nlohmann::json::parse(slurp(prefix + ".json"));
+    nlohmann::json j = nlohmann::json::parse(readText(prefix + ".json"));
     EXPECT_NEAR(std::stod(j["setup"]["model_ms_per_flat_tri"].get<std::string>()), 0.5, 1e-9);
     r = runHlod({"compare", db, "--path", path, "--policies", "none", "--step-ms", "30", "--no-plots",
                  "--model-ms-per-tri", "0.004", "-o", prefix});
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    j = nlohmann::json::parse(slurp(prefix + ".json"));
+    j = nlohmann::json::parse(readText(prefix + ".json"));
     const double c = hlod::Constants{}.textured;  // the fixture's c_textured: eq. 3.1's weights
     EXPECT_NEAR(std::stod(j["setup"]["model_ms_per_flat_tri"].get<std::string>()), 0.004 * (1 - c) / c, 1e-5);
 }
