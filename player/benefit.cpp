@@ -35,15 +35,26 @@ double projectedErrorPx(const Node& node, const Projection& p) {
     return double(node.geometricError) * p.focalPx / projectionDistance(node, p);
 }
 
-double nodeBenefit(const Node& node, const Projection& p) {
-    return projectedAreaPx(node, p) / (1 + projectedErrorPx(node, p));  // FS §4.2 size x accuracy
+double blockDistance(const Skeleton& skeleton, const Node& node, const Projection& p) {
+    const Node* root = &node;
+    while (root->parent != kNone) root = &skeleton.nodes[root->parent];
+    return projectionDistance(*root, p);
+}
+
+double nodeBenefit(const Skeleton& skeleton, const Node& node, const Projection& p) {
+    uint32_t tris = node.triangles();
+    if (tris == 0) return 0;
+    double area = double(node.staticBenefit) * node.staticBenefit / tris;  // §3.3: staticBenefit = sqrt(tris x area)
+    double D = blockDistance(skeleton, node, p);  // shared by the whole block: size adds up over children
+    double size = area * p.focalPx * p.focalPx / (D * D);
+    return size / (1 + projectedErrorPx(node, p));  // FS §4.2 size x accuracy
 }
 
 double frontBenefit(const Skeleton& skeleton, std::span<const DrawItem> drawn, const Projection& p,
                     const std::function<bool(uint32_t)>& visible) {
     double sum = 0;
     for (const DrawItem& d : drawn)
-        if (visible(d.node)) sum += nodeBenefit(skeleton.nodes[d.node], p);
+        if (visible(d.node)) sum += nodeBenefit(skeleton, skeleton.nodes[d.node], p);
     return sum;
 }
 

@@ -121,6 +121,18 @@ struct FsIncrementalOptions {
 Choice fsIncremental(const ChoiceProblem& problem, std::span<const int32_t> previous,
                      const FsIncrementalOptions& options = {});
 
+// ---- fs-hold: FS §6's steps with symmetric hysteresis (choice_hold.cpp) ----
+struct HoldOptions {
+    double headroom = 0.05;  // raise only while the cost stays under budget x (1 - headroom); lower above budget
+    double swapGain = 0.02;  // take fsGreedy's choice (under the same headroom) when its benefit is this much
+                             // higher (fraction); < 0: never
+};
+// Keeps `previous` (one level per object; off the hull or unavailable: the dearest hull option
+// that costs no more, a new object its base), lowers the lowest-Value increments while over the
+// budget, raises the highest-Value ones while they fit under budget x (1 - headroom), then swaps
+// to the greedy's choice if it is better by more than swapGain.
+Choice holdChoice(const ChoiceProblem& problem, std::span<const int32_t> previous, const HoldOptions& options = {});
+
 // ---- Robin Hood §5 ----
 enum class RhValue { Eq8, Eq9, Eq10, Eq11 };
 // eqs 8-11: v_i = a_i / sqrt(z_i) I, a_i / z_i I, a_i / z_i^2 I, sqrt(a_i / z_i^2) I

@@ -41,7 +41,7 @@ ChoiceMap mapChoice(const Skeleton& s, const Projection& proj, const Evaluate& e
             for (uint32_t id : level) {
                 const Node& n = s.nodes[id];
                 cost += n.cost;
-                x.benefit += nodeBenefit(n, proj);
+                x.benefit += nodeBenefit(s, n, proj);
                 x.samples += n.triangles();
                 x.available = x.available && resident[id];
             }

@@ -14,10 +14,12 @@ std::unique_ptr<SelectionPolicy> makeStaticPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeFeedbackPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeSsePolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeSseBudgetPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeNodeHoldPolicy(const PolicyOptions& options);  // player/policy_hold.cpp
 
 // Solvers over blocks x levels (player/choice.h): declare their factories below this line.
 std::unique_ptr<SelectionPolicy> makeFsGreedyPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeFsIncrementalPolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeHoldPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeRhPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeGbPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeOraclePolicy(const PolicyOptions& options);
@@ -35,12 +37,16 @@ const PolicyInfo kPolicies[] = {
     {"feedback", "static with N scaled by last frame's actual / target (FS 1993 §7 c)", "pixels", makeFeedbackPolicy},
     {"sse", "refine while projected geometric error > tolerance pixels (3D Tiles, Nexus)", "tolerance", makeSsePolicy},
     {"sse-budget", "sse with the tolerance scaled by sqrt(actual / target) each frame", "tolerance", makeSseBudgetPolicy},
+    {"hold", "the thesis traversal with kept refine flags changed by FS 1993 §6 raise/lower steps in a dead band",
+     "headroom overrun exchange_gain", makeNodeHoldPolicy},
 
     // Solvers over blocks x levels (player/choice.h): their rows go below this line.
     {"fs-greedy", "Funkhouser & Sequin 1993 §6 greedy by value over blocks x cuts, + best single tuple",
      "allow_skip pixel_ms fs_benefit focus motion hysteresis literal best_single", makeFsGreedyPolicy},
     {"fs-incremental", "Funkhouser & Sequin 1993 §6 incremental raise/lower from last frame's cuts",
      "allow_skip pixel_ms fs_benefit focus motion hysteresis", makeFsIncrementalPolicy},
+    {"fs-hold", "FS 1993 §6 raise/lower from last frame's cuts with a symmetric dead band, + a swap to the greedy's",
+     "allow_skip pixel_ms headroom swap_gain", makeHoldPolicy},
     {"rh", "Robin Hood (Hernandez & Benes) §5: time shared by value, remainders passed simple to complex",
      "allow_skip pixel_ms value c logic_ms", makeRhPolicy},
     {"gb", "Gobbetti & Bouvier 1999: continuous resolutions by a barrier method, rounded onto the cuts",

@@ -4,6 +4,7 @@
 //   fs-greedy, fs-incremental  Funkhouser & Séquin 1993 §4-6 (fs_greedy.cpp, fs_incremental.cpp)
 //   rh                         Hernández & Beneš 2005 §5 eqs 1-11 (robin_hood.cpp)
 //   gb                         Gobbetti & Bouvier 1999 §4-5, then rounded onto the tree (gb_barrier.cpp)
+//   fs-hold                    FS §6's steps with symmetric hysteresis (choice_hold.cpp): the project's own
 //   oracle                     the exact optimum (choice_oracle.cpp), a yardstick for `hlod compare`
 // Settings (player/SOLVERS.md): every one takes allow_skip
 // (FS skips objects; default 0: hlod0 is always drawn, as in the thesis) and pixel_ms (FS §4 C3,
@@ -156,6 +157,24 @@ private:
     double lastEye_[3] = {0, 0, 0};
 };
 
+// The project's own policy (player/DEFAULT_POLICY.md): FS §6's raise and lower
+// steps from last frame's cuts with a symmetric dead band, and a swap to the greedy's choice when
+// it gains more than swap_gain (choice_hold.cpp).
+class HoldPolicy final : public SolverPolicy {
+public:
+    explicit HoldPolicy(const PolicyOptions& o) : SolverPolicy("fs-hold", o) {
+        hold_.headroom = o.get("fs-hold.headroom", hold_.headroom);
+        hold_.swapGain = o.get("fs-hold.swap_gain", hold_.swapGain);
+        if (hold_.headroom < 0 || hold_.headroom >= 1) throw std::invalid_argument("fs-hold.headroom must be in [0, 1)");
+    }
+
+private:
+    Choice solve(const PolicyFrame&, ChoiceProblem& p, const std::vector<int32_t>& previous) override {
+        return holdChoice(p, previous, hold_);
+    }
+    HoldOptions hold_;
+};
+
 class RhPolicy final : public SolverPolicy {
 public:
     explicit RhPolicy(const PolicyOptions& o) : SolverPolicy("rh", o) {
@@ -222,6 +241,7 @@ std::unique_ptr<SelectionPolicy> makeFsGreedyPolicy(const PolicyOptions& o) { re
 std::unique_ptr<SelectionPolicy> makeFsIncrementalPolicy(const PolicyOptions& o) {
     return std::make_unique<FsPolicy>(true, o);
 }
+std::unique_ptr<SelectionPolicy> makeHoldPolicy(const PolicyOptions& o) { return std::make_unique<HoldPolicy>(o); }
 std::unique_ptr<SelectionPolicy> makeRhPolicy(const PolicyOptions& o) { return std::make_unique<RhPolicy>(o); }
 std::unique_ptr<SelectionPolicy> makeGbPolicy(const PolicyOptions& o) { return std::make_unique<GbPolicy>(o); }
 std::unique_ptr<SelectionPolicy> makeOraclePolicy(const PolicyOptions& o) { return std::make_unique<OraclePolicy>(o); }

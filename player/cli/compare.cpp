@@ -21,6 +21,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 namespace hlod::cli {
@@ -35,6 +36,7 @@ struct CompareArgs {
     int width = 1280, height = 720;
     PlayerOptions player;
     CostModel model;
+    std::optional<double> flatRate;  // --model-ms-per-flat-tri; default: consistent with c_textured
     ConstantOptions constants{"compare", kUsedByPlayer};
 };
 
@@ -172,7 +174,8 @@ int runCompare(CompareArgs& a) {
     // eq. 3.1 weights of the database's node costs, as `hlod play` applies them.
     const std::string* cTextured = db.skeleton().findMeta("c_textured");
     a.model.msPerUntexturedTriangle =
-        consistentUntexturedRate(a.model.msPerTexturedTriangle, cTextured ? std::stod(*cTextured) : c.textured);
+        a.flatRate ? *a.flatRate
+                   : consistentUntexturedRate(a.model.msPerTexturedTriangle, cTextured ? std::stod(*cTextured) : c.textured);
     printConstants(std::cout, c, kUsedByPlayer);
 
     std::vector<PolicyRun> runs;
@@ -195,7 +198,8 @@ int runCompare(CompareArgs& a) {
             {"database", a.db}, {"path", a.path}, {"policies", a.policies}, {"renderer", a.renderer},
             {"step_ms", std::to_string(a.stepMs)}, {"preload", a.preload ? "yes" : "no"},
             {"warmup_frames", std::to_string(a.warmup)}, {"target_ms", std::to_string(c.targetTimeMs)},
-            {"model_ms_per_tri", std::to_string(a.model.msPerTexturedTriangle)}, {"seed", std::to_string(a.model.seed)}};
+            {"model_ms_per_tri", std::to_string(a.model.msPerTexturedTriangle)},
+            {"model_ms_per_flat_tri", std::to_string(a.model.msPerUntexturedTriangle)}, {"seed", std::to_string(a.model.seed)}};
         writeFile(a.prefix + ".txt", text.str());
         std::ostringstream csv;
         writeCompareCsv(csv, rows);
@@ -237,6 +241,9 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured)");
     sub->add_option("--model-overhead-ms", a->model.overheadMs, "cost model: fixed ms per frame");
     sub->add_option("--model-ms-per-tri", a->model.msPerTexturedTriangle, "cost model: ms per textured triangle");
+    sub->add_option("--model-ms-per-flat-tri", a->flatRate,
+                    "cost model: ms per untextured triangle (default: --model-ms-per-tri x (1 - c_textured) / "
+                    "c_textured, the database's eq. 3.1 weights), as in `hlod play`");
     sub->add_option("--model-noise", a->model.noise, "cost model: relative sd of per-frame noise");
     sub->add_option("--model-node-error", a->model.nodeError, "cost model: per-node cost error in [-e, e]");
     sub->add_option("--seed", a->model.seed, "cost model: noise and error seed (the same for every policy)");

@@ -286,3 +286,52 @@ TEST(GbBarrier, WarmStartNeedsNoMoreNewtonSteps) {
         EXPECT_NEAR(warm.benefit, cold.benefit, cold.certifiedGap + warm.certifiedGap + 1e-9);
     }
 }
+
+TEST(FsHold, WithinBudgetAndStillOnAStaticView) {
+    std::mt19937_64 rng(21);
+    std::uniform_int_distribution<int> lvl(-1, 5);
+    for (int trial = 0; trial < 300; ++trial) {
+        ChoiceProblem p = test::randomChoiceProblem(rng, {.objects = 1 + uint32_t(trial % 20), .maxOptions = 6,
+                                                          .concave = trial % 3 != 0, .unavailable = 0.2,
+                                                          .allowSkip = trial % 2 == 0});
+        std::vector<int32_t> prev(p.objects.size());
+        for (int32_t& l : prev) l = lvl(rng);  // any last frame, even out of range
+        Choice c = holdChoice(p, prev);
+        ASSERT_TRUE(choiceIsValid(p, c)) << trial;
+        if (budgetAboveBases(p) >= 0) {
+            EXPECT_LE(c.cost, p.budget + feasibleTolerance(p)) << trial;
+        }
+        // the same view again: nothing changes (no toggles without a reason)
+        Choice again = holdChoice(p, c.level);
+        EXPECT_EQ(again.level, c.level) << trial;
+        EXPECT_EQ(again.iterations, 0u) << trial;
+    }
+}
+
+TEST(FsHold, KeepsAChoiceInsideTheDeadBandAndSwapsOnlyForEnoughGain) {
+    ChoiceProblem p;
+    p.objects = {object({{1, 1}, {3, 5}}), object({{1, 1}, {3, 3}})};
+    p.budget = 4;  // one object raised: cost 4, inside [budget x 0.95, budget]
+    // held: object 1 raised (benefit 4) though object 0 raised is better (benefit 6)
+    EXPECT_EQ(holdChoice(p, std::vector<int32_t>{0, 1}, {.headroom = 0.05, .swapGain = -1}).level,
+              (std::vector<int32_t>{0, 1}));
+    // greedy under the headroom (budget 3.8) cannot raise either: no swap, even at gain 0
+    EXPECT_EQ(holdChoice(p, std::vector<int32_t>{0, 1}, {.headroom = 0.05, .swapGain = 0}).level,
+              (std::vector<int32_t>{0, 1}));
+    // with no headroom the greedy takes object 0 (benefit 6 > 4 x 1.2): swapped; at gain 0.6 not
+    EXPECT_EQ(holdChoice(p, std::vector<int32_t>{0, 1}, {.headroom = 0, .swapGain = 0.2}).level,
+              (std::vector<int32_t>{1, 0}));
+    EXPECT_EQ(holdChoice(p, std::vector<int32_t>{0, 1}, {.headroom = 0, .swapGain = 0.6}).level,
+              (std::vector<int32_t>{0, 1}));
+    // the budget shrinks: the lowest-value increment goes, the other object is not raised in its place
+    p.budget = 3.9;
+    EXPECT_EQ(holdChoice(p, std::vector<int32_t>{1, 1}, {.headroom = 0.05, .swapGain = -1}).level,
+              (std::vector<int32_t>{0, 0}));
+    // raised only under the headroom: cost 4 > 5.0 x 0.95? no: 4 <= 4.75, raised
+    p.budget = 5;
+    EXPECT_EQ(holdChoice(p, std::vector<int32_t>{0, 0}, {.headroom = 0.05, .swapGain = -1}).level,
+              (std::vector<int32_t>{1, 0}));
+    p.budget = 4.1;  // 4 > 4.1 x 0.95 = 3.895: not raised from the bases
+    EXPECT_EQ(holdChoice(p, std::vector<int32_t>{0, 0}, {.headroom = 0.05, .swapGain = -1}).level,
+              (std::vector<int32_t>{0, 0}));
+}

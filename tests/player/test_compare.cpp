@@ -5,11 +5,14 @@
 #include "player/cost_model_renderer.h"
 #include "player/replay.h"
 #include "tests/support/memory_source.h"
+#include "tests/support/synthetic.h"
+#include "tests/support/temp_dir.h"
 #include "tests/support/trees.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <sstream>
 
 using namespace hlod;
@@ -27,15 +30,81 @@ TEST(Benefit, ProjectedAreaTimesAccuracyFromTheGeometricError) {
     EXPECT_NEAR(projectedAreaPx(n, p), 100 * f * f / (100 * 100), 1e-3);  // staticBenefit is a float
     n.geometricError = float(100 / f);  // exactly one pixel at 100 m
     EXPECT_NEAR(projectedErrorPx(n, p), 1, 1e-6);
-    EXPECT_NEAR(nodeBenefit(n, p), 0.5 * projectedAreaPx(n, p), 1e-3);  // accuracy 1/2 at one pixel
+    EXPECT_NEAR(nodeBenefit(s, n, p), 0.5 * projectedAreaPx(n, p), 1e-3);  // accuracy 1/2 at one pixel
     n.geometricError = 0;
-    EXPECT_NEAR(nodeBenefit(n, p), projectedAreaPx(n, p), 1e-9);  // exact: accuracy 1
-    cam.position[2] = -99.5;  // closer than the box: the size is capped at the viewport
-    Projection near = makeProjection(cam, 720);
+    EXPECT_NEAR(nodeBenefit(s, n, p), projectedAreaPx(n, p), 1e-9);  // exact: accuracy 1
+    cam.position[2] = -99.5;  // closer than the box: the thresholds' area is capped at the viewport,
+    Projection near = makeProjection(cam, 720);  // the benefit's is not (it must add up over children)
     EXPECT_NEAR(projectedAreaPx(n, near), near.viewportPx, 1e-6);
+    EXPECT_GT(nodeBenefit(s, n, near), near.viewportPx);
     std::vector<DrawItem> drawn = {{id, 0}};
     EXPECT_EQ(frontBenefit(s, drawn, p, [](uint32_t) { return false; }), 0);  // invisible nodes add nothing
-    EXPECT_NEAR(frontBenefit(s, drawn, p, [](uint32_t) { return true; }), nodeBenefit(n, p), 1e-9);
+    EXPECT_NEAR(frontBenefit(s, drawn, p, [](uint32_t) { return true; }), nodeBenefit(s, n, p), 1e-9);
+}
+
+namespace {
+
+// Every node with children, from `views` random eyes around the skeleton's bounds: the sum of
+// its children's benefit is at least its own (refining never lowers the benefit). Returns the
+// number of (node, view) pairs checked.
+size_t expectRefiningNeverLowersBenefit(const Skeleton& s, uint32_t views, uint32_t seed) {
+    Box3f all = s.nodes[0].bounds;
+    for (const Node& n : s.nodes) all = {{std::min(all.min.x, n.bounds.min.x), std::min(all.min.y, n.bounds.min.y),
+                                          std::min(all.min.z, n.bounds.min.z)},
+                                         {std::max(all.max.x, n.bounds.max.x), std::max(all.max.y, n.bounds.max.y),
+                                          std::max(all.max.z, n.bounds.max.z)}};
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-0.5, 1.5);
+    size_t checked = 0;
+    for (uint32_t v = 0; v < views; ++v) {
+        Camera cam;
+        cam.position[0] = all.min.x + u(rng) * (all.max.x - all.min.x);
+        cam.position[1] = all.min.y + u(rng) * (all.max.y - all.min.y);
+        cam.position[2] = all.min.z + u(rng) * (all.max.z - all.min.z + 50);
+        Projection p = makeProjection(cam, 720);
+        for (const Node& n : s.nodes) {
+            if (n.firstChild == kNone) continue;
+            double children = 0;
+            for (uint32_t c = n.firstChild; c != kNone; c = s.nodes[c].nextSibling)
+                children += nodeBenefit(s, s.nodes[c], p);
+            double own = nodeBenefit(s, n, p);
+            EXPECT_GE(children, own * (1 - 1e-6)) << "node " << n.id << " view " << v;
+            ++checked;
+        }
+    }
+    return checked;
+}
+
+}  // namespace
+
+TEST(Benefit, RefiningNeverLowersTheBenefitOnFixtureTrees) {
+    // Quadtrees whose children's areas add up to the parent's, errors falling (at random) with depth.
+    std::mt19937 rng(7);
+    for (uint32_t levels : {2u, 3u, 4u}) {
+        Skeleton s = test::gridSkeleton(3, 2, levels, 512, 40);
+        for (Node& n : s.nodes) {
+            float parentError = n.parent == kNone ? 2.f : s.nodes[n.parent].geometricError;
+            float share = std::uniform_real_distribution<float>(0, 1)(rng);
+            n.geometricError = n.firstChild == kNone ? 0.f : parentError * share;
+        }
+        EXPECT_GT(expectRefiningNeverLowersBenefit(s, 200, levels), 0u);
+    }
+}
+
+TEST(Benefit, RefiningNeverLowersTheBenefitOnAFixtureDatabase) {
+    // The procedural database (tests/support/synthetic.h): real meshes, measured errors and areas.
+    test::TempDir dir;
+    std::string db = (dir.path / "db.hlod").string();
+    SyntheticOptions o;
+    o.blocksX = 3, o.levels = 4;
+    writeSyntheticDatabase(db, o);
+    const Database database = Database::open(db);
+    const Skeleton& s = database.skeleton();
+    for (const Node& n : s.nodes)
+        if (n.parent != kNone) {
+            ASSERT_LE(n.geometricError, s.nodes[n.parent].geometricError);  // the premise
+        }
+    EXPECT_GT(expectRefiningNeverLowersBenefit(s, 300, 11), 0u);
 }
 
 namespace {

@@ -1,6 +1,7 @@
 // `hlod compare` as a user runs it: the table as text, CSV and JSON with one row per policy, the
 // per-frame CSV, no invalid cut on a fixture database for any policy, and usage errors (an
-// unknown policy or setting) as exit 2 with one line; `hlod play --policy`.
+// unknown policy or setting) as exit 2 with one line; `hlod play --policy`; the cost model's rates.
+#include "formats/constants.h"
 #include "tests/support/run_hlod.h"
 #include "tests/support/synthetic.h"
 #include "tests/support/temp_dir.h"
@@ -124,4 +125,19 @@ TEST_F(CompareCli, PlayWritesThePolicyColumns) {
     ASSERT_NE(header + 1, lines.end());
     EXPECT_NE((header + 1)->find(",sse,"), std::string::npos) << *(header + 1);
     EXPECT_NE(readText(csv).find("# policy: sse"), std::string::npos);
+}
+
+TEST_F(CompareCli, FlatTriangleRateIsTheGivenOneOrConsistentWithCTextured) {
+    std::string prefix = (dir / "flat").string();
+    RunResult r = runHlod({"compare", db, "--path", path, "--policies", "none", "--step-ms", "30", "--no-plots",
+                           "--model-ms-per-tri", "0.004", "--model-ms-per-flat-tri", "0.5", "-o", prefix});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    nlohmann::json j = nlohmann::json::parse(readText(prefix + ".json"));
+    EXPECT_NEAR(std::stod(j["setup"]["model_ms_per_flat_tri"].get<std::string>()), 0.5, 1e-9);
+    r = runHlod({"compare", db, "--path", path, "--policies", "none", "--step-ms", "30", "--no-plots",
+                 "--model-ms-per-tri", "0.004", "-o", prefix});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    j = nlohmann::json::parse(readText(prefix + ".json"));
+    const double c = hlod::Constants{}.textured;  // the fixture's c_textured: eq. 3.1's weights
+    EXPECT_NEAR(std::stod(j["setup"]["model_ms_per_flat_tri"].get<std::string>()), 0.004 * (1 - c) / c, 1e-5);
 }

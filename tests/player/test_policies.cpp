@@ -322,3 +322,42 @@ TEST(Policies, FeedbackPoliciesFollowTheMeasuredFrameTime) {
         EXPECT_EQ(runOnce(s, *steady, cam, 5, 30).triangles, t0) << name;  // on target: unchanged
     }
 }
+
+// hold (player/policy_hold.cpp): on a still view with everything resident it fills the budget
+// from hlod0 one level a frame, up to target x (1 - headroom), then keeps its front (no
+// toggles); a lower target coarsens it until the estimate is within target x (1 + overrun), and
+// the old target refills it.
+TEST(Policies, HoldSettlesUnderTheTargetAndKeepsItsFront) {
+    Skeleton s = errorGrid(3, 3, 4);
+    Harness h(s);
+    h.resident.assign(s.nodes.size(), 1);
+    h.vTime = 0.01;  // full detail: 9 x 85 x 512 x 0.01 = 3,900 ms, hlod0 46 ms
+    h.overhead = 2;
+    SelectionState state(s);
+    auto policy = makePolicy("hold");
+    Camera cam;
+    cam.position[0] = 75, cam.position[1] = 75, cam.position[2] = 150;  // above the grid's centre, looking down
+    auto frameCost = [&](double target, uint64_t frame) {
+        h.c.targetTimeMs = target;
+        return h.withFrame(cam, frame, [&](const PolicyFrame& pf, const Evaluate&, auto&) {
+            PolicyFront f = policy->select(pf, state);
+            FrontAccount a = accountFront(s, state, f.drawn);
+            return std::pair{h.overhead + h.vTime * a.drawnCost, a.upToggles + a.downToggles};
+        });
+    };
+    uint64_t frame = 0;
+    double est = 0;
+    for (; frame < 30; ++frame) est = frameCost(200, frame).first;
+    EXPECT_LE(est, 2 + 198 * 0.97);  // the default headroom
+    EXPECT_GT(est, 200 * 0.8);  // filled (one refinement is at most 3 x 5.12 ms of 200)
+    for (int k = 0; k < 10; ++k, ++frame) {
+        auto [e, toggles] = frameCost(200, frame);
+        EXPECT_EQ(e, est);
+        EXPECT_EQ(toggles, 0u);
+    }
+    for (int k = 0; k < 10; ++k, ++frame) est = frameCost(120, frame).first;
+    EXPECT_LE(est, 2 + 118 * 1.03);  // the default overrun
+    for (int k = 0; k < 30; ++k, ++frame) est = frameCost(200, frame).first;
+    EXPECT_GT(est, 200 * 0.8);
+    EXPECT_LE(est, 200);
+}

@@ -37,7 +37,7 @@ struct Frame {
     }
 };
 
-const char* kSolvers[] = {"fs-greedy", "fs-incremental", "rh", "gb", "oracle"};
+const char* kSolvers[] = {"fs-greedy", "fs-incremental", "fs-hold", "rh", "gb", "oracle"};
 
 }  // namespace
 
