@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -66,6 +67,11 @@ int32_t cheapestOption(const ChoiceObject& object);
 inline double optionCost(const ChoiceObject& o, int32_t level) { return level < 0 ? 0 : o.options[size_t(level)].cost; }
 inline double optionBenefit(const ChoiceObject& o, int32_t level) {
     return level < 0 ? 0 : o.options[size_t(level)].benefit;
+}
+// Benefit gained per unit of cost going from option `from` to `to` (+inf when it costs nothing more).
+inline double optionSlope(const ChoiceObject& o, int32_t from, int32_t to) {
+    const double dc = optionCost(o, to) - optionCost(o, from), db = optionBenefit(o, to) - optionBenefit(o, from);
+    return dc > 0 ? db / dc : std::numeric_limits<double>::infinity();
 }
 // The option every solution starts from: kSkipped when skipping is allowed, else the cheapest.
 inline int32_t baseOption(const ChoiceProblem& p, const ChoiceObject& o) { return p.allowSkip ? kSkipped : cheapestOption(o); }

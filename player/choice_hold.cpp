@@ -20,15 +20,6 @@
 #include <limits>
 
 namespace hlod {
-namespace {
-
-double slope(const ChoiceObject& o, int32_t from, int32_t to) {
-    double dc = optionCost(o, to) - optionCost(o, from), db = optionBenefit(o, to) - optionBenefit(o, from);
-    return dc > 0 ? db / dc : std::numeric_limits<double>::infinity();
-}
-
-}  // namespace
-
 Choice holdChoice(const ChoiceProblem& p, std::span<const int32_t> previous, const HoldOptions& opt) {
     const size_t n = p.objects.size();
     const double raiseTo = p.budget * (1 - opt.headroom);
@@ -63,7 +54,7 @@ Choice holdChoice(const ChoiceProblem& p, std::span<const int32_t> previous, con
             double value = std::numeric_limits<double>::infinity();
             for (size_t i = 0; i < n; ++i)
                 if (at[i] > 0) {
-                    double v = slope(p.objects[i], ladder[i][at[i] - 1], ladder[i][at[i]]);
+                    double v = optionSlope(p.objects[i], ladder[i][at[i] - 1], ladder[i][at[i]]);
                     if (v < value) value = v, worst = i;
                 }
             if (worst == n) break;  // every object at its base
@@ -76,7 +67,7 @@ Choice holdChoice(const ChoiceProblem& p, std::span<const int32_t> previous, con
                 if (at[i] + 1 >= ladder[i].size()) continue;
                 const ChoiceObject& o = p.objects[i];
                 double dc = optionCost(o, ladder[i][at[i] + 1]) - optionCost(o, ladder[i][at[i]]);
-                double v = slope(o, ladder[i][at[i]], ladder[i][at[i] + 1]);
+                double v = optionSlope(o, ladder[i][at[i]], ladder[i][at[i] + 1]);
                 if (cost + dc <= raiseTo && v > value) value = v, best = i;
             }
             if (best == n) break;

@@ -22,11 +22,6 @@ struct Ladder {
     uint32_t at = 0;
 };
 
-double slope(const ChoiceObject& o, int32_t from, int32_t to) {
-    double dc = optionCost(o, to) - optionCost(o, from), db = optionBenefit(o, to) - optionBenefit(o, from);
-    return dc > 0 ? db / dc : std::numeric_limits<double>::infinity();
-}
-
 }  // namespace
 
 Choice fsIncremental(const ChoiceProblem& p, std::span<const int32_t> previous, const FsIncrementalOptions& opt) {
@@ -56,7 +51,7 @@ Choice fsIncremental(const ChoiceProblem& p, std::span<const int32_t> previous, 
         for (size_t i = 0; i < n; ++i) {
             const Ladder& L = ladders[i];
             if (L.at + 1 >= L.rung.size()) continue;
-            double v = slope(p.objects[i], L.rung[L.at], L.rung[L.at + 1]);
+            double v = optionSlope(p.objects[i], L.rung[L.at], L.rung[L.at + 1]);
             if (v > best) best = v, up = i;
         }
         if (up < n) {
@@ -72,7 +67,7 @@ Choice fsIncremental(const ChoiceProblem& p, std::span<const int32_t> previous, 
             for (size_t i = 0; i < n; ++i) {
                 const Ladder& L = ladders[i];
                 if (L.at == 0) continue;
-                double v = slope(p.objects[i], L.rung[L.at - 1], L.rung[L.at]);
+                double v = optionSlope(p.objects[i], L.rung[L.at - 1], L.rung[L.at]);
                 if (v < worst || (v == worst && i == up)) worst = v, down = i;
             }
             if (down == n) break;  // every object at its base: the bases alone exceed the budget

@@ -239,14 +239,7 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_option("--height", a->height, "viewport height, pixels (benefit and pixel thresholds)");
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)");
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured)");
-    sub->add_option("--model-overhead-ms", a->model.overheadMs, "cost model: fixed ms per frame");
-    sub->add_option("--model-ms-per-tri", a->model.msPerTexturedTriangle, "cost model: ms per textured triangle");
-    sub->add_option("--model-ms-per-flat-tri", a->flatRate,
-                    "cost model: ms per untextured triangle (default: --model-ms-per-tri x (1 - c_textured) / "
-                    "c_textured, the database's eq. 3.1 weights), as in `hlod play`");
-    sub->add_option("--model-noise", a->model.noise, "cost model: relative sd of per-frame noise");
-    sub->add_option("--model-node-error", a->model.nodeError, "cost model: per-node cost error in [-e, e]");
-    sub->add_option("--seed", a->model.seed, "cost model: noise and error seed (the same for every policy)");
+    addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);
     sub->callback([a, &status] { status = runGuarded("compare", [&] { return runCompare(*a); }); });
 }

@@ -175,6 +175,17 @@ int runPlay(PlayArgs& a) {
 
 }  // namespace
 
+void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>& flatRate) {
+    sub.add_option("--model-overhead-ms", model.overheadMs, "cost model: fixed ms per frame");
+    sub.add_option("--model-ms-per-tri", model.msPerTexturedTriangle, "cost model: ms per textured triangle");
+    sub.add_option("--model-ms-per-flat-tri", flatRate,
+                   "cost model: ms per untextured triangle (default: --model-ms-per-tri x (1 - c_textured) / "
+                   "c_textured, the database's eq. 3.1 weights)");
+    sub.add_option("--model-noise", model.noise, "cost model: relative sd of per-frame noise");
+    sub.add_option("--model-node-error", model.nodeError, "cost model: per-node cost error in [-e, e]");
+    sub.add_option("--seed", model.seed, "cost model: noise and error seed (the same for every policy of `compare`)");
+}
+
 void warnLoadFailure(const std::string& command, const Database& db, const LoadFailure& failure) {
     std::cerr << "hlod " << command << ": warning: " << db.path() << ": node " << failure.node << ": " << failure.problem
               << '\n';
@@ -229,14 +240,7 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_flag("--color-by-level", a->player.frameOptions.colorByLevel, "shade nodes by level");
     sub->add_option("--width", a->width, "frame width (gl)");
     sub->add_option("--height", a->height, "frame height (gl)");
-    sub->add_option("--model-overhead-ms", a->model.overheadMs, "cost model: fixed ms per frame");
-    sub->add_option("--model-ms-per-tri", a->model.msPerTexturedTriangle, "cost model: ms per textured triangle");
-    sub->add_option("--model-ms-per-flat-tri", a->flatRate,
-                    "cost model: ms per untextured triangle (default: --model-ms-per-tri x (1 - c_textured) / "
-                    "c_textured, the database's eq. 3.1 weights)");
-    sub->add_option("--model-noise", a->model.noise, "cost model: relative sd of per-frame noise");
-    sub->add_option("--model-node-error", a->model.nodeError, "cost model: per-node cost error in [-e, e]");
-    sub->add_option("--seed", a->model.seed, "cost model: noise and error seed");
+    addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);
     sub->callback([a, &status] { status = runGuarded("play", [&] { return runPlay(*a); }); });
 }

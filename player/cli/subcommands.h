@@ -3,10 +3,12 @@
 
 #include "formats/cli/command.h"
 
+#include <optional>
 #include <string>
 
 namespace hlod {
 class Database;
+struct CostModel;
 struct LoadFailure;
 }  // namespace hlod
 
@@ -22,6 +24,10 @@ void addView(CLI::App& app, int& status);
 // The one line `hlod play` and `hlod view` print on stderr for a node they skip because it
 // cannot be read or decoded: "hlod COMMAND: warning: DB: node N: problem".
 void warnLoadFailure(const std::string& command, const Database& db, const LoadFailure& failure);
+// The cost-model renderer's options of `hlod play` and `hlod compare` (--model-overhead-ms,
+// --model-ms-per-tri, --model-ms-per-flat-tri into `flatRate`, --model-noise, --model-node-error,
+// --seed).
+void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>& flatRate);
 // `hlod compare DB --path P --policies a,b,...`: one path through several selection policies,
 // one table (player/POLICIES.md).
 void addCompare(CLI::App& app, int& status);
