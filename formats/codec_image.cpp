@@ -70,6 +70,9 @@ Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::stri
         spec.height > int(layout::kMaxTextureSide) || spec.nchannels < 1 || spec.nchannels > 4 || spec.depth != 1)
         throw FormatError(name + ": texture has absurd dimensions " + std::to_string(spec.width) + "x" +
                           std::to_string(spec.height) + "x" + std::to_string(spec.nchannels));
+    if (uint64_t(spec.width) * uint64_t(spec.height) > layout::kMaxTexelsPerBlobByte * bytes.size() + layout::kFreeTexels)
+        throw FormatError(name + ": texture claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                          " texels in " + std::to_string(bytes.size()) + " bytes (more than the codec can compress)");
     Image image;
     image.width = uint32_t(spec.width);
     image.height = uint32_t(spec.height);

@@ -45,6 +45,12 @@ inline constexpr uint32_t kBlobRecordSize = 56;
 inline constexpr uint64_t kMaxSkeletonSize = uint64_t(1) << 32;
 inline constexpr uint32_t kMaxSections = 256;
 inline constexpr uint32_t kMaxTextureSide = 32768;
+// A texture blob of N bytes may decode to at most kMaxTexelsPerBlobByte x N + kFreeTexels texels:
+// deflate stops near 1032:1 (344 RGB texels a byte) and JPEG near 64 texels a byte, so a real
+// image stays far below; a header claiming 26473 x 26376 texels in 700 bytes (a decompression
+// bomb a fuzzer found) does not.
+inline constexpr uint64_t kMaxTexelsPerBlobByte = 1024;
+inline constexpr uint64_t kFreeTexels = uint64_t(1) << 20;
 inline constexpr uint32_t kMaxElements = uint32_t(1) << 28;  // triangles or vertices per blob
 inline constexpr uint32_t kMaxBlobsPerNode = 65536;
 inline constexpr uint32_t kMaxMetaString = 1 << 20;

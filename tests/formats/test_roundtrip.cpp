@@ -156,6 +156,27 @@ TEST(Codec, RejectsBadInputs) {
     }
 }
 
+// A texture blob whose header claims more texels than its bytes can code (the fuzzer's finding:
+// a 700-byte JPEG claiming 26473 x 26376) is refused before its pixels are allocated.
+TEST(Codec, RefusesATextureClaimingMoreTexelsThanItsBytesCanCode) {
+    Image small{16, 16, 3, std::vector<uint8_t>(16 * 16 * 3, 128)};
+    std::vector<uint8_t> jpeg = encodeTexture(small, Codec::Jpeg).bytes;
+    size_t sof = 0;
+    for (size_t i = 2; i + 9 < jpeg.size() && !sof; ++i)
+        if (jpeg[i] == 0xFF && (jpeg[i + 1] == 0xC0 || jpeg[i + 1] == 0xC2)) sof = i;
+    ASSERT_NE(sof, 0u) << "no SOF marker";
+    const uint16_t height = 26376, width = 26473;  // big-endian, after the marker, length and precision
+    jpeg[sof + 5] = uint8_t(height >> 8), jpeg[sof + 6] = uint8_t(height & 0xFF);
+    jpeg[sof + 7] = uint8_t(width >> 8), jpeg[sof + 8] = uint8_t(width & 0xFF);
+    try {
+        decodeTexture(jpeg, Codec::Jpeg, "blob 7");
+        FAIL() << "a decompression bomb was decoded";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("blob 7: texture claims 26473x26376 texels in"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(decodeTexture(encodeTexture(small, Codec::Jpeg).bytes, Codec::Jpeg, "ok").width, 16u);
+}
+
 TEST(Metrics, AreaNormalBenefit) {
     // Unit right triangle in the plane z=0 and one in x=0, areas 0.5 and 2.
     MeshData m;
