@@ -2,7 +2,7 @@
 // manner of git's git.c. Each library's subcommands are a target of their own, in the library's
 // cli/ folder, which the library itself does not depend on:
 //   formats/cli/   inspect, validate, export   (command.h: exit statuses, error guard, constant options)
-//   pipeline/cli/  build, merge, stats, synth
+//   pipeline/cli/  build, split, merge, stats, synth
 //   player/cli/    play, path, view, calibrate
 #include "formats/cli/subcommands.h"
 #include "pipeline/cli/subcommands.h"
@@ -18,9 +18,10 @@ namespace {
 
 // In the order `hlod --help` lists them: build, look at, play back, export, make data.
 constexpr hlod::cli::AddSubcommand kSubcommands[] = {
-    hlod::cli::addBuild,    hlod::cli::addMerge, hlod::cli::addInspect, hlod::cli::addValidate,
-    hlod::cli::addStats,    hlod::cli::addPlay,  hlod::cli::addPath,    hlod::cli::addView,
-    hlod::cli::addCalibrate, hlod::cli::addCompare, hlod::cli::addExport, hlod::cli::addSynth,
+    hlod::cli::addBuild,    hlod::cli::addSplit,   hlod::cli::addMerge,  hlod::cli::addInspect,
+    hlod::cli::addValidate, hlod::cli::addStats,   hlod::cli::addPlay,   hlod::cli::addPath,
+    hlod::cli::addView,     hlod::cli::addCalibrate, hlod::cli::addCompare, hlod::cli::addExport,
+    hlod::cli::addSynth,
 };
 
 }  // namespace

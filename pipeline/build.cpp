@@ -4,6 +4,7 @@
 // file, then merge the records into the database in block order. The result does not depend on
 // -j, and building subsets of blocks as shards and merging them gives the same bytes.
 #include "pipeline/pipeline.h"
+#include "pipeline/split_work.h"
 
 #include "formats/temp_files.h"
 #include "formats/up_axis.h"
@@ -16,6 +17,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <set>
 
 #ifndef HLOD_VERSION
@@ -32,19 +34,6 @@ namespace fs = std::filesystem;
 // texel (the decoded atlas, its downsampled levels, the node atlases being encoded).
 constexpr uint64_t kBytesPerBlockTriangle = 400;
 constexpr uint64_t kBytesPerSourceTexel = 6;
-
-struct BlockSource {
-    std::string file;      // mesh file of a folder input, or the temporary piece file
-    bool isPiece = false;  // true: a loadPiece file with `materials` below
-    uint64_t triangles = 0;
-};
-
-struct Inputs {
-    std::vector<BlockSource> blocks;
-    std::vector<Material> materials;  // of a single-mesh input
-    double positionStep = 0;          // one position lattice for the grid's blocks; 0 = per block
-    std::vector<TextureProblem> textureProblems;  // of a single-mesh input
-};
 
 std::string extensionOf(const fs::path& p) {
     std::string ext = p.extension().string();
@@ -103,10 +92,10 @@ void reportRead(const std::string& input, const ReadStats& stats, Progress& prog
 }
 
 // One PLY or OBJ mesh, out of core: parsed once into spill files, then streamed to the grid.
-Inputs streamBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
+SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
     const std::string rawDir = (fs::path(tempDir) / "raw").string();
     fs::create_directories(rawDir);
-    Inputs in;
+    SplitInputs in;
     {
         RawMesh raw;
         raw.spillTo(rawDir);
@@ -119,6 +108,7 @@ Inputs streamBlocks(const std::string& input, const BuildOptions& options, const
         enforceTextures(raw.stats.textureProblems, options);
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
         in.positionStep = gridPositionStep(raw.bounds, grid, options.draco.positionBits);
+        in.grid = grid, in.bounds = raw.bounds;
         progress.beginStage("split", raw.triangles.size());
         for (const CellFile& cell : streamSplit(raw, grid, tempDir, options.memoryLimit / 4, input, raw.stats, &progress))
             in.blocks.push_back({cell.file, true, cell.triangles});
@@ -131,8 +121,10 @@ Inputs streamBlocks(const std::string& input, const BuildOptions& options, const
     return in;
 }
 
-Inputs findBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
-    Inputs in;
+}  // namespace
+
+SplitInputs findBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
+    SplitInputs in;
     if (fs::is_directory(input)) {
         std::vector<fs::path> files;
         for (const auto& entry : fs::directory_iterator(input))
@@ -157,6 +149,7 @@ Inputs findBlocks(const std::string& input, const BuildOptions& options, const s
     const GridSpec grid = chooseGrid(pieceBounds(source.piece.mesh), source.piece.mesh.triangleCount(), blockTarget(options),
                                      options.blockSize);
     in.positionStep = gridPositionStep(pieceBounds(source.piece.mesh), grid, options.draco.positionBits);
+    in.grid = grid, in.bounds = pieceBounds(source.piece.mesh);
     std::vector<Piece> cells = splitByGrid(source.piece, grid);
     source.piece = {};
     for (size_t c = 0; c < cells.size(); ++c) {
@@ -171,6 +164,8 @@ Inputs findBlocks(const std::string& input, const BuildOptions& options, const s
     in.materials = std::move(source.materials);
     return in;
 }
+
+namespace {
 
 // Source texels of the materials a block's triangles use (image headers only).
 uint64_t usedTexels(const SourceMesh& mesh) {
@@ -304,13 +299,16 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
 }
 
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
-    const BuildOptions& options = request.options;
+    BuildOptions options = request.options;
     validateConstants(options.constants, kUsedByBuild);
-    const UpChoice up = chooseUpAxis(request.input, options.up);
+    std::optional<SplitWork> work;  // an `hlod split` work folder: its blocks, options and input
+    if (isSplitWork(request.input)) work = openSplitWork(request.input, options, request.firstBlock, request.lastBlock);
+    const std::string input = work ? work->input : request.input;
+    const UpChoice up = work ? work->up : chooseUpAxis(input, options.up);
     progress.message("up axis: " + up.axis + " (" + up.reason + ")");
     const fs::path outputParent = fs::absolute(request.output).parent_path();
     TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
-    const Inputs inputs = findBlocks(request.input, options, temp.path, progress);
+    const SplitInputs inputs = work ? std::move(work->inputs) : findBlocks(input, options, temp.path, progress);
     const uint32_t blockCount = static_cast<uint32_t>(inputs.blocks.size());
     const uint32_t first = std::min(request.firstBlock, blockCount), last = std::min(request.lastBlock, blockCount);
     if (first >= last) throw std::invalid_argument("no blocks selected (input has " + std::to_string(blockCount) + ")");
@@ -353,7 +351,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
                                      st.measured[i].max, st.baked[i] != 0, st.bakePsnr[i]});
     }
     summary.textureProblems.assign(problems.begin(), problems.end());
-    ShardInfo shard{blockCount, {}, buildMeta(request.input, blockOptions)};
+    ShardInfo shard{blockCount, {}, buildMeta(input, blockOptions)};
     for (uint32_t b = first; b < last; ++b) shard.blocks.push_back(b);
     writeShardInfo(recordDir, shard);
     if (!request.shard) {

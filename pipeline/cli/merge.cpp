@@ -1,33 +1,54 @@
 // `hlod merge SHARD... -o DB`: joins the shard folders of `hlod build --shard` into one database,
-// byte-identical to a single build (c_textured comes from the shards' own metadata).
+// byte-identical to a single build (c_textured comes from the shards' own metadata). Progress is
+// the build's: one `write` stage, as plain lines or --progress-json.
 #include "pipeline/cli/subcommands.h"
 
 #include "pipeline/pipeline.h"
 
 #include <CLI/CLI.hpp>
+#include <unistd.h>
 
 #include <iostream>
 #include <memory>
 
 namespace hlod::cli {
+namespace {
+
+struct MergeArgs {
+    std::vector<std::string> shards;
+    std::string output;
+    ProgressOptions progress;
+};
+
+int runMerge(MergeArgs& a) {
+    const ShardInfo info = readShardInfo(a.shards.front());
+    Constants c;
+    for (const auto& [key, value] : info.meta)
+        if (key == "c_textured") setConstant(c, key, value);
+    {
+        a.progress.live = !a.progress.json && isatty(STDOUT_FILENO) != 0;
+        Progress progress(std::cout, a.progress);
+        progress.beginStage("write", info.blockCount, "blocks");
+        mergeShards(a.shards, a.output, c.textured);
+        progress.advance(info.blockCount);
+        progress.endStage();
+    }
+    std::cout << a.output << ": merged " << a.shards.size() << " shard(s), " << info.blockCount << " blocks\n";
+    return kExitOk;
+}
+
+}  // namespace
 
 void addMerge(CLI::App& app, int& status) {
-    auto shards = std::make_shared<std::vector<std::string>>();
-    auto output = std::make_shared<std::string>();
+    auto a = std::make_shared<MergeArgs>();
     CLI::App* merge = app.add_subcommand("merge", "merge shard folders written by `hlod build --shard` into one database");
-    merge->add_option("SHARDS", *shards, "shard folders")->required();
-    merge->add_option("-o,--output", *output, "database to write")->required();
-    merge->callback([shards, output, &status] {
-        status = runGuarded("merge", [&] {
-            const ShardInfo info = readShardInfo(shards->front());
-            Constants c;
-            for (const auto& [key, value] : info.meta)
-                if (key == "c_textured") setConstant(c, key, value);
-            mergeShards(*shards, *output, c.textured);
-            std::cout << *output << ": merged " << shards->size() << " shard(s), " << info.blockCount << " blocks\n";
-            return kExitOk;
-        });
-    });
+    merge->add_option("SHARDS", a->shards, "shard folders")->required();
+    merge->add_option("-o,--output", a->output, "database to write")->required();
+    merge->add_flag("--progress-json", a->progress.json, "progress as one JSON object per line (as hlod build)");
+    merge->add_option("--progress-interval", a->progress.interval,
+                      "seconds between progress lines when stdout is not a terminal (default 5)")
+        ->check(CLI::PositiveNumber);
+    merge->callback([a, &status] { status = runGuarded("merge", [&] { return runMerge(*a); }); });
 }
 
 }  // namespace hlod::cli

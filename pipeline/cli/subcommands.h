@@ -7,6 +7,8 @@ namespace hlod::cli {
 
 // `hlod build INPUT -o DB`: a mesh or a folder of block meshes into a database (thesis §3).
 void addBuild(CLI::App& app, int& status);
+// `hlod split INPUT -o WORK`: the input read and split once, for shard builds (split_work.h).
+void addSplit(CLI::App& app, int& status);
 // `hlod merge SHARD... -o DB`: shard folders of `hlod build --shard` into one database.
 void addMerge(CLI::App& app, int& status);
 // `hlod stats DB`: the preprocessing statistics of thesis §3.2, with the build's times.

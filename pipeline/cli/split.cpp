@@ -1,0 +1,65 @@
+// `hlod split INPUT -o WORK`: reads the input and splits it on the block grid once, into a work
+// folder (pipeline/split_work.h) that shard builds start from (`hlod build WORK --shard --blocks
+// A:B`) on one machine or many (README "Beyond one machine"). The options that decide the blocks
+// (--block-triangles, --block-size, --up, --allow-outside-input) belong to the split; the build
+// adopts them from the work folder.
+#include "pipeline/cli/subcommands.h"
+
+#include "pipeline/split_work.h"
+
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <iostream>
+#include <memory>
+
+namespace hlod::cli {
+namespace {
+
+struct SplitArgs {
+    std::string input, work;
+    BuildOptions options;
+    ProgressOptions progress;
+};
+
+int runSplit(SplitArgs& a) {
+    SplitSummary summary;
+    {
+        a.progress.live = !a.progress.json && isatty(STDOUT_FILENO) != 0;
+        Progress progress(std::cout, a.progress);
+        summary = writeSplitWork(a.input, a.options, a.work, progress);
+    }
+    std::cout << a.work << ": " << summary.blockCount << " blocks";
+    if (summary.triangles) std::cout << ", " << summary.triangles << " triangles";
+    std::cout << " (build them with: hlod build " << a.work << " -o SHARD --shard --blocks FIRST:LAST)\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+void addSplit(CLI::App& app, int& status) {
+    auto a = std::make_shared<SplitArgs>();
+    BuildOptions& o = a->options;
+    CLI::App* sub = app.add_subcommand("split", "read and split a mesh (or list a folder of block meshes) once, into a work folder for shard builds");
+    sub->add_option("INPUT", a->input, "mesh file, or folder of meshes (one block per file, ordered by name)")->required();
+    sub->add_option("-o,--output", a->work, "work folder to write (absent, empty, or an earlier work folder)")->required();
+    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088)");
+    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)");
+    sub->add_option("--memory-limit", o.memoryLimit, "bound on the split's buffers, e.g. 512M, 2G (default 1G)")
+        ->transform(CLI::AsSizeValue(false));
+    sub->add_option("--draco-position-bits", o.draco.positionBits,
+                    "Draco position bits the recorded lattice is for (a build with other bits recomputes it)")
+        ->check(CLI::Range(8, kMaxPositionBits));
+    sub->add_flag("--allow-outside-input", o.read.allowOutsideInput,
+                  "let an input refer to files outside its folder (as for hlod build)");
+    sub->add_option("--up", o.up, "up axis of the input, recorded in the database (default: y for glTF, z for OBJ/PLY)")
+        ->check(CLI::IsMember({"y", "z"}));
+    sub->add_flag("--strict", o.strict, "an unusable texture found while reading is fatal (exit 2)");
+    sub->add_flag("--progress-json", a->progress.json, "progress as one JSON object per line (as hlod build)");
+    sub->add_option("--progress-interval", a->progress.interval,
+                    "seconds between progress lines when stdout is not a terminal (default 5)")
+        ->check(CLI::PositiveNumber);
+    sub->callback([a, &status] { status = runGuarded("split", [&] { return runSplit(*a); }); });
+}
+
+}  // namespace hlod::cli

@@ -1,0 +1,251 @@
+// `hlod split`'s work folder (layout and rules: split_work.h, README "Beyond one machine"). The
+// split is the same findBlocks a build runs, so a build from the work folder sees the blocks,
+// materials and lattice a build from the input would, and writes the same bytes.
+#include "pipeline/split_work.h"
+
+#include "formats/temp_files.h"
+
+#include <nlohmann/json.hpp>
+#include <xxhash.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#ifndef HLOD_VERSION
+#define HLOD_VERSION "0.0.0"
+#endif
+
+namespace hlod {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using Ordered = nlohmann::ordered_json;  // the manifest as written: format first
+using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
+
+constexpr const char* kManifest = "manifest.json";
+
+// XXH3-64 of a file, read 1 MiB at a time; as 16 hex digits.
+std::string fileChecksum(const std::string& path, const std::string& shown) {
+    File f(std::fopen(path.c_str(), "rb"), &std::fclose);
+    if (!f) throw InputError(shown + ": cannot read (" + std::strerror(errno) + ")");
+    std::unique_ptr<XXH3_state_t, XXH_errorcode (*)(XXH3_state_t*)> state(XXH3_createState(), &XXH3_freeState);
+    XXH3_64bits_reset(state.get());
+    std::vector<char> buffer(1 << 20);
+    size_t n;
+    while ((n = std::fread(buffer.data(), 1, buffer.size(), f.get())) > 0) XXH3_64bits_update(state.get(), buffer.data(), n);
+    if (std::ferror(f.get())) throw InputError(shown + ": read failed");
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(XXH3_64bits_digest(state.get())));
+    return hex;
+}
+
+void writeImage(const std::string& path, const Image& image) {
+    File f(std::fopen(path.c_str(), "wb"), &std::fclose);
+    const uint32_t header[3] = {image.width, image.height, image.channels};
+    if (!f || std::fwrite(header, sizeof header, 1, f.get()) != 1 ||
+        (!image.pixels.empty() && std::fwrite(image.pixels.data(), 1, image.pixels.size(), f.get()) != image.pixels.size()) ||
+        std::fclose(f.release()) != 0)
+        throw std::runtime_error(path + ": write failed (" + std::strerror(errno) + ")");
+}
+
+Image readImage(const std::string& path, const std::string& shown) {
+    File f(std::fopen(path.c_str(), "rb"), &std::fclose);
+    uint32_t header[3];
+    if (!f || std::fread(header, sizeof header, 1, f.get()) != 1) throw InputError(shown + ": missing or truncated image");
+    Image image{header[0], header[1], header[2], {}};
+    const uint64_t bytes = uint64_t(image.width) * image.height * image.channels;
+    if (image.channels < 1 || image.channels > 4 || bytes > kMaxTextureTexels * 4 || fs::file_size(path) != sizeof header + bytes)
+        throw InputError(shown + ": corrupt image");
+    image.pixels.resize(bytes);
+    if (bytes && std::fread(image.pixels.data(), 1, bytes, f.get()) != bytes) throw InputError(shown + ": truncated image");
+    return image;
+}
+
+Ordered gridJson(const GridSpec& g) {
+    return {{"axis_u", g.axisU}, {"axis_v", g.axisV}, {"cells_u", g.cellsU}, {"cells_v", g.cellsV},
+            {"min_u", g.minU},   {"min_v", g.minV},   {"size_u", g.sizeU},   {"size_v", g.sizeV}};
+}
+
+GridSpec gridFrom(const json& j) {
+    GridSpec g;
+    g.axisU = j.at("axis_u"), g.axisV = j.at("axis_v"), g.cellsU = j.at("cells_u"), g.cellsV = j.at("cells_v");
+    g.minU = j.at("min_u"), g.minV = j.at("min_v"), g.sizeU = j.at("size_u"), g.sizeV = j.at("size_v");
+    if (g.axisU < 0 || g.axisU > 2 || g.axisV < 0 || g.axisV > 2 || g.cellsU < 1 || g.cellsV < 1 ||
+        uint64_t(g.cellsU) * g.cellsV > kMaxGridBlocks)
+        throw std::runtime_error("grid out of range");
+    return g;
+}
+
+Ordered boxJson(const Box3f& b) { return {{b.min.x, b.min.y, b.min.z}, {b.max.x, b.max.y, b.max.z}}; }
+Box3f boxFrom(const json& j) {
+    return {{j.at(0).at(0), j.at(0).at(1), j.at(0).at(2)}, {j.at(1).at(0), j.at(1).at(1), j.at(1).at(2)}};
+}
+
+std::string absolute(const std::string& path) { return path.empty() ? path : fs::absolute(path).lexically_normal().string(); }
+
+// A staging folder next to WORK, renamed to WORK when complete or removed however the split ends.
+struct Staging {
+    std::string path;
+    bool kept = false;
+    explicit Staging(const fs::path& work) {
+        const std::string prefix = work.string() + ".tmp";
+        removeStaleTemporaries(prefix);  // of splits killed before they removed theirs
+        std::string pattern = temporaryPattern(prefix);
+        if (!mkdtemp(pattern.data())) throw std::runtime_error(work.string() + ": cannot create a temporary folder next to it");
+        path = pattern;
+    }
+    ~Staging() {
+        std::error_code ignored;
+        if (!kept) fs::remove_all(path, ignored);
+    }
+};
+
+}  // namespace
+
+bool isSplitWork(const std::string& path) {
+    std::error_code ec;
+    return fs::is_directory(path, ec) && fs::exists(fs::path(path) / kManifest, ec);
+}
+
+SplitSummary writeSplitWork(const std::string& input, const BuildOptions& options, const std::string& work,
+                            Progress& progress) {
+    const fs::path target = fs::absolute(work).lexically_normal();
+    std::error_code ec;
+    if (fs::exists(target, ec) && !isSplitWork(work) && !(fs::is_directory(target, ec) && fs::is_empty(target, ec)))
+        throw std::invalid_argument(work + ": exists and is not an hlod split work folder (refusing to replace it)");
+    if (isSplitWork(input)) throw std::invalid_argument(input + ": is already a split work folder");
+    const UpChoice up = chooseUpAxis(input, options.up);
+    progress.message("up axis: " + up.axis + " (" + up.reason + ")");
+    Staging staging(target);
+    const fs::path cells = fs::path(staging.path) / "cells";
+    fs::create_directories(cells);
+    SplitInputs in = findBlocks(input, options, cells.string(), progress);
+
+    Ordered manifest = {{"format", kSplitFormat}, {"tool", std::string("hlod ") + HLOD_VERSION}, {"input", input}};
+    manifest["up"] = {{"axis", up.axis}, {"reason", up.reason}};
+    manifest["options"] = {{"block_triangles", options.blockTriangles}, {"block_size", options.blockSize},
+                           {"up", options.up}, {"allow_outside_input", options.read.allowOutsideInput}};
+    manifest["grid"] = in.grid ? gridJson(*in.grid) : Ordered(nullptr);
+    manifest["bounds"] = in.grid ? boxJson(in.bounds) : Ordered(nullptr);
+    manifest["lattice"] = {{"position_bits", options.draco.positionBits}, {"position_step", in.positionStep}};
+    manifest["block_count"] = in.blocks.size();
+    SplitSummary summary{static_cast<uint32_t>(in.blocks.size()), 0};
+    progress.beginStage("checksum", in.blocks.size(), "blocks");
+    Ordered blocks = Ordered::array();
+    for (const BlockSource& b : in.blocks) {
+        const std::string file = b.isPiece ? "cells/" + fs::path(b.file).filename().string() : absolute(b.file);
+        blocks.push_back({{"file", file}, {"piece", b.isPiece}, {"triangles", b.triangles},
+                          {"bytes", fs::file_size(b.file)}, {"xxh3", fileChecksum(b.file, b.file)}});
+        summary.triangles += b.triangles;
+        progress.advance(1);
+    }
+    progress.endStage();
+    if (fs::is_empty(cells)) fs::remove(cells);  // a folder input: its blocks are its mesh files
+    manifest["blocks"] = std::move(blocks);
+    Ordered materials = Ordered::array();
+    for (size_t m = 0; m < in.materials.size(); ++m) {
+        const Material& material = in.materials[m];
+        std::string image;
+        if (material.image) {
+            fs::create_directories(fs::path(staging.path) / "materials");
+            image = "materials/" + std::to_string(m) + ".image";
+            writeImage((fs::path(staging.path) / image).string(), *material.image);
+        }
+        materials.push_back({{"name", material.name}, {"texture", absolute(material.texturePath)}, {"image", image}});
+    }
+    manifest["materials"] = std::move(materials);
+    Ordered problems = Ordered::array();
+    for (const TextureProblem& p : in.textureProblems) problems.push_back({{"what", p.what}, {"material", p.material}});
+    manifest["texture_problems"] = std::move(problems);
+    {
+        std::ofstream out(fs::path(staging.path) / kManifest);
+        out << manifest.dump(1) << "\n";
+        if (!out.flush()) throw std::runtime_error(work + "/" + kManifest + ": write failed");
+    }
+    if (isSplitWork(work)) fs::remove_all(target);  // an earlier split of this folder
+    fs::rename(staging.path, target);
+    staging.kept = true;
+    return summary;
+}
+
+SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t first, uint32_t last) {
+    const std::string file = (fs::path(work) / kManifest).string();
+    json j;
+    try {
+        std::ifstream in(file);
+        j = json::parse(in);
+    } catch (const std::exception& e) {
+        throw InputError(file + ": corrupt manifest (" + e.what() + ")");
+    }
+    if (!j.is_object() || !j.contains("format") || j["format"] != kSplitFormat)
+        throw InputError(file + ": not a " + kSplitFormat + " manifest (split the input again with this hlod)");
+    SplitWork w;
+    int splitBits = 0;
+    std::vector<std::pair<uint64_t, std::string>> expected;  // per block: bytes, XXH3-64
+    try {
+        w.input = j.at("input").get<std::string>();
+        w.up = {j.at("up").at("axis").get<std::string>(), j.at("up").at("reason").get<std::string>()};
+        const json& o = j.at("options");
+        auto adopt = [&](auto& value, const auto& split, const char* flag) {
+            using T = std::remove_reference_t<decltype(value)>;
+            if (value != T{} && value != split)
+                throw std::invalid_argument(std::string(flag) + " differs from the split of " + work + " (give it to hlod split)");
+            value = split;
+        };
+        adopt(options.blockTriangles, o.at("block_triangles").get<uint64_t>(), "--block-triangles");
+        adopt(options.blockSize, o.at("block_size").get<double>(), "--block-size");
+        adopt(options.up, o.at("up").get<std::string>(), "--up");
+        options.read.allowOutsideInput = options.read.allowOutsideInput || o.at("allow_outside_input").get<bool>();
+        if (!j.at("grid").is_null()) w.inputs.grid = gridFrom(j["grid"]), w.inputs.bounds = boxFrom(j.at("bounds"));
+        splitBits = j.at("lattice").at("position_bits");
+        w.inputs.positionStep = j.at("lattice").at("position_step");
+        for (const json& m : j.at("materials")) {
+            Material material{m.at("name").get<std::string>(), m.at("texture").get<std::string>(), nullptr};
+            const std::string image = m.at("image").get<std::string>();
+            if (!image.empty()) {
+                const std::string path = (fs::path(work) / image).string();
+                material.image = std::make_shared<const Image>(readImage(path, path));
+            }
+            w.inputs.materials.push_back(std::move(material));
+        }
+        for (const json& p : j.at("texture_problems")) w.inputs.textureProblems.push_back({p.at("what").get<std::string>(), p.at("material").get<std::string>()});
+        const size_t count = j.at("block_count");
+        if (count != j.at("blocks").size()) throw std::runtime_error("block_count differs from the blocks listed");
+        for (const json& b : j.at("blocks")) {
+            const std::string name = b.at("file").get<std::string>();
+            const bool piece = b.at("piece").get<bool>();
+            if (piece && (name.find("..") != std::string::npos || fs::path(name).is_absolute()))
+                throw std::runtime_error("cell '" + name + "' outside the work folder");
+            w.inputs.blocks.push_back({piece ? (fs::path(work) / name).string() : name, piece, b.at("triangles").get<uint64_t>()});
+            expected.emplace_back(b.at("bytes").get<uint64_t>(), b.at("xxh3").get<std::string>());
+        }
+    } catch (const std::invalid_argument&) {
+        throw;
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw InputError(file + ": corrupt manifest (" + e.what() + ")");
+    }
+    if (options.strict && !w.inputs.textureProblems.empty())
+        throw InputError(w.inputs.textureProblems.front().what + " (--strict)");
+    if (options.draco.positionBits != splitBits && w.inputs.grid)
+        w.inputs.positionStep = gridPositionStep(w.inputs.bounds, *w.inputs.grid, options.draco.positionBits);
+    // Every block file is present with its size; those this build reads also match their checksum.
+    for (size_t b = 0; b < w.inputs.blocks.size(); ++b) {
+        const std::string& path = w.inputs.blocks[b].file;
+        std::error_code ec;
+        const uint64_t bytes = fs::file_size(path, ec);
+        if (ec) throw InputError(path + ": block " + std::to_string(b) + " of " + work + " is missing (split again)");
+        if (bytes != expected[b].first || (b >= first && b < last && fileChecksum(path, path) != expected[b].second))
+            throw InputError(path + ": block " + std::to_string(b) + " of " + work +
+                             " differs from its manifest (corrupt or changed since the split; split again)");
+    }
+    return w;
+}
+
+}  // namespace hlod

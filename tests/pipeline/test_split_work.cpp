@@ -1,0 +1,174 @@
+// `hlod split` and builds from its work folder (pipeline/split_work.h): split once, shards built
+// from the work folder and merged give the bytes of one build (single mesh, textured OBJ, glTF
+// with an embedded image, folder input); split and merge speak --progress-json; a missing,
+// corrupt or foreign work folder is one line and exit status 2; the split's options are adopted.
+#include "helpers.h"
+
+#include "pipeline/split_work.h"
+#include "tests/support/run_hlod.h"
+
+#include <nlohmann/json.hpp>
+
+namespace hlod::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Builds INPUT once, splits it, builds the work folder as two shards (blocks [0, cut) and the
+// rest; one shard when `cut` is empty) and merges them: the same bytes as the single build.
+// `extra`: options given to both the build and the split.
+void expectSplitShardsMergeEqualOneBuild(TempDir& dir, const std::string& input, const std::vector<std::string>& extra,
+                                         const std::string& cut) {
+    auto run = [&](std::vector<std::string> args, const std::vector<std::string>& more = {}) {
+        args.insert(args.end(), more.begin(), more.end());
+        const RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 0) << r.outAndErr();
+        return r;
+    };
+    run({"build", input, "-o", dir.file("one.hlod")}, extra);
+    run({"split", input, "-o", dir.file("work")}, extra);
+    ASSERT_TRUE(fs::exists(dir.file("work/manifest.json")));
+    if (cut.empty()) {
+        run({"build", dir.file("work"), "-o", dir.file("s1"), "--shard"});
+        run({"merge", dir.file("s1"), "-o", dir.file("merged.hlod")});
+    } else {
+        run({"build", dir.file("work"), "-o", dir.file("s1"), "--shard", "--blocks", "0:" + cut, "-j", "1"});
+        run({"build", dir.file("work"), "-o", dir.file("s2"), "--shard", "--blocks", cut + ":9999"});
+        run({"merge", dir.file("s2"), dir.file("s1"), "-o", dir.file("merged.hlod")});
+    }
+    EXPECT_EQ(readFile(dir.file("one.hlod")), readFile(dir.file("merged.hlod"))) << input;
+    EXPECT_EQ(runHlod({"validate", dir.file("merged.hlod")}).exitCode, 0);
+}
+
+TEST(SplitWork, SingleMeshShardsFromTheWorkFolderEqualOneBuild) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(60).mesh, true);
+    expectSplitShardsMergeEqualOneBuild(dir, dir.file("t.ply"), {"--block-triangles", "1500"}, "3");
+    std::ifstream in(dir.file("work/manifest.json"));
+    const nlohmann::json m = nlohmann::json::parse(in);
+    EXPECT_EQ(m.at("format"), kSplitFormat);
+    EXPECT_EQ(m.at("input"), dir.file("t.ply"));
+    EXPECT_GE(m.at("block_count").get<int>(), 4);
+    EXPECT_FALSE(m.at("grid").is_null());
+    EXPECT_GT(m.at("lattice").at("position_step").get<double>(), 0);
+    uint64_t triangles = 0;
+    for (const auto& b : m.at("blocks")) {
+        EXPECT_TRUE(fs::exists(dir.file("work/" + b.at("file").get<std::string>())));
+        triangles += b.at("triangles").get<uint64_t>();
+    }
+    EXPECT_GE(triangles, 7200u);  // 2 x 60 x 60, plus the triangles the grid cuts
+}
+
+TEST(SplitWork, TexturedObjAndFolderInputsEqualOneBuild) {
+    TempDir dir;
+    fs::create_directories(dir.file("scan"));
+    writeObj(dir.file("scan/t.obj"), terrain(40, 100, true), "atlas.png");
+    writeFile(dir.file("scan/atlas.png"), encodeTexture(testImage(64, 64), Codec::Png).bytes);
+    expectSplitShardsMergeEqualOneBuild(dir, dir.file("scan/t.obj"), {"--block-triangles", "800"}, "2");
+
+    TempDir folder;
+    for (const char* name : {"a", "b", "c"}) writePly(folder.file(std::string(name) + ".ply"), terrain(20).mesh, false);
+    fs::create_directories(folder.file("in"));
+    for (const char* name : {"a", "b", "c"}) fs::rename(folder.file(std::string(name) + ".ply"), folder.file(std::string("in/") + name + ".ply"));
+    expectSplitShardsMergeEqualOneBuild(folder, folder.file("in"), {}, "1");
+}
+
+TEST(SplitWork, GltfEmbeddedImageTravelsInTheWorkFolder) {
+    TempDir dir;
+    const float values[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
+    const auto* p = reinterpret_cast<const uint8_t*>(values);
+    const std::string image = base64(encodeTexture(testImage(32, 32), Codec::Png).bytes);
+    std::ofstream(dir.file("t.gltf")) << R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+  "materials": [{"name": "skin", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+  "buffers": [{"uri": "data:application/octet-stream;base64,)" + base64({p, p + sizeof values}) + R"(", "byteLength": 60}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],
+  "textures": [{"source": 0}], "images": [{"uri": "data:image/png;base64,)" + image + R"("}]})";
+    expectSplitShardsMergeEqualOneBuild(dir, dir.file("t.gltf"), {}, "");
+    EXPECT_TRUE(fs::exists(dir.file("work/materials/0.image")));
+}
+
+TEST(SplitWork, SplitAndMergeSpeakProgressJson) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(30).mesh, true);
+    const RunResult s = runHlod({"split", dir.file("t.ply"), "-o", dir.file("work"), "--progress-json", "--block-triangles", "600"});
+    ASSERT_EQ(s.exitCode, 0) << s.outAndErr();
+    for (const char* stage : {R"({"stage": "read")", R"({"stage": "split")", R"({"message": "up axis: z)"})
+        EXPECT_NE(("\n" + s.out).find(std::string("\n") + stage), std::string::npos) << stage << "\n" << s.out;
+    ASSERT_EQ(runHlod({"build", dir.file("work"), "-o", dir.file("s"), "--shard", "--progress-json"}).exitCode, 0);
+    const RunResult m = runHlod({"merge", dir.file("s"), "-o", dir.file("m.hlod"), "--progress-json"});
+    ASSERT_EQ(m.exitCode, 0) << m.outAndErr();
+    EXPECT_EQ(m.out.rfind(R"({"stage": "write", "done": 0)", 0), 0u) << m.out;
+    EXPECT_NE(m.out.find(R"("end": true})"), std::string::npos) << m.out;
+}
+
+// One line "hlod build: FILE: problem" and exit status 2, no shard written.
+void expectRefused(const TempDir& dir, const std::vector<std::string>& args, const std::string& problem) {
+    const RunResult r = runHlod(args);
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_NE(r.err.find(problem), std::string::npos) << problem << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir.file("shard/shard.json")));
+}
+
+TEST(SplitWork, BadWorkFoldersAreOneLineAndStatusTwo) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(30).mesh, true);
+    ASSERT_EQ(runHlod({"split", dir.file("t.ply"), "-o", dir.file("work"), "--block-triangles", "600"}).exitCode, 0);
+    const std::vector<uint8_t> manifest = readFile(dir.file("work/manifest.json"));
+    const std::vector<std::string> build = {"build", dir.file("work"), "-o", dir.file("shard"), "--shard", "--blocks", "0:2"};
+    ASSERT_EQ(runHlod(build).exitCode, 0);
+    fs::remove_all(dir.file("shard"));
+
+    const std::string cell = dir.file("work/cells/cell_0.piece");
+    std::vector<uint8_t> bytes = readFile(cell);
+    bytes[bytes.size() / 2] ^= 0x40;  // same size, other content
+    writeFile(cell, bytes);
+    expectRefused(dir, build, cell + ": block 0 of " + dir.file("work") + " differs from");
+    ASSERT_EQ(runHlod({"build", dir.file("work"), "-o", dir.file("other"), "--shard", "--blocks", "2:4"}).exitCode, 0)
+        << "blocks outside the range are checked by size only";
+    fs::remove(cell);
+    expectRefused(dir, build, cell + ": block 0 of " + dir.file("work") + " is missing");
+
+    writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(manifest.begin(), manifest.begin() + manifest.size() / 2));
+    expectRefused(dir, build, dir.file("work/manifest.json") + ": corrupt manifest");
+    std::string text(manifest.begin(), manifest.end());
+    text.replace(text.find(kSplitFormat), std::string(kSplitFormat).size(), "hlod-split-0");
+    writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(text.begin(), text.end()));
+    expectRefused(dir, build, dir.file("work/manifest.json") + ": not a hlod-split-1 manifest");
+    std::string noBlocks(manifest.begin(), manifest.end());
+    noBlocks.replace(noBlocks.find("\"blocks\""), 8, "\"blockz\"");
+    writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(noBlocks.begin(), noBlocks.end()));
+    expectRefused(dir, build, dir.file("work/manifest.json") + ": corrupt manifest");
+}
+
+TEST(SplitWork, SplitOptionsBelongToTheSplitAndForeignFoldersAreNotReplaced) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(30).mesh, true);
+    ASSERT_EQ(runHlod({"split", dir.file("t.ply"), "-o", dir.file("work"), "--block-triangles", "600"}).exitCode, 0);
+    const RunResult conflict = runHlod({"build", dir.file("work"), "-o", dir.file("s"), "--shard", "--block-triangles", "700"});
+    EXPECT_EQ(conflict.exitCode, 2) << conflict.outAndErr();
+    EXPECT_NE(conflict.err.find("--block-triangles differs from the split of " + dir.file("work")), std::string::npos) << conflict.err;
+    EXPECT_EQ(runHlod({"build", dir.file("work"), "-o", dir.file("s"), "--shard", "--block-triangles", "600"}).exitCode, 0);
+
+    // An earlier work folder is replaced; any other non-empty folder is left alone.
+    const RunResult again = runHlod({"split", dir.file("t.ply"), "-o", dir.file("work"), "--block-triangles", "300"});
+    EXPECT_EQ(again.exitCode, 0) << again.outAndErr();
+    EXPECT_NE(again.out.find("blocks"), std::string::npos);
+    fs::create_directories(dir.file("mine"));
+    writeFile(dir.file("mine/keep.txt"), {'x'});
+    const RunResult foreign = runHlod({"split", dir.file("t.ply"), "-o", dir.file("mine")});
+    EXPECT_EQ(foreign.exitCode, 2) << foreign.outAndErr();
+    EXPECT_NE(foreign.err.find(dir.file("mine") + ": exists and is not an hlod split work folder"), std::string::npos) << foreign.err;
+    EXPECT_TRUE(fs::exists(dir.file("mine/keep.txt")));
+    for (const auto& e : fs::directory_iterator(dir.path))
+        EXPECT_EQ(e.path().filename().string().find("work.tmp"), std::string::npos) << "staging folder left: " << e.path();
+    const RunResult missing = runHlod({"split", dir.file("nope.ply"), "-o", dir.file("w2")});
+    EXPECT_EQ(missing.exitCode, 2) << missing.outAndErr();
+    EXPECT_FALSE(fs::exists(dir.file("w2")));
+}
+
+}  // namespace
+}  // namespace hlod::test
