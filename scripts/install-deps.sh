@@ -2,6 +2,9 @@
 # Installs every Debian 12 package hlod needs to build, test and plot,
 # and the npm packages of tests/export (npm ci). Idempotent: when everything is present it prints
 # nothing and touches nothing.
+# --slurm also installs Slurm and MUNGE, for the opt-in one-node Slurm test of the workflow
+# (tests/workflow/test_slurm.sh, HLOD_SLURM_TEST=1; README "Beyond one machine"); the default
+# path leaves them out (they pull about 89 packages with Snakemake, ~3 min here).
 set -euo pipefail
 
 PACKAGES=(
@@ -24,7 +27,9 @@ PACKAGES=(
   gnuplot-nox            # thesis Figure 6.x plots
   xvfb xdotool           # `hlod view` window test under a virtual X server
   nodejs chromium        # `hlod export tiles` checks: gltf-validator and CesiumJS in headless chromium (tests/export/)
+  snakemake              # the split -> shards -> merge workflow (scripts/workflow/Snakefile) and its test
 )
+[ "${1:-}" = --slurm ] && PACKAGES+=(slurm-wlm munge)  # slurmctld, slurmd, sbatch; munged authenticates them
 # Debian's nodejs leaves npm to a package of its own; NodeSource's nodejs brings npm and conflicts with it.
 command -v npm >/dev/null || PACKAGES+=(npm)
 
