@@ -85,7 +85,7 @@ TEST_F(Conventions, CorruptBlobIsStatusOneWhereBlobsAreRead) {
 TEST_F(Conventions, BadOptionIsStatusTwoWithOneLine) {
     const std::vector<std::vector<std::string>> commands = {
         {"build", db, "-o", dir.file("x.hlod"), "--no-such-option"}, {"merge", db, "-o", dir.file("m.hlod"), "--bogus"},
-        {"inspect", db, "--bogus"}, {"validate", db, "--bogus"}, {"stats", db, "--bogus"},
+        {"split", db, "-o", dir.file("w"), "--bogus"}, {"inspect", db, "--bogus"}, {"validate", db, "--bogus"}, {"stats", db, "--bogus"},
         {"play", db, "--path", path, "--bogus"}, {"path", db, "-o", dir.file("p"), "--kind", "swim"},
         {"view", db, "--up", "w"}, {"calibrate", "--frames", "0"}, {"synth", "city", "-o", dir.file("c"), "--bogus"},
         {"export", "tiles", db, "-o", dir.file("t"), "--bogus"}, {"export", "obj", db}, {"no-such-subcommand"}};
@@ -101,6 +101,7 @@ TEST_F(Conventions, MissingInputsOfOtherSubcommandsAreStatusTwo) {
     const std::vector<std::vector<std::string>> commands = {
         {"build", missing, "-o", dir.file("x.hlod")},
         {"merge", dir.file("no-shard"), "-o", dir.file("m.hlod")},
+        {"split", missing, "-o", dir.file("work")},
         {"play", db, "--path", dir.file("missing.path")},
         {"play", db, "--path", path, "--config", dir.file("missing.conf")},
         {"play", db, "--path", path, "--calibration", dir.file("missing.conf")},
@@ -161,7 +162,7 @@ TEST_F(Conventions, HelpAndVersionAreStatusZero) {
     EXPECT_EQ(runHlod({"--help"}).exitCode, 0);
     EXPECT_EQ(runHlod({"--version"}).exitCode, 0);
     const std::vector<std::string> withDb = {"inspect", "validate", "stats", "play", "path", "view", "export tiles"};
-    for (const std::string cmd : {"build", "merge", "inspect", "validate", "stats", "play", "path", "view", "calibrate",
+    for (const std::string cmd : {"build", "split", "merge", "inspect", "validate", "stats", "play", "path", "view", "calibrate",
                                   "export", "export tiles", "synth"}) {
         const size_t space = cmd.find(' ');  // "export tiles": a subcommand of a subcommand
         const RunResult r = runHlod(space == std::string::npos ? std::vector<std::string>{cmd, "--help"}
