@@ -2,7 +2,8 @@
 # The Snakemake workflow (scripts/workflow/Snakefile) run locally with `snakemake -c2` on the
 # sample city: the database equals a single `hlod build`, the split and merge speak
 # --progress-json, and an interrupted run resumes from its finished shards (a first run that
-# stops after the split and one shard; the second run builds only the other shards).
+# stops after the split and one shard; the second run builds only the other shards), also after
+# snakemake and its jobs are killed with SIGKILL.
 # Usage: test_snakemake.sh HLOD_BINARY SOURCE_DIR
 set -euo pipefail
 hlod=$(realpath "$1")
@@ -43,4 +44,21 @@ done
 # Nothing left to do: a third run builds nothing.
 smk --dry-run
 grep -q "Nothing to be done" "$tmp/smk.log" || { cat "$tmp/smk.log"; echo "FAIL: a finished workflow wants to run again"; exit 1; }
-echo "OK: snakemake -c2, $blocks blocks in 3 shards, database identical to a single build ($(stat -c %s "$tmp/city.hlod") bytes), resumed from a finished shard"
+# Killed hard (SIGKILL to snakemake and its jobs) once a shard has finished: --unlock, then the
+# rerun with --rerun-incomplete completes the database, identical again.
+rm -rf "$tmp/w/shards" "$tmp/city.hlod"
+setsid snakemake -s "$src/scripts/workflow/Snakefile" -c1 --directory "$tmp" \
+  --config input="$input" db="$tmp/city.hlod" work="$tmp/w" shards=3 hlod="$hlod" > "$tmp/killed.log" 2>&1 &
+victim=$!
+for _ in $(seq 600); do
+  compgen -G "$tmp/w/shards/*/shard.json" > /dev/null && break
+  sleep 0.1
+done
+kill -9 -- "-$victim" 2>/dev/null || true
+wait "$victim" 2>/dev/null || true
+[ ! -e "$tmp/city.hlod" ] || { echo "FAIL: the killed run wrote the database before the kill"; exit 1; }
+smk --unlock
+smk --rerun-incomplete
+cmp "$tmp/one.hlod" "$tmp/city.hlod" || { echo "FAIL: database after a killed run differs from a single build"; exit 1; }
+
+echo "OK: snakemake -c2, $blocks blocks in 3 shards, database identical to a single build ($(stat -c %s "$tmp/city.hlod") bytes), resumed from a finished shard and after a kill -9"
