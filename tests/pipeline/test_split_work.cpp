@@ -1,13 +1,25 @@
 // `hlod split` and builds from its work folder (pipeline/split_work.h): split once, shards built
 // from the work folder and merged give the bytes of one build (single mesh, textured OBJ, glTF
 // with an embedded image, folder input); split and merge speak --progress-json; a missing,
-// corrupt or foreign work folder is one line and exit status 2; the split's options are adopted.
+// corrupt or foreign work folder is one line and exit status 2; the split's options are adopted;
+// a split killed with SIGKILL anywhere leaves no work folder or a complete one.
 #include "helpers.h"
 
 #include "pipeline/split_work.h"
 #include "tests/support/run_hlod.h"
 
 #include <nlohmann/json.hpp>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <random>
+#include <thread>
+
+extern char** environ;
 
 namespace hlod::test {
 namespace {
@@ -168,6 +180,52 @@ TEST(SplitWork, SplitOptionsBelongToTheSplitAndForeignFoldersAreNotReplaced) {
     const RunResult missing = runHlod({"split", dir.file("nope.ply"), "-o", dir.file("w2")});
     EXPECT_EQ(missing.exitCode, 2) << missing.outAndErr();
     EXPECT_FALSE(fs::exists(dir.file("w2")));
+}
+
+// Runs `hlod args` (output discarded) and kills it with SIGKILL after `delay` if still running.
+void runAndKill(std::vector<std::string> args, std::chrono::microseconds delay) {
+    args.insert(args.begin(), HLOD_BINARY);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    pid_t pid = 0;
+    ASSERT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ), 0);
+    posix_spawn_file_actions_destroy(&actions);
+    std::this_thread::sleep_for(delay);
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+}
+
+TEST(SplitWork, KilledAnywhereLeavesNoWorkFolderOrACompleteOne) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(250).mesh, true);
+    const std::vector<std::string> split = {"split", dir.file("t.ply"), "-o", dir.file("work"), "--block-triangles", "20000"};
+    const auto start = std::chrono::steady_clock::now();
+    ASSERT_EQ(runHlod(split).exitCode, 0);
+    const auto duration = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start);
+    std::mt19937 random(14);
+    std::uniform_int_distribution<int64_t> at(duration.count() / 4, duration.count() * 6 / 5);
+    int absent = 0;
+    for (int k = 0; k < 20; ++k) {
+        fs::remove_all(dir.file("work"));
+        runAndKill(split, std::chrono::microseconds(at(random)));
+        if (!fs::exists(dir.file("work"))) {
+            ++absent;
+            continue;
+        }
+        BuildOptions options;
+        EXPECT_NO_THROW(openSplitWork(dir.file("work"), options, 0, UINT32_MAX)) << k;  // complete: every checksum holds
+    }
+    std::cout << "[ sweep    ] split: " << absent << " of 20 kills left no work folder\n";
+    fs::remove_all(dir.file("work"));
+    ASSERT_EQ(runHlod(split).exitCode, 0);
+    for (const auto& e : fs::directory_iterator(dir.path))  // the killed splits' staging folders are gone
+        EXPECT_EQ(e.path().filename().string().find("work.tmp-"), std::string::npos) << e.path();
 }
 
 }  // namespace
