@@ -82,6 +82,7 @@ void VmLoader::update(const LoadRequest& request) {
             expand_.clear();
             ++flush_;
             for (uint32_t id : front_) classifyLocked(id, 0);
+            for (uint32_t id : vm_->outside) classifyLocked(id, 0);
         }
         dirty_ = true;
     }
@@ -95,10 +96,12 @@ bool VmLoader::demandPendingLocked() const {
 }
 
 // The next node to load: the first wanted one still missing, else (vm) the next of PAR(O) and
-// CHD(O) of the popped nodes that is not in memory (those in memory are accessed, §4.3).
+// CHD(O) of the popped nodes that is not in memory (those in memory are accessed, §4.3); a popped
+// node outside the render frustum that is not in memory comes first itself.
 uint32_t VmLoader::pickLocked(bool& demand) {
     auto fits = [&](uint32_t id, bool isDemand) {
         if (options_.memoryBudget == 0) return true;
+        // A prefetch spares the nodes accessed in this fetch and the previous one (LOADERS.md, choice 8).
         auto keep = [&](uint32_t c) { return !isDemand && accessed_[c] + 1 >= epoch_; };
         return makeRoomLocked(source_->expectedBytes(id), keep);
     };
@@ -118,6 +121,7 @@ uint32_t VmLoader::pickLocked(bool& demand) {
             uint32_t o = bins_.pop();
             if (o == kNoNode) return kNoNode;
             double error = error_[o];
+            if (state_[o] == Residency::Unloaded) expand_.push_back({o, error});  // outside F_R: O itself first
             if (s.nodes[o].parent != kNone) expand_.push_back({s.nodes[o].parent, error});
             for (uint32_t c = s.nodes[o].firstChild; c != kNone && s.nodes[c].parent == o; c = s.nodes[c].nextSibling)
                 expand_.push_back({c, error});
