@@ -58,6 +58,7 @@ private:
     std::deque<std::pair<uint32_t, double>> expand_;  // PAR(O) and CHD(O) of popped nodes, with eps_O
     std::vector<uint64_t> classified_, accessed_;    // flush / fetch epoch of the last classification, access
     std::vector<double> error_;                      // eps_O at the last classification
+    std::vector<uint8_t> inFi_;                      // within the prefetch frustum at the last one
     std::vector<uint8_t> drawn_;
     std::vector<uint32_t> front_;
     uint64_t flush_ = 0, epoch_ = 0;
@@ -68,7 +69,7 @@ private:
     void onFailedLocked(uint32_t id) override { lru_.remove(id); }
     void onFetchedLocked(uint32_t id) override;
     uint32_t pickLocked(bool& demand);
-    void classifyLocked(uint32_t id, double inherited);
+    bool classifyLocked(uint32_t id, double inherited);
     void accessLocked(uint32_t id);
     bool demandPendingLocked() const;
 };
