@@ -78,7 +78,9 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
     if (count == 0) return bvh;
     std::vector<uint32_t> order(count);
     std::iota(order.begin(), order.end(), 0u);
-    auto centroid = [&](uint32_t t, int k) { return corners[9 * t + k] + corners[9 * t + 3 + k] + corners[9 * t + 6 + k]; };
+    std::vector<float> centroids(3 * size_t(count));  // x 3
+    for (size_t t = 0; t < count; ++t)
+        for (int k = 0; k < 3; ++k) centroids[3 * t + k] = float(corners[9 * t + k] + corners[9 * t + 3 + k] + corners[9 * t + 6 + k]);
     struct Task { uint32_t node, lo, hi; };
     std::vector<Task> stack{{0, 0, count}};
     bvh.nodes.push_back({});
@@ -107,7 +109,7 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
             if (node.hi[k] - node.lo[k] > node.hi[axis] - node.lo[axis]) axis = k;
         const uint32_t mid = task.lo + (task.hi - task.lo) / 2;
         std::nth_element(order.begin() + task.lo, order.begin() + mid, order.begin() + task.hi,
-                         [&](uint32_t a, uint32_t b) { return centroid(a, axis) < centroid(b, axis); });
+                         [&](uint32_t a, uint32_t b) { return centroids[3 * size_t(a) + axis] < centroids[3 * size_t(b) + axis]; });
         const uint32_t left = static_cast<uint32_t>(bvh.nodes.size());
         node.first = left, node.count = 0;  // `node` is not used past here: push_back may move it
         bvh.nodes.push_back({}), bvh.nodes.push_back({});
