@@ -15,6 +15,10 @@
 // two-sided distance to the original piece (error.cpp). All nodes are encoded on
 // one position lattice (DracoOptions::positionStep, by default the block root's), so the
 // borders the cuts made identical stay identical after quantization.
+// --mode bottom-up (BuildMode, pipeline/BUILD_SPEED.md) keeps the same division, leaves,
+// targets, error measure and textures, but simplifies each node from its children's simplified
+// triangles instead of the original ones (bottomUp below): each input triangle is simplified
+// about 1.33 times instead of once per level.
 #include "pipeline/pipeline.h"
 
 #include <meshoptimizer.h>
