@@ -154,13 +154,14 @@ double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points
     double worst = 0;
     auto distance = [&](const double p[3]) { return std::sqrt(squaredDistance(bvh, p, hint)); };
     struct Group {
-        double bound, d, r;
+        double bound, d, r;  // d < 0: the representative not queried yet (bound: the parent's)
+        const double* rep;
         uint32_t lo, hi;
         int axis;
         bool operator<(const Group& o) const { return bound < o.bound; }
     };
     std::priority_queue<Group> queue;
-    auto add = [&](uint32_t lo, uint32_t hi) {
+    auto add = [&](uint32_t lo, uint32_t hi, double parentBound) {
         if (hi - lo <= kLeafPoints) {
             for (uint32_t i = lo; i < hi; ++i) {
                 const double d = distance(&points[3 * size_t(order[i])]);
@@ -187,22 +188,35 @@ double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points
         int axis = 0;
         for (int k = 1; k < 3; ++k)
             if (hi3[k] - lo3[k] > hi3[axis] - lo3[axis]) axis = k;
+        // A group wider than the largest distance found cannot be pruned by its own bound (d + r
+        // > r >= worst): its representative is queried only if that changes (fine levels, whose
+        // distances are below the sample spacing, skip most of these queries).
+        if (r >= worst) return queue.push({parentBound, -1, r, rep, lo, hi, axis});
         const double d = distance(rep);
         worst = std::max(worst, d);
-        queue.push({d + r, d, r, lo, hi, axis});
+        queue.push({std::min(parentBound, d + r), d, r, rep, lo, hi, axis});
     };
-    add(0, n);
+    add(0, n, std::numeric_limits<double>::infinity());
     while (!queue.empty()) {
-        const Group g = queue.top();
+        Group g = queue.top();
         queue.pop();
-        if (g.bound <= worst) {  // no point of this or any later group is farther than `worst`
-            sum += g.d * (g.hi - g.lo);
+        if (g.bound <= worst || (g.d < 0 && g.r < worst)) {
+            if (g.d < 0) {
+                g.d = distance(g.rep);
+                worst = std::max(worst, g.d);
+                g.bound = std::min(g.bound, g.d + g.r);
+            }
+            if (g.bound <= worst) {  // no point of this or any later group is farther than `worst`
+                sum += g.d * (g.hi - g.lo);
+                continue;
+            }
+            queue.push(g);  // queried, and its own bound is still above `worst`
             continue;
         }
         const uint32_t mid = g.lo + (g.hi - g.lo) / 2;
         std::nth_element(order.begin() + g.lo, order.begin() + mid, order.begin() + g.hi,
                          [&](uint32_t a, uint32_t b) { return points[3 * size_t(a) + g.axis] < points[3 * size_t(b) + g.axis]; });
-        add(g.lo, mid), add(mid, g.hi);
+        add(g.lo, mid, g.bound), add(mid, g.hi, g.bound);
     }
     return worst;
 }

@@ -32,9 +32,10 @@ double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint
 // and bound over a k-d split of the points: the distance to a surface is 1-Lipschitz, so a group
 // whose centre lies at d from the surface and whose points lie within r of that centre holds no
 // point farther than d + r, and is not queried point by point once d + r <= the largest distance
-// found (the centre: the group's point nearest the middle of its box). `sum` receives the summed
-// distance, exact for the queried points and count x d for a pruned group (each term within r of
-// the exact one).
+// found (the centre: the group's point nearest the middle of its box; a group wider than that
+// distance is split without querying its centre, its own bound could not prune it). `sum`
+// receives the summed distance, exact for the queried points and count x d for a pruned group
+// (each term within r of the exact one).
 double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points, double& sum);
 
 }  // namespace hlod
