@@ -280,12 +280,14 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
                " --jpeg-quality " + std::to_string(o.jpegQuality);
     if (o.draco.positionStep > 0) command += " --draco-position-step " + std::to_string(o.draco.positionStep);
     if (!o.up.empty()) command += " --up " + o.up;
+    if (o.mode == BuildMode::BottomUp) command += " --mode bottom-up";  // absent: top-down, as before the option
     for (const auto& [name, value] : constantsAsPairs(o.constants, kUsedByBuild)) command += " --set " + name + "=" + value;
     meta.emplace_back("command", command);
     for (const auto& pair : constantsAsPairs(o.constants, kUsedByBuild)) meta.push_back(pair);
     meta.emplace_back("simplifier", simplifier);
     meta.emplace_back("tree.leafRule", leafRuleName(o.leafRule));
     meta.emplace_back("tree.planes", planesName(o.planes));
+    if (o.mode == BuildMode::BottomUp) meta.emplace_back("tree.mode", buildModeName(o.mode));
     meta.emplace_back("blocks.triangles", o.blockSize > 0 ? "" : std::to_string(blockTarget(o)));
     meta.emplace_back("blocks.size", o.blockSize > 0 ? std::to_string(o.blockSize) : "");
     meta.emplace_back("draco.positionBits", std::to_string(o.draco.positionBits));

@@ -15,7 +15,13 @@
 // two-sided distance to the original piece (error.cpp). All nodes are encoded on
 // one position lattice (DracoOptions::positionStep, by default the block root's), so the
 // borders the cuts made identical stay identical after quantization.
+// --mode bottom-up (BuildMode, pipeline/BUILD_SPEED.md) keeps the same division, leaves,
+// targets, error measure and textures, but simplifies each node from its children's simplified
+// triangles instead of the original ones (bottomUp below): each input triangle is simplified
+// about 1.33 times instead of once per level.
 #include "pipeline/pipeline.h"
+
+#include <meshoptimizer.h>
 
 #include <algorithm>
 #include <cmath>
@@ -116,6 +122,147 @@ BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, uint32_t l
     return bakeTexture(simplified, sources, std::max<uint64_t>(kMinBakeTexels, static_cast<uint64_t>(texels)));
 }
 
+// One node's output: its record (parentLocal set by the caller) and what BlockStats keeps of it.
+struct NodeOut {
+    NodeRecord record;
+    SurfaceError error;
+    bool baked = false;
+    float psnr = 0;
+    uint32_t level = 0;
+    uint64_t triangles = 0, texels = 0;
+};
+
+// Textures, geometric error (against the node's ORIGINAL piece, error.cpp) and packing of a
+// simplified node; the same in both modes.
+NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, double factor, uint32_t level, bool leaf,
+                   uint32_t blockIndex, const BuildOptions& options, TextureCache& textures) {
+    std::vector<SubMesh> parts = splitByMaterial(simplified.piece);
+    const Box3f bounds = pieceBounds(original.mesh);
+    const double extent = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
+    NodeOut out;
+    out.level = level;
+    // Sample spacing: a hole of 1 / kMeasuredHole of the node's extent holds samples (error.cpp).
+    if (!leaf) out.error = surfaceError(parts, {SubMesh{0, original.mesh, {}}}, extent / (2 * kMeasuredHole));
+    const double textureFactor = leaf ? 1.0 : factor;  // a leaf keeps the source's texels
+    std::vector<Image> images(parts.size());
+    if (simplified.geometryOnly) {
+        if (BakedTexture baked = bakeNode(parts.at(0).mesh, original, level, factor, textures); baked.image.width > 0) {
+            parts[0].mesh = std::move(baked.mesh), images[0] = std::move(baked.image), out.psnr = static_cast<float>(baked.psnr);
+        }
+    } else {
+        for (size_t i = 0; i < parts.size(); ++i)
+            if (const Image* scaled = textures.get(parts[i].material, level, textureFactor))
+                images[i] = atlasTexture(*scaled, parts[i].mesh);
+    }
+    out.record = packNode(parts, images, bounds, kNone, level, blockIndex, out.error.max, options);
+    out.baked = simplified.geometryOnly;
+    for (const SubMesh& part : parts) out.triangles += part.mesh.triangleCount();
+    for (const Image& image : images) out.texels += uint64_t(image.width) * image.height;
+    return out;
+}
+
+// Appends a node's figures to the block's, in emission order; returns its local index.
+uint32_t recordNode(BlockStats& stats, std::vector<uint32_t>& parentOf, const NodeOut& out, uint32_t parentLocal) {
+    if (stats.nodesPerLevel.size() <= out.level) stats.nodesPerLevel.resize(out.level + 1);
+    ++stats.nodesPerLevel[out.level];
+    parentOf.push_back(parentLocal);
+    stats.geometricErrors.push_back(static_cast<float>(out.error.max));
+    stats.measured.push_back(out.error);
+    stats.baked.push_back(out.baked);
+    stats.bakePsnr.push_back(out.psnr);
+    stats.levels.push_back(out.level);
+    stats.triangles.push_back(out.triangles);
+    stats.texels.push_back(out.texels);
+    return static_cast<uint32_t>(parentOf.size() - 1);
+}
+
+// The pieces of `parts` as one welded piece; geometry only (no texture coordinates, material 0) when
+// any part is (a baked child: its source UVs are gone).
+Piece joinPieces(const std::vector<SimplifiedNode>& parts, bool& geometryOnly) {
+    geometryOnly = false;
+    for (const SimplifiedNode& p : parts) geometryOnly = geometryOnly || p.geometryOnly;
+    Piece joined;
+    for (const SimplifiedNode& p : parts) {
+        const MeshData& m = p.piece.mesh;
+        const uint32_t base = static_cast<uint32_t>(joined.mesh.vertexCount());
+        joined.mesh.positions.insert(joined.mesh.positions.end(), m.positions.begin(), m.positions.end());
+        if (!geometryOnly) joined.mesh.texcoords.insert(joined.mesh.texcoords.end(), m.texcoords.begin(), m.texcoords.end());
+        joined.mesh.colors.insert(joined.mesh.colors.end(), m.colors.begin(), m.colors.end());
+        for (uint32_t i : m.indices) joined.mesh.indices.push_back(base + i);
+        for (uint32_t material : p.piece.materials) joined.materials.push_back(geometryOnly ? 0 : material);
+    }
+    MeshData& m = joined.mesh;
+    const size_t vc = m.vertexCount();  // an attribute some part lacks is dropped for all
+    if (m.texcoords.size() != 2 * vc) m.texcoords.clear();
+    if (m.colors.size() != 4 * vc) m.colors.clear();
+    // Identical vertices (position, attributes, material; the cut borders the parts share) merged,
+    // in first use, and triangles that lose a corner dropped: what weldPiece(joined, 0)
+    // does, on meshoptimizer's hash (weldPiece was a tenth of a bottom-up build).
+    std::vector<uint32_t> material(vc);
+    for (size_t t = 0; t < joined.materials.size(); ++t)
+        for (int k = 0; k < 3; ++k) material[m.indices[3 * t + k]] = joined.materials[t];
+    std::vector<meshopt_Stream> streams{{m.positions.data(), 3 * sizeof(float), 3 * sizeof(float)},
+                                        {material.data(), sizeof(uint32_t), sizeof(uint32_t)}};
+    if (!m.texcoords.empty()) streams.push_back({m.texcoords.data(), 2 * sizeof(float), 2 * sizeof(float)});
+    if (!m.colors.empty()) streams.push_back({m.colors.data(), 4, 4});
+    std::vector<uint32_t> remap(vc);
+    const size_t unique = meshopt_generateVertexRemapMulti(remap.data(), m.indices.data(), m.indices.size(), vc, streams.data(), streams.size());
+    auto compactStream = [&](auto& values, size_t width) {
+        std::remove_reference_t<decltype(values)> out(unique * width);
+        meshopt_remapVertexBuffer(out.data(), values.data(), vc, width * sizeof(values[0]), remap.data());
+        values = std::move(out);
+    };
+    compactStream(m.positions, 3);
+    if (!m.texcoords.empty()) compactStream(m.texcoords, 2);
+    if (!m.colors.empty()) compactStream(m.colors, 4);
+    std::vector<uint32_t> indices;
+    std::vector<uint32_t> materials;
+    for (size_t t = 0; t < joined.materials.size(); ++t) {
+        const uint32_t a = remap[m.indices[3 * t]], b = remap[m.indices[3 * t + 1]], c = remap[m.indices[3 * t + 2]];
+        if (a == b || b == c || c == a) continue;
+        indices.insert(indices.end(), {a, b, c});
+        materials.push_back(joined.materials[t]);
+    }
+    m.indices = std::move(indices), joined.materials = std::move(materials);
+    return joined;
+}
+
+// Bottom-up mode (pipeline/BUILD_SPEED.md), depth first: the same division as top-down, but a
+// node simplifies its children's simplified triangles, welded by position (their common cut
+// borders become interior edges, its own borders stay locked as in top-down), to the same
+// target, numTriangles_piece / factor. Each input triangle is simplified about once
+// (1 + 1/c_levelFactor + ... ~ 1.33 passes) instead of once per level.
+struct BottomUpNode {
+    NodeOut out;
+    std::vector<uint32_t> children;
+};
+uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions& options, uint32_t blockIndex,
+                  TextureCache& textures, Progress* progress, std::vector<BottomUpNode>& nodes, SimplifiedNode& result) {
+    const Constants& c = options.constants;
+    BottomUpNode node;
+    if (isLeaf(factor, c.levelFactor, options.leafRule)) {
+        result = {piece, false};
+        node.out = finishNode(result, piece, factor, level, true, blockIndex, options, textures);
+    } else {
+        std::vector<SimplifiedNode> simplifiedChildren;
+        for (Piece& child : dividePiece(piece, static_cast<uint32_t>(c.levelFactor), options.planes)) {
+            simplifiedChildren.emplace_back();
+            node.children.push_back(bottomUp(std::move(child), factor / c.levelFactor, level + 1, options, blockIndex, textures,
+                                             progress, nodes, simplifiedChildren.back()));
+        }
+        bool geometryOnly = false;
+        const Piece input = joinPieces(simplifiedChildren, geometryOnly);
+        simplifiedChildren.clear();
+        const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
+        result = simplifyNode(input, std::max(1.0, double(input.mesh.triangleCount()) / target), options.simplifier);
+        result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
+        node.out = finishNode(result, piece, factor, level, false, blockIndex, options, textures);
+    }
+    if (progress) progress->advance(piece.mesh.triangleCount());
+    nodes.push_back(std::move(node));
+    return static_cast<uint32_t>(nodes.size() - 1);
+}
+
 }  // namespace
 
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
@@ -128,52 +275,40 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     BlockStats stats;
     stats.inputTriangles = block.mesh.triangleCount();
     TextureCache textures(materials, options.strict, stats.textureProblems, progress);
-    std::deque<Pending> queue;
     Piece welded = weldPiece(block, options.draco.positionStep / 2);  // weld.cpp: chunk borders become interior
     const double rootFactor = static_cast<double>(welded.mesh.triangleCount()) / c.desiredTris;  // §3.2 hlod0
-    queue.push_back({std::move(welded), rootFactor, 0, kNone});
     std::vector<uint32_t> parentOf;
-    while (!queue.empty()) {
-        Pending p = std::move(queue.front());
-        queue.pop_front();
-        const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
-        const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier);
-        std::vector<SubMesh> parts = splitByMaterial(simplified.piece);
-        const Box3f bounds = pieceBounds(p.piece.mesh);
-        const double extent = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
-        // Sample spacing: a hole of 1 / kMeasuredHole of the node's extent holds samples (error.cpp).
-        const SurfaceError error = leaf ? SurfaceError{} : surfaceError(parts, {SubMesh{0, p.piece.mesh, {}}}, extent / (2 * kMeasuredHole));
-        const double textureFactor = leaf ? 1.0 : p.factor;  // a leaf keeps the source's texels
-        std::vector<Image> images(parts.size());
-        double psnr = 0;
-        if (simplified.geometryOnly) {
-            if (BakedTexture baked = bakeNode(parts.at(0).mesh, p.piece, p.level, p.factor, textures); baked.image.width > 0) {
-                parts[0].mesh = std::move(baked.mesh), images[0] = std::move(baked.image), psnr = baked.psnr;
-            }
-        } else {
-            for (size_t i = 0; i < parts.size(); ++i)
-                if (const Image* scaled = textures.get(parts[i].material, p.level, textureFactor))
-                    images[i] = atlasTexture(*scaled, parts[i].mesh);
+    if (options.mode == BuildMode::BottomUp) {
+        std::vector<BottomUpNode> nodes;
+        SimplifiedNode root;
+        const uint32_t rootId = bottomUp(std::move(welded), rootFactor, 0, options, blockIndex, textures, progress, nodes, root);
+        std::deque<std::pair<uint32_t, uint32_t>> order{{rootId, kNone}};  // emitted breadth-first, as top-down
+        while (!order.empty()) {
+            const auto [id, parentLocal] = order.front();
+            order.pop_front();
+            NodeOut& out = nodes[id].out;
+            out.record.parentLocal = parentLocal;
+            const uint32_t self = recordNode(stats, parentOf, out, parentLocal);
+            emit(std::move(out.record));
+            for (uint32_t child : nodes[id].children) order.push_back({child, self});
         }
-        emit(packNode(parts, images, bounds, p.parentLocal, p.level, blockIndex, error.max, options));
-        if (stats.nodesPerLevel.size() <= p.level) stats.nodesPerLevel.resize(p.level + 1);
-        ++stats.nodesPerLevel[p.level];
-        if (progress) progress->advance(p.piece.mesh.triangleCount());
-        const uint32_t self = static_cast<uint32_t>(parentOf.size());
-        parentOf.push_back(p.parentLocal);
-        stats.geometricErrors.push_back(static_cast<float>(error.max));
-        stats.measured.push_back(error);
-        stats.baked.push_back(simplified.geometryOnly);
-        stats.bakePsnr.push_back(static_cast<float>(psnr));
-        stats.levels.push_back(p.level);
-        uint64_t triangles = 0, texels = 0;
-        for (const SubMesh& part : parts) triangles += part.mesh.triangleCount();
-        for (const Image& image : images) texels += uint64_t(image.width) * image.height;
-        stats.triangles.push_back(triangles);
-        stats.texels.push_back(texels);
-        if (leaf) continue;
-        for (Piece& child : dividePiece(p.piece, levelFactor, options.planes))  // §3.2: simplification_hlod(i+1)
-            queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});
+    } else {
+        std::deque<Pending> queue;
+        queue.push_back({std::move(welded), rootFactor, 0, kNone});
+        while (!queue.empty()) {
+            Pending p = std::move(queue.front());
+            queue.pop_front();
+            const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
+            const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier);
+            NodeOut out = finishNode(simplified, p.piece, p.factor, p.level, leaf, blockIndex, options, textures);
+            out.record.parentLocal = p.parentLocal;
+            const uint32_t self = recordNode(stats, parentOf, out, p.parentLocal);
+            emit(std::move(out.record));
+            if (progress) progress->advance(p.piece.mesh.triangleCount());
+            if (leaf) continue;
+            for (Piece& child : dividePiece(p.piece, levelFactor, options.planes))  // §3.2: simplification_hlod(i+1)
+                queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});
+        }
     }
     // A node's error bounds its whole subtree's: a child's measure can exceed its parent's.
     for (size_t i = parentOf.size(); i-- > 1;)

@@ -3,16 +3,17 @@
 // (surfaceError). One side alone (simplified -> original, surfaceDistance: the measure before
 // issue #16) cannot see a hole: the simplified surface is close to the original everywhere it
 // exists, and a missing wall costs nothing. So the original is sampled too, each point queried
-// against a CGAL AABB tree of the simplified surface. Sampling: every vertex and centroid (and
+// against a bounding volume hierarchy of the simplified surface (closest_point.cpp; CGAL's AABB
+// tree until issue #14, same distances, ~10 x the cost). Sampling: every vertex and centroid (and
 // the simplified side's edge midpoints), and on a triangle longer than `spacing` a barycentric
 // grid of spacing at most `spacing` (build_tree.cpp passes a twentieth of the node's extent: a hole of a tenth of it
 // holds a sample at least ~a fortieth of the extent from its rim, hence measured).
+// The largest distance of each side is exact over its samples but found by branch and bound
+// (largestDistance): groups of samples whose Lipschitz bound is below the largest distance found
+// are not queried one by one; their mean counts each at the group centre's distance
+// (pipeline/BUILD_SPEED.md has the measured difference).
+#include "pipeline/closest_point.h"
 #include "pipeline/pipeline.h"
-
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,93 +21,85 @@
 namespace hlod {
 namespace {
 
-using Kernel = CGAL::Simple_cartesian<double>;
-using Point = Kernel::Point_3;
-using Triangle = Kernel::Triangle_3;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-
-Point vertex(const MeshData& m, uint32_t i) {
-    return {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]};
+// All parts' triangles in one hierarchy (zero-area ones left out).
+TriangleBvh bvhOf(const std::vector<SubMesh>& parts) {
+    std::vector<float> positions;
+    std::vector<uint32_t> indices;
+    for (const SubMesh& part : parts) {
+        const uint32_t base = static_cast<uint32_t>(positions.size() / 3);
+        positions.insert(positions.end(), part.mesh.positions.begin(), part.mesh.positions.end());
+        for (uint32_t i : part.mesh.indices) indices.push_back(base + i);
+    }
+    return buildTriangleBvh(positions, indices);
 }
 
-std::vector<Triangle> trianglesOf(const std::vector<SubMesh>& parts) {
-    std::vector<Triangle> triangles;
-    for (const SubMesh& part : parts)
-        for (size_t t = 0; t < part.mesh.triangleCount(); ++t) {
-            const uint32_t* i = &part.mesh.indices[3 * t];
-            Triangle tri(vertex(part.mesh, i[0]), vertex(part.mesh, i[1]), vertex(part.mesh, i[2]));
-            if (!tri.is_degenerate()) triangles.push_back(tri);
+bool degenerate(const double a[3], const double b[3], const double c[3]) {
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    return u[1] * w[2] - u[2] * w[1] == 0 && u[2] * w[0] - u[0] * w[2] == 0 && u[0] * w[1] - u[1] * w[0] == 0;
+}
+
+// The sample points of `from`: its vertices once each and, per non-degenerate triangle, a
+// barycentric grid of n x n cells other than the corners (n >= minCells; n >= 2 puts the edge
+// midpoints among them), n the longest edge / spacing, plus the centroid.
+std::vector<double> samples(const std::vector<SubMesh>& from, double spacing, int minCells) {
+    std::vector<double> points;
+    auto add = [&](double x, double y, double z) { points.insert(points.end(), {x, y, z}); };
+    for (const SubMesh& part : from) {
+        const MeshData& m = part.mesh;
+        points.insert(points.end(), m.positions.begin(), m.positions.end());
+        for (size_t t = 0; t < m.triangleCount(); ++t) {
+            double v[3][3];
+            for (int j = 0; j < 3; ++j)
+                for (int k = 0; k < 3; ++k) v[j][k] = m.positions[3 * size_t(m.indices[3 * t + j]) + k];
+            if (degenerate(v[0], v[1], v[2])) continue;
+            auto d2 = [&](int a, int b) { return (v[a][0] - v[b][0]) * (v[a][0] - v[b][0]) + (v[a][1] - v[b][1]) * (v[a][1] - v[b][1]) + (v[a][2] - v[b][2]) * (v[a][2] - v[b][2]); };
+            const double longest = std::sqrt(std::max({d2(0, 1), d2(1, 2), d2(2, 0)}));
+            const int n = std::max(minCells, static_cast<int>(std::ceil(longest / spacing)));
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; i + j <= n; ++j) {
+                    if (i == n || j == n || i + j == 0) continue;  // a corner
+                    const double a = double(i) / n, b = double(j) / n, c = 1 - a - b;
+                    add(a * v[0][0] + b * v[1][0] + c * v[2][0], a * v[0][1] + b * v[1][1] + c * v[2][1], a * v[0][2] + b * v[1][2] + c * v[2][2]);
+                }
+            add((v[0][0] + v[1][0] + v[2][0]) / 3, (v[0][1] + v[1][1] + v[2][1]) / 3, (v[0][2] + v[1][2] + v[2][2]) / 3);
         }
-    return triangles;
-}
-
-// Visits the sample points of `tri` other than its corners: a barycentric grid of n x n cells
-// (n >= minCells; n >= 2 puts the edge midpoints among them), n the longest edge / spacing,
-// plus the centroid.
-template <typename Visit>
-void samples(const Triangle& tri, double spacing, int minCells, Visit&& visit) {
-    const double longest = std::sqrt(std::max({CGAL::squared_distance(tri[0], tri[1]), CGAL::squared_distance(tri[1], tri[2]),
-                                               CGAL::squared_distance(tri[2], tri[0])}));
-    const int n = std::max(minCells, static_cast<int>(std::ceil(longest / spacing)));
-    for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j) {
-            if (i == n || j == n || i + j == 0) continue;  // a corner
-            const double a = double(i) / n, b = double(j) / n, c = 1 - a - b;
-            visit(Point(a * tri[0].x() + b * tri[1].x() + c * tri[2].x(), a * tri[0].y() + b * tri[1].y() + c * tri[2].y(),
-                        a * tri[0].z() + b * tri[1].z() + c * tri[2].z()));
-        }
-    visit(CGAL::centroid(tri[0], tri[1], tri[2]));
-}
-
-// Largest and summed distance from the samples of `from` (its vertices once each, and the
-// triangles' samples) to the surface `to`; `count` gets the samples.
-double sideDistance(const std::vector<SubMesh>& from, const std::vector<Triangle>& fromTriangles, const std::vector<Triangle>& to,
-                    double spacing, int minCells, double& sum, uint64_t& count) {
-    Tree tree(to.begin(), to.end());
-    tree.accelerate_distance_queries();
-    double worst = 0;
-    auto visit = [&](const Point& p) {
-        const double d = std::sqrt(tree.squared_distance(p));
-        worst = std::max(worst, d), sum += d, ++count;
-    };
-    for (const SubMesh& part : from)
-        for (uint32_t v = 0; v < part.mesh.vertexCount(); ++v) visit(vertex(part.mesh, v));
-    for (const Triangle& tri : fromTriangles) samples(tri, spacing, minCells, visit);
-    return worst;
+    }
+    return points;
 }
 
 }  // namespace
 
 double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original) {
-    const std::vector<Triangle> triangles = trianglesOf(original);
-    if (triangles.empty()) return 0;
-    Tree tree(triangles.begin(), triangles.end());
-    tree.accelerate_distance_queries();
-    double worst = 0;
+    const TriangleBvh bvh = bvhOf(original);
+    if (bvh.empty()) return 0;
+    std::vector<double> points;  // edge midpoints and centroids
     for (const SubMesh& part : simplified) {
         const MeshData& m = part.mesh;
         for (size_t t = 0; t < m.triangleCount(); ++t) {
-            const uint32_t* i = &m.indices[3 * t];
-            const Point a = vertex(m, i[0]), b = vertex(m, i[1]), c = vertex(m, i[2]);
-            for (const Point& p : {CGAL::midpoint(a, b), CGAL::midpoint(b, c), CGAL::midpoint(c, a), CGAL::centroid(a, b, c)})
-                worst = std::max(worst, tree.squared_distance(p));
+            const float* v[3];
+            for (int j = 0; j < 3; ++j) v[j] = &m.positions[3 * size_t(m.indices[3 * t + j])];
+            for (int j = 0; j < 3; ++j)
+                for (int k = 0; k < 3; ++k) points.push_back(0.5 * (double(v[j][k]) + v[(j + 1) % 3][k]));
+            for (int k = 0; k < 3; ++k) points.push_back((double(v[0][k]) + v[1][k] + v[2][k]) / 3);
         }
     }
-    return std::sqrt(worst);
+    double sum = 0;
+    return largestDistance(bvh, points, sum);
 }
 
 SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original, double spacing) {
-    const std::vector<Triangle> a = trianglesOf(simplified), b = trianglesOf(original);
     SurfaceError e;
-    if (a.empty() || b.empty() || !(spacing > 0)) return e;
+    if (!(spacing > 0)) return e;
+    const TriangleBvh a = bvhOf(simplified), b = bvhOf(original);
+    if (a.empty() || b.empty()) return e;
     double sum = 0;
-    uint64_t count = 0;
     // The simplified side's triangles are few and large (edge midpoints always); the original's
     // many and small, mostly sampled by their vertices and centroids alone.
-    e.oneSided = sideDistance(simplified, a, b, spacing, 2, sum, count);
-    e.max = std::max(e.oneSided, sideDistance(original, b, a, spacing, 1, sum, count));
-    e.mean = count ? sum / double(count) : 0;
+    std::vector<double> fromSimplified = samples(simplified, spacing, 2), fromOriginal = samples(original, spacing, 1);
+    const double count = double(fromSimplified.size() / 3 + fromOriginal.size() / 3);
+    e.oneSided = largestDistance(b, fromSimplified, sum);
+    e.max = std::max(e.oneSided, largestDistance(a, fromOriginal, sum));
+    e.mean = count > 0 ? sum / count : 0;
     return e;
 }
 

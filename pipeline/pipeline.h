@@ -275,6 +275,7 @@ struct BuildOptions {
     Constants constants;
     Simplifier simplifier = Simplifier::Meshopt;
     LeafRule leafRule = LeafRule::BelowOne;  // tree_rules.h, pipeline/TREE.md
+    BuildMode mode = BuildMode::TopDown;     // tree_rules.h, pipeline/BUILD_SPEED.md
     Planes planes = Planes::Balanced;
     DracoOptions draco;
     int jpegQuality = 85;

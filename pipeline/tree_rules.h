@@ -21,6 +21,12 @@ enum class Planes {
     Even,      // evenly spaced over the bounding box; empty pieces are dropped
 };
 
+// Where each node's simplification starts (pipeline/BUILD_SPEED.md has both measured).
+enum class BuildMode {
+    TopDown,   // thesis §3.2 (default): every node simplifies its piece's original triangles
+    BottomUp,  // each node simplifies its children's simplified triangles, welded (~1.33 passes)
+};
+inline const char* buildModeName(BuildMode m) { return m == BuildMode::TopDown ? "top-down" : "bottom-up"; }
 inline const char* leafRuleName(LeafRule r) { return r == LeafRule::BelowOne ? "below-one" : "stop-before"; }
 inline const char* planesName(Planes p) { return p == Planes::Balanced ? "balanced" : "even"; }
 

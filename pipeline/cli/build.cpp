@@ -26,6 +26,7 @@ struct BuildArgs {
     std::string calibration;
     std::string simplifier = "meshopt";
     std::string leafRule = "below-one";
+    std::string mode = "top-down";
     std::string planes = "balanced";
     std::string blocks;  // "A:B" shard selection
     ProgressOptions progress;
@@ -88,6 +89,7 @@ int runBuildCommand(BuildArgs& a) {
     if (!a.calibration.empty()) o.constants.textured = readCalibration(a.calibration).cTextured;
     o.simplifier = a.simplifier == "openmesh" ? Simplifier::OpenMesh : Simplifier::Meshopt;
     o.leafRule = a.leafRule == "stop-before" ? LeafRule::StopBefore : LeafRule::BelowOne;
+    o.mode = a.mode == "bottom-up" ? BuildMode::BottomUp : BuildMode::TopDown;
     o.planes = a.planes == "even" ? Planes::Even : Planes::Balanced;
     if (!a.blocks.empty()) parseBlockRange(a.blocks, a.request);
     printConstants(std::cout, o.constants, kUsedByBuild);
@@ -126,6 +128,10 @@ void addBuild(CLI::App& app, int& status) {
                     "below-one (default: divide until the factor is below 1) or stop-before (stop before a level "
                     "whose factor would be below 1); pipeline/TREE.md")
         ->check(CLI::IsMember({"below-one", "stop-before"}));
+    sub->add_option("--mode", a->mode,
+                    "top-down (default, thesis 3.2: every level simplified from the original triangles) or bottom-up "
+                    "(each level from the level below, faster); pipeline/BUILD_SPEED.md")
+        ->check(CLI::IsMember({"top-down", "bottom-up"}));
     sub->add_option("--planes", a->planes,
                     "balanced (default: triangle-count quantiles avoiding dense surfaces) or even (evenly spaced, "
                     "empty pieces dropped)")

@@ -1,15 +1,18 @@
 // Benchmark of `hlod build`: for a ~1 M triangle real scan (Lucy 100k, midpoint-
 // subdivided twice: 1.6 M) and a ~17 M triangle single generated terrain mesh (one PLY, so the
 // out-of-core read and block split are measured too), runs the build in a child process and prints input triangles per CPU-second, wall time, peak RSS
-// (the child's ru_maxrss) and output bytes per input triangle. Reference (nxsbuild, same kind of
-// machine): 58 k tri/CPU-s, 30.5 B/tri, ~430 MB RSS.
-//   hlod_bench_build [--dir DIR] [--sizes 1,17] [--simplifier meshopt|openmesh|both] [-j N] [--memory-limit BYTES]
+// (the child's ru_maxrss) and output bytes per input triangle, then per level the largest and the
+// mean two-sided geometric error the build measured (error.cpp; input units).
+// Reference (nxsbuild, same kind of machine): 43-58 k tri/CPU-s, 30.5 B/tri, ~430 MB RSS.
+//   hlod_bench_build [--dir DIR] [--sizes 1,17] [--simplifier meshopt|openmesh|both]
+//                    [--mode top-down|bottom-up|both] [-j N] [--memory-limit BYTES]
 #include "pipeline/pipeline.h"
 
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -17,6 +20,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -100,9 +104,11 @@ std::string prepare(const std::string& dir, int size) {
 struct Result {
     double wall = 0, cpu = 0;
     uint64_t peakRss = 0, triangles = 0, bytes = 0;
+    std::string errors;  // per level, from the build's measures
 };
 
-Result runChild(const std::string& input, const std::string& output, Simplifier simplifier, int jobs, uint64_t memoryLimit) {
+Result runChild(const std::string& input, const std::string& output, Simplifier simplifier, BuildMode mode, int jobs,
+                uint64_t memoryLimit) {
     const auto start = std::chrono::steady_clock::now();
     const pid_t pid = fork();
     if (pid == 0) {
@@ -111,10 +117,20 @@ Result runChild(const std::string& input, const std::string& output, Simplifier 
             Progress progress(log, false);
             BuildRequest r;
             r.input = input, r.output = output;
-            r.options.simplifier = simplifier, r.options.jobs = jobs;
+            r.options.simplifier = simplifier, r.options.jobs = jobs, r.options.mode = mode;
             if (memoryLimit) r.options.memoryLimit = memoryLimit;
             const BuildSummary s = runBuild(r, progress);
             std::ofstream(output + ".tris") << s.inputTriangles;
+            std::vector<double> worst, sum, count;  // per level, non-leaf nodes (leaves measure 0)
+            for (const NodeQuality& n : s.nodes) {
+                if (n.errorMax <= 0) continue;
+                if (worst.size() <= n.level) worst.resize(n.level + 1), sum.resize(n.level + 1), count.resize(n.level + 1);
+                worst[n.level] = std::max(worst[n.level], n.errorMax), sum[n.level] += n.errorMax, ++count[n.level];
+            }
+            std::ofstream errors(output + ".errors");
+            for (size_t l = 0; l < worst.size(); ++l)
+                if (count[l] > 0) errors << "  level " << l << ": error max " << worst[l] << ", mean of nodes " << sum[l] / count[l] << "\n";
+            errors.close();  // _exit runs no destructor
             _exit(0);
         } catch (const std::exception& e) {
             std::fprintf(stderr, "build failed: %s\n", e.what());
@@ -130,6 +146,8 @@ Result runChild(const std::string& input, const std::string& output, Simplifier 
     res.peakRss = static_cast<uint64_t>(usage.ru_maxrss) * 1024;
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return res;
     std::ifstream(output + ".tris") >> res.triangles;
+    std::ifstream errors(output + ".errors");
+    res.errors.assign(std::istreambuf_iterator<char>(errors), {});
     res.bytes = fs::file_size(output);
     return res;
 }
@@ -137,7 +155,7 @@ Result runChild(const std::string& input, const std::string& output, Simplifier 
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string dir = (fs::temp_directory_path() / "hlod-bench").string(), sizes = "1,17", which = "both";
+    std::string dir = (fs::temp_directory_path() / "hlod-bench").string(), sizes = "1,17", which = "both", modes = "top-down";
     int jobs = 0;
     uint64_t memoryLimit = 0;  // bytes; 0 = the build's default (1 GiB)
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -145,10 +163,11 @@ int main(int argc, char** argv) {
         if (a == "--dir") dir = argv[i + 1];
         else if (a == "--sizes") sizes = argv[i + 1];
         else if (a == "--simplifier") which = argv[i + 1];
+        else if (a == "--mode") modes = argv[i + 1];
         else if (a == "-j") jobs = std::atoi(argv[i + 1]);
         else if (a == "--memory-limit") memoryLimit = std::strtoull(argv[i + 1], nullptr, 10);
     }
-    std::printf("%-22s %-9s %12s %9s %9s %14s %10s %8s\n", "input", "simplify", "input tris", "wall s", "CPU s",
+    std::printf("%-22s %-9s %-9s %12s %9s %9s %14s %10s %8s\n", "input", "simplify", "mode", "input tris", "wall s", "CPU s",
                 "tri/CPU-s", "peak RSS", "B/tri");
     std::stringstream list(sizes);
     for (std::string item; std::getline(list, item, ',');) {
@@ -158,10 +177,14 @@ int main(int argc, char** argv) {
             const bool isMeshopt = s == Simplifier::Meshopt;
             if ((which == "meshopt" && !isMeshopt) || (which == "openmesh" && isMeshopt)) continue;
             if (!isMeshopt && size > 1 && which == "both") continue;  // ~50 k tri/s: 1 M only
-            const Result r = runChild(input, dir + "/out.hlod", s, jobs, memoryLimit);
-            std::printf("%-22s %-9s %12llu %9.1f %9.1f %14.0f %7.0f MB %8.2f\n", fs::path(input).filename().c_str(),
-                        isMeshopt ? "meshopt" : "openmesh", static_cast<unsigned long long>(r.triangles), r.wall, r.cpu,
-                        r.cpu > 0 ? r.triangles / r.cpu : 0.0, r.peakRss / 1e6, r.triangles ? double(r.bytes) / r.triangles : 0.0);
+            for (BuildMode mode : {BuildMode::TopDown, BuildMode::BottomUp}) {
+                if (modes != "both" && modes != buildModeName(mode)) continue;
+                const Result r = runChild(input, dir + "/out.hlod", s, mode, jobs, memoryLimit);
+                std::printf("%-22s %-9s %-9s %12llu %9.1f %9.1f %14.0f %7.0f MB %8.2f\n%s", fs::path(input).filename().c_str(),
+                            isMeshopt ? "meshopt" : "openmesh", buildModeName(mode), static_cast<unsigned long long>(r.triangles),
+                            r.wall, r.cpu, r.cpu > 0 ? r.triangles / r.cpu : 0.0, r.peakRss / 1e6,
+                            r.triangles ? double(r.bytes) / r.triangles : 0.0, r.errors.c_str());
+            }
             std::fflush(stdout);
         }
     }

@@ -3,7 +3,9 @@
 // of its neighbour, siblings at different levels, all hlod0, all leaves) every open border of
 // every node must lie on the border of another node of the front, except the model's outline.
 // Tolerance: 0 (exact). The cuts make shared borders identical floats and the position lattice
-// (formats/codec_draco.cpp) decodes an identical float identically in every blob.
+// (formats/codec_draco.cpp) decodes an identical float identically in every blob. The same
+// checks run on a --mode bottom-up build (StoredCracksBottomUp: the same tree, each node
+// simplified from its children's simplified triangles).
 #include "helpers.h"
 
 #include <array>
@@ -57,7 +59,8 @@ double distance(const Point& p, const Edge& e) {
 
 class StoredCracks : public ::testing::Test {
 protected:
-    static void SetUpTestSuite() {
+    static void SetUpTestSuite() { setUp(BuildMode::TopDown); }
+    static void setUp(BuildMode mode) {
         dir_ = new std::filesystem::path(std::filesystem::temp_directory_path() /
                                          ("hlod-pipeline-stored-cracks-" + std::to_string(getpid())));
         std::filesystem::create_directories(*dir_);
@@ -66,6 +69,7 @@ protected:
         o.constants.desiredTris = 150;
         o.blockTriangles = 2100;  // 3 x 3 blocks of 3 levels: hlod0, 4 children, 16 leaves
         o.jobs = 1;
+        o.mode = mode;
         std::ostringstream log;
         Progress progress(log, false);
         BuildRequest request;
@@ -147,6 +151,43 @@ protected:
         return gap;
     }
 
+    static void checkShape() {
+        const Skeleton& s = db_->skeleton();
+        ASSERT_EQ(s.blockCount, 9u);
+        for (const Node& n : s.nodes) EXPECT_LE(n.level, 2u);
+        EXPECT_EQ(front([](const Node&) { return true; }).size(), 9u * 16);
+        for (uint32_t root : s.roots()) {  // hlod0 reaches c_desiredTris (150) in both modes
+            const Node& n = s.nodes[root];
+            EXPECT_LE(n.texturedTriangles + n.untexturedTriangles, kTargetSlack * 150) << "hlod0 of block " << n.block;
+            EXPECT_GT(n.geometricError, 0.0f) << "hlod0 of block " << n.block;
+        }
+    }
+    static void checkNoGap() {
+        const Skeleton& s = db_->skeleton();
+        struct Case {
+            std::string name;
+            std::function<bool(const Node&)> refine;
+        };
+        std::vector<Case> cases = {{"all hlod0", [](const Node&) { return false; }},
+                                   {"all leaves", [](const Node&) { return true; }}};
+        for (uint32_t seed = 1; seed <= 4; ++seed)
+            cases.push_back({"mixed " + std::to_string(seed), [seed](const Node& n) {
+                                 const uint32_t hash = (n.id + 1) * 2654435761u ^ seed * 40503u;
+                                 return ((hash >> 16) & 1) != 0;
+                             }});
+        for (const Case& c : cases) {
+            const std::vector<uint32_t> nodes = front(c.refine);
+            if (c.name.starts_with("mixed")) {
+                std::vector<bool> levels(3);
+                for (uint32_t id : nodes) levels[s.nodes[id].level] = true;
+                EXPECT_TRUE(levels[0] && levels[1] && levels[2]) << c.name << " does not mix all three levels";
+            }
+            const Gap gap = largestGap(nodes);
+            EXPECT_GT(gap.endpoints, 1000u) << c.name;  // 9 blocks: 4 inner block borders of about 96 edges
+            EXPECT_EQ(gap.largest, 0.0) << c.name << ": largest border gap " << gap.largest << " at " << gap.where;
+    }
+    }
+
     static std::filesystem::path* dir_;
     static Database* db_;
     static std::vector<NodeBorder> borders_;
@@ -155,38 +196,15 @@ std::filesystem::path* StoredCracks::dir_ = nullptr;
 Database* StoredCracks::db_ = nullptr;
 std::vector<NodeBorder> StoredCracks::borders_;
 
-TEST_F(StoredCracks, DatabaseHasNineBlocksOfThreeLevels) {
-    const Skeleton& s = db_->skeleton();
-    ASSERT_EQ(s.blockCount, 9u);
-    for (const Node& n : s.nodes) EXPECT_LE(n.level, 2u);
-    EXPECT_EQ(front([](const Node&) { return true; }).size(), 9u * 16);
-}
+TEST_F(StoredCracks, DatabaseHasNineBlocksOfThreeLevels) { checkShape(); }
+TEST_F(StoredCracks, NoGapBetweenNodesOfAnyFront) { checkNoGap(); }
 
-TEST_F(StoredCracks, NoGapBetweenNodesOfAnyFront) {
-    const Skeleton& s = db_->skeleton();
-    struct Case {
-        std::string name;
-        std::function<bool(const Node&)> refine;
-    };
-    std::vector<Case> cases = {{"all hlod0", [](const Node&) { return false; }},
-                               {"all leaves", [](const Node&) { return true; }}};
-    for (uint32_t seed = 1; seed <= 4; ++seed)
-        cases.push_back({"mixed " + std::to_string(seed), [seed](const Node& n) {
-                             const uint32_t hash = (n.id + 1) * 2654435761u ^ seed * 40503u;
-                             return ((hash >> 16) & 1) != 0;
-                         }});
-    for (const Case& c : cases) {
-        const std::vector<uint32_t> nodes = front(c.refine);
-        if (c.name.starts_with("mixed")) {
-            std::vector<bool> levels(3);
-            for (uint32_t id : nodes) levels[s.nodes[id].level] = true;
-            EXPECT_TRUE(levels[0] && levels[1] && levels[2]) << c.name << " does not mix all three levels";
-        }
-        const Gap gap = largestGap(nodes);
-        EXPECT_GT(gap.endpoints, 1000u) << c.name;  // 9 blocks: 4 inner block borders of about 96 edges
-        EXPECT_EQ(gap.largest, 0.0) << c.name << ": largest border gap " << gap.largest << " at " << gap.where;
-    }
-}
+class StoredCracksBottomUp : public StoredCracks {
+protected:
+    static void SetUpTestSuite() { setUp(BuildMode::BottomUp); }
+};
+TEST_F(StoredCracksBottomUp, DatabaseHasNineBlocksOfThreeLevels) { checkShape(); }
+TEST_F(StoredCracksBottomUp, NoGapBetweenNodesOfAnyFront) { checkNoGap(); }
 
 // One lattice per block: a leaf spans a quarter of its block's longest side (the block cut in
 // four strips, each strip in four), so it needs 2 bits fewer than hlod0.
