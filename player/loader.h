@@ -27,6 +27,7 @@ struct LoaderOptions {
     uint64_t chunkBytes = 64 << 10; // read unit; preemption is checked between chunks
     uint32_t maxReady = 64;         // decoded nodes waiting for upload before the loader pauses
     uint32_t maxSuspended = 8;      // preempted partial loads kept for resumption
+    uint32_t roomNodes = 4;         // eviction makes room for this many of the most urgent unloaded nodes
 };
 
 struct PriorityUpdate {
@@ -64,8 +65,8 @@ public:
     std::vector<DecodedNode> takeReady(uint32_t maxCount, uint64_t maxBytes);
     // This frame's priorities; `forget` were visited last frame but not now (they sink to
     // priority 0, or leave the queue when unloaded). Then evicts resident nodes, lowest
-    // priority first and never `pinned` ones, until the budget holds and the most urgent
-    // unloaded node fits. Returns the evicted nodes (the caller evicts them from the renderer).
+    // priority first and never `pinned` ones, until the budget holds and the roomNodes most
+    // urgent unloaded nodes fit (each only in place of nodes of lower priority than its own). Returns the evicted nodes (the caller evicts them from the renderer).
     std::vector<uint32_t> updateAndEvict(std::span<const PriorityUpdate> updates, std::span<const uint32_t> forget,
                                          const std::function<bool(uint32_t)>& pinned);
     LoaderCounters counters();
@@ -109,6 +110,8 @@ private:
     Partial takeSuspended(uint32_t id);
     void suspend(uint32_t id, Partial&& partial);
     void failLocked(uint32_t id, const std::string& what);
+    uint32_t nextUnloadedLocked(uint32_t id) const;
+    void evictLocked(const std::function<bool(uint32_t)>& pinned, std::vector<uint32_t>& evicted);
     void run();
 };
 
