@@ -1,21 +1,20 @@
-// Thesis §4.3 "Incremental Pre-fetching": the loading thread takes the highest-priority
-// unloaded node from the queue (the cached pointer), reads it a chunk at a time and, between
-// chunks, gives way to a more urgent node (the partial read is suspended, resumed later).
-// Draco/JPEG decoding happens here; the render thread only uploads. Memory: a node is loaded
-// only when resident bytes + its expected decoded size fit maxMemory; the render thread
-// evicts the lowest-priority resident nodes to make room (never hlod0, never a node on the
-// current front's path: drawn or refined). A node whose read or decode fails is reported once
-// (takeFailures) and never requested again; the player decides whether that ends the run.
+// What every loader shares (player/loader.h): the loading thread at a low OS priority (thesis
+// §4.3), the ready list the render thread uploads from, pinned loads, failures reported once
+// and never retried, the demand/prefetch byte counts, and the on-demand fetch of `--on-miss
+// wait` (Varadhan & Manocha 2002 §4.1 Stage II: the renderer waits for the front's missing nodes).
 #include "player/loader.h"
 
 #include "formats/db.h"
+#include "player/loader_thesis.h"
+#include "player/loader_vm.h"
 
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
+#include <stdexcept>
+#include <unordered_set>
 #include <utility>
 
 namespace hlod {
@@ -34,18 +33,34 @@ std::string problemOf(const std::string& what, const std::string& name, uint32_t
     return what;
 }
 
+constexpr const char* kKindNames[] = {"thesis", "vm", "demand", "incore"};
+constexpr const char* kOnMissNames[] = {"parent", "wait"};
+
 }  // namespace
+
+LoaderKind loaderKindByName(const std::string& name) {
+    for (size_t i = 0; i < std::size(kKindNames); ++i)
+        if (name == kKindNames[i]) return LoaderKind(i);
+    throw std::invalid_argument("unknown loader '" + name + "' (thesis, vm, demand, incore)");
+}
+const char* loaderKindName(LoaderKind kind) { return kKindNames[size_t(kind)]; }
+OnMiss onMissByName(const std::string& name) {
+    for (size_t i = 0; i < std::size(kOnMissNames); ++i)
+        if (name == kOnMissNames[i]) return OnMiss(i);
+    throw std::invalid_argument("unknown --on-miss '" + name + "' (parent, wait)");
+}
+const char* onMissName(OnMiss onMiss) { return kOnMissNames[size_t(onMiss)]; }
 
 Loader::Loader(std::shared_ptr<const NodeSource> source, const LoaderOptions& options)
     : source_(std::move(source)),
       options_(options),
-      queue_(uint32_t(source_->skeleton().nodes.size())),
       state_(source_->skeleton().nodes.size(), Residency::Unloaded),
-      nodeBytes_(source_->skeleton().nodes.size(), 0) {
+      nodeBytes_(source_->skeleton().nodes.size(), 0),
+      wanted_(source_->skeleton().nodes.size(), 0) {
     options_.chunkBytes = std::max<uint64_t>(options_.chunkBytes, 1);
 }
 
-Loader::~Loader() { stop(); }
+Loader::~Loader() { joinThread(); }
 
 std::unique_lock<std::mutex> Loader::lockTimed() {
     auto t0 = std::chrono::steady_clock::now();
@@ -55,106 +70,44 @@ std::unique_lock<std::mutex> Loader::lockTimed() {
     return lock;
 }
 
+void Loader::countLoadLocked(uint32_t id, uint64_t stored, uint64_t decoded) {
+    counters_.bytesRead += stored;
+    counters_.bytesDecoded += decoded;
+    (wanted_[id] ? counters_.demandBytes : counters_.prefetchBytes) += stored;
+    ++counters_.loads;
+    nodeBytes_[id] = decoded;
+}
+
 DecodedNode Loader::loadPinned(uint32_t id) {
     std::vector<uint8_t> data(source_->nodeSize(id));
     source_->readChunk(id, 0, data);
     DecodedNode node = source_->decode(id, data);
     std::lock_guard lock(mutex_);
-    nodeBytes_[id] = node.bytes();
-    counters_.residentBytes += nodeBytes_[id];
+    counters_.residentBytes += node.bytes();
     counters_.bytesRead += data.size();
-    counters_.bytesDecoded += nodeBytes_[id];
+    counters_.bytesDecoded += node.bytes();
     ++counters_.loads;
+    nodeBytes_[id] = node.bytes();
     state_[id] = Residency::Resident;
     return node;
 }
 
-uint32_t Loader::pickLocked() const {
-    if (stop_ || ready_.size() >= options_.maxReady) return kNoNode;
-    uint32_t id = queue_.highestUnloaded();
-    if (id == kNoNode) return kNoNode;
-    uint64_t budget = options_.memoryBudget;
-    if (budget > 0 && counters_.residentBytes + source_->expectedBytes(id) > budget) return kNoNode;
-    return id;
-}
-
-bool Loader::shouldPreemptLocked(uint32_t id) const {
-    if (stop_ || !queue_.contains(id)) return true;
-    uint32_t other = queue_.highestUnloaded();
-    return other != kNoNode && queue_.priority(other) > queue_.priority(id);
-}
-
-Loader::Partial Loader::takeSuspended(uint32_t id) {
-    auto it = suspended_.find(id);
-    if (it == suspended_.end()) return {};
-    Partial p = std::move(it->second);
-    suspended_.erase(it);
-    std::erase(suspendedOrder_, id);
-    return p;
-}
-
-void Loader::suspend(uint32_t id, Partial&& partial) {
-    if (suspendedOrder_.size() >= options_.maxSuspended && !suspendedOrder_.empty()) {
-        suspended_.erase(suspendedOrder_.front());
-        suspendedOrder_.erase(suspendedOrder_.begin());
-    }
-    suspended_[id] = std::move(partial);
-    suspendedOrder_.push_back(id);
-}
-
 void Loader::failLocked(uint32_t id, const std::string& what) {
-    state_[id] = Residency::Failed;  // out of the queue; priority updates skip it: never picked again
-    queue_.remove(id);
+    state_[id] = Residency::Failed;  // never picked again
+    onFailedLocked(id);
     failures_.push_back({id, what, problemOf(what, source_->name(), id)});
 }
 
-// One node: returns false when nothing can be loaded now.
-bool Loader::loadOne(bool preemptible) {
-    uint32_t id;
-    uint64_t reserved;
-    {
-        std::lock_guard lock(mutex_);
-        id = pickLocked();
-        if (id == kNoNode) return false;
-        reserved = source_->expectedBytes(id);
-        state_[id] = Residency::Loading;
-        queue_.setLoaded(id, true);
-        counters_.residentBytes += reserved;
-    }
-    Partial part = takeSuspended(id);
-    uint64_t size = source_->nodeSize(id);
-    part.data.resize(size);
-    try {
-        while (part.done < size) {
-            uint64_t n = std::min(options_.chunkBytes, size - part.done);
-            source_->readChunk(id, part.done, std::span(part.data).subspan(part.done, n));
-            part.done += n;
-            if (!preemptible || part.done == size) continue;
-            std::lock_guard lock(mutex_);
-            if (!shouldPreemptLocked(id)) continue;
-            state_[id] = Residency::Unloaded;
-            queue_.setLoaded(id, false);
-            counters_.residentBytes -= reserved;
-            ++counters_.preemptions;
-            suspend(id, std::move(part));
-            return true;
-        }
-        DecodedNode node = source_->decode(id, part.data);
-        std::lock_guard lock(mutex_);
-        uint64_t bytes = node.bytes();
-        counters_.residentBytes = counters_.residentBytes - reserved + bytes;
-        counters_.bytesRead += size;
-        counters_.bytesDecoded += bytes;
-        ++counters_.loads;
-        nodeBytes_[id] = bytes;
-        state_[id] = Residency::Ready;
-        ready_.push_back(std::move(node));
-    } catch (const std::exception& e) {
-        std::lock_guard lock(mutex_);
-        counters_.residentBytes -= reserved;
-        failLocked(id, e.what());
-    }
-    return true;
+void Loader::evictLocked(uint32_t id) {
+    counters_.residentBytes -= nodeBytes_[id];
+    if (state_[id] == Residency::Resident) evicted_.push_back(id);
+    if (state_[id] == Residency::Ready) std::erase_if(ready_, [id](const DecodedNode& n) { return n.id == id; });
+    state_[id] = Residency::Unloaded;
+}
+
+void Loader::markWantedLocked(std::span<const uint32_t> wanted) {
+    std::fill(wanted_.begin(), wanted_.end(), 0);
+    for (uint32_t id : wanted) wanted_[id] = 1;
 }
 
 void Loader::run() {
@@ -173,7 +126,9 @@ void Loader::start() {
     if (!thread_.joinable()) thread_ = std::thread([this] { run(); });
 }
 
-void Loader::stop() {
+void Loader::stop() { joinThread(); }
+
+void Loader::joinThread() {
     {
         std::lock_guard lock(mutex_);
         stop_ = true;
@@ -209,65 +164,45 @@ std::vector<DecodedNode> Loader::takeReady(uint32_t maxCount, uint64_t maxBytes)
     return out;
 }
 
-uint32_t Loader::nextUnloadedLocked(uint32_t id) const {
-    do id = queue_.next(id);
-    while (id != kNoNode && queue_.loaded(id));
-    return id;
+std::vector<uint32_t> Loader::takeEvicted() {
+    auto lock = lockTimed();
+    return std::exchange(evicted_, {});
 }
 
-// §4.3: "unloading the nodes in the set mem with the smallest priority until the above condition
-// is satisfied". First the budget itself; then room for the roomNodes most urgent unloaded
-// nodes (what the loader can take before the next pass), each only at the expense of resident
-// nodes of lower priority than its own. Room for just the most urgent one held a full budget to
-// one load a frame while most of it was nodes no longer visited (player/LOADER_RUNS.md, issue 12).
-void Loader::evictLocked(const std::function<bool(uint32_t)>& pinned, std::vector<uint32_t>& evicted) {
-    uint32_t victim = queue_.tail();
-    auto evictableAbove = [&](double priority) {  // the next victim of priority below `priority`
-        for (; victim != kNoNode && queue_.priority(victim) < priority; victim = queue_.prev(victim))
-            if (state_[victim] == Residency::Resident && !pinned(victim)) return true;
-        return false;
-    };
-    auto evictVictim = [&] {
-        uint32_t c = victim;
-        victim = queue_.prev(c);
-        counters_.residentBytes -= nodeBytes_[c];
-        state_[c] = Residency::Unloaded;
-        queue_.setLoaded(c, false);
-        evicted.push_back(c);
-    };
-    const uint64_t budget = options_.memoryBudget;
-    const double anyPriority = std::numeric_limits<double>::infinity();
-    while (counters_.residentBytes > budget && evictableAbove(anyPriority)) evictVictim();
-    uint64_t need = 0;
-    uint32_t want = queue_.highestUnloaded();
-    for (uint32_t n = 0; n < options_.roomNodes && want != kNoNode; ++n, want = nextUnloadedLocked(want)) {
-        need += source_->expectedBytes(want);
-        while (counters_.residentBytes + need > budget && evictableAbove(queue_.priority(want))) evictVictim();
-        if (counters_.residentBytes + need > budget) break;
-    }
-}
-
-std::vector<uint32_t> Loader::updateAndEvict(std::span<const PriorityUpdate> updates, std::span<const uint32_t> forget,
-                                             const std::function<bool(uint32_t)>& pinned) {
-    std::vector<uint32_t> evicted;
-    {
-        auto lock = lockTimed();
-        for (uint32_t id : forget) {
-            if (state_[id] == Residency::Unloaded)
-                queue_.remove(id);
-            else if (queue_.contains(id))
-                queue_.update(id, 0);
+FetchResult Loader::fetchNow(std::span<const uint32_t> ids, std::span<const uint32_t> keep, const DiskModel& disk) {
+    FetchResult r;
+    std::unordered_set<uint32_t> kept(keep.begin(), keep.end());
+    auto isKept = [&](uint32_t id) { return kept.contains(id); };
+    for (uint32_t id : ids) {
+        uint64_t reserved = source_->expectedBytes(id);
+        {
+            auto lock = lockTimed();
+            if (state_[id] != Residency::Unloaded) continue;  // arrived meanwhile, being loaded, or failed
+            if (options_.memoryBudget > 0 && !makeRoomLocked(reserved, isKept)) continue;
+            state_[id] = Residency::Loading;
+            counters_.residentBytes += reserved;
         }
-        for (const PriorityUpdate& u : updates) {
-            if (state_[u.id] == Residency::Failed) continue;
-            queue_.update(u.id, u.priority);
-            queue_.setLoaded(u.id, state_[u.id] != Residency::Unloaded);
+        std::vector<uint8_t> data(source_->nodeSize(id));
+        try {
+            source_->readChunk(id, 0, data);
+            DecodedNode node = source_->decode(id, data);
+            auto lock = lockTimed();
+            counters_.residentBytes = counters_.residentBytes - reserved + node.bytes();
+            wanted_[id] = 1;
+            countLoadLocked(id, data.size(), node.bytes());
+            state_[id] = Residency::Resident;
+            onFetchedLocked(id);
+            r.storedBytes += data.size();
+            r.decodedBytes += node.bytes();
+            r.modelledMs += disk.fetchMs(data.size(), node.bytes());
+            r.nodes.push_back(std::move(node));
+        } catch (const std::exception& e) {
+            auto lock = lockTimed();
+            counters_.residentBytes -= reserved;
+            failLocked(id, e.what());
         }
-        if (options_.memoryBudget > 0) evictLocked(pinned, evicted);
-        dirty_ = true;
     }
-    wake_.notify_one();
-    return evicted;
+    return r;
 }
 
 LoaderCounters Loader::counters() {
@@ -289,6 +224,16 @@ std::vector<LoadFailure> Loader::takeFailures() {
 Residency Loader::residency(uint32_t id) {
     auto lock = lockTimed();
     return state_[id];
+}
+
+std::unique_ptr<Loader> makeLoader(LoaderKind kind, std::shared_ptr<const NodeSource> source, const LoaderOptions& options) {
+    switch (kind) {
+        case LoaderKind::Vm: return std::make_unique<VmLoader>(std::move(source), options, true);
+        case LoaderKind::Demand: return std::make_unique<VmLoader>(std::move(source), options, false);
+        case LoaderKind::Thesis:
+        case LoaderKind::Incore: break;
+    }
+    return std::make_unique<ThesisLoader>(std::move(source), options);
 }
 
 }  // namespace hlod

@@ -9,6 +9,7 @@
 #include "player/node_source.h"
 #include "player/policy.h"
 #include "player/selection.h"
+#include "player/vm_frame.h"
 
 #include <algorithm>
 #include <chrono>
@@ -44,7 +45,7 @@ struct Player::Impl {
     Constants c;
     Renderer& renderer;
     PlayerOptions options;
-    Loader loader;
+    std::unique_ptr<Loader> loader;
     SelectionState selection;
     std::unique_ptr<SelectionPolicy> policy;
     std::vector<uint8_t> resident;
@@ -60,6 +61,10 @@ struct Player::Impl {
     double previousPosition[3] = {0, 0, 0}, previousTime = 0, velocity[3] = {0, 0, 0};
     bool frontSkips = false;  // PolicyFront::skipsBlocks of the last frame
     double distance = 0;  // camera path length so far, teleports excluded (toggles per metre, §6.5)
+    std::vector<uint8_t> failed, waitView;  // failed loads; --on-miss wait: what the selector may draw
+    bool haveForward = false, moved = true;
+    double previousForward[3] = {0, 0, -1}, forwardTime = 0, angularSpeed = 0;  // vm prefetch frustum
+    uint64_t lastDemandBytes = 0, lastPrefetchBytes = 0;
 
     Impl(std::shared_ptr<const NodeSource> src, const Constants& constants, Renderer& r, const PlayerOptions& o)
         : source(std::move(src)),
@@ -69,32 +74,43 @@ struct Player::Impl {
           options(o),
           // Room is made each frame for what the loader can take before the next frame: the
           // synchronous step's nodes, or what the render thread may upload in one frame.
-          loader(source, LoaderOptions{o.memoryBudget, o.chunkBytes, 64, 8,
-                                       o.threadedLoader ? o.maxUploadsPerFrame : o.syncLoadsPerFrame}),
+          loader(makeLoader(o.loader, source,
+                            LoaderOptions{o.memoryBudget, o.chunkBytes, 64, 8,
+                                          o.threadedLoader ? o.maxUploadsPerFrame : o.syncLoadsPerFrame})),
           selection(skeleton),
           policy(makePolicy(o.policy, o.policyOptions)),
           resident(skeleton.nodes.size(), 0),
-          visitedStamp(skeleton.nodes.size(), 0) {
+          visitedStamp(skeleton.nodes.size(), 0),
+          failed(skeleton.nodes.size(), 0),
+          waitView(skeleton.nodes.size(), 1) {
+        const bool incore = options.loader == LoaderKind::Incore;
+        if (incore && options.memoryBudget > 0) {
+            uint64_t total = 0;
+            for (const Node& n : skeleton.nodes) total += source->expectedBytes(n.id);
+            if (total > options.memoryBudget)
+                throw std::invalid_argument("--loader incore needs every node in memory: " + std::to_string(total) +
+                                            " bytes > memory budget " + std::to_string(options.memoryBudget));
+        }
         for (const Node& n : skeleton.nodes) levels = std::max(levels, n.level + 1);
         for (uint32_t root : selection.roots) {
             renderer.upload(loadRoot(root));
             markResident(root, true);
         }
-        if (options.preload)
+        if (options.preload || incore)
             for (const Node& n : skeleton.nodes)
                 if (!resident[n.id]) {
-                    renderer.upload(loader.loadPinned(n.id));
+                    renderer.upload(loader->loadPinned(n.id));
                     markResident(n.id, true);
                 }
         calibrate();
-        if (options.threadedLoader) loader.start();
+        if (options.threadedLoader) loader->start();
     }
 
     // The traversal starts from every hlod0 node (§4.2) and none is ever skipped: a root that
     // cannot load ends the run before it starts.
     DecodedNode loadRoot(uint32_t id) {
         try {
-            return loader.loadPinned(id);
+            return loader->loadPinned(id);
         } catch (const std::exception& e) {
             throw FormatError(std::string(e.what()) + " (hlod0 node " + std::to_string(id) + ", which is never skipped)");
         }
@@ -104,9 +120,11 @@ struct Player::Impl {
     // child that never arrives (a miss: its parent stays drawn, §4.2) and its subtree is never
     // visited, so never requested. Strict runs stop at the first one instead.
     uint32_t reportFailures() {
-        std::vector<LoadFailure> failures = loader.takeFailures();
+        std::vector<LoadFailure> failures = loader->takeFailures();
         for (const LoadFailure& f : failures) {
             if (options.strictLoads) throw FormatError(f.what);
+            failed[f.node] = 1;
+            waitView[f.node] = 0;
             if (options.onLoadFailure) options.onLoadFailure(f);
         }
         return uint32_t(failures.size());
@@ -168,7 +186,7 @@ struct Player::Impl {
 
     uint32_t uploadReady() {
         uint32_t loads = 0;
-        for (DecodedNode& node : loader.takeReady(options.maxUploadsPerFrame, options.maxUploadBytesPerFrame)) {
+        for (DecodedNode& node : loader->takeReady(options.maxUploadsPerFrame, options.maxUploadBytesPerFrame)) {
             uint32_t id = node.id;
             renderer.upload(std::move(node));
             markResident(id, true);
@@ -177,7 +195,98 @@ struct Player::Impl {
         return loads;
     }
 
-    uint32_t updateLoader(const std::vector<uint32_t>& visited) {
+    // Uploaded nodes the loader evicted (vm: while loading; thesis: in update).
+    uint32_t applyEvictions() {
+        std::vector<uint32_t> evicted = loader->takeEvicted();
+        for (uint32_t id : evicted) {
+            renderer.evict(id);
+            markResident(id, false);
+        }
+        return uint32_t(evicted.size());
+    }
+
+    // The viewing direction's angular speed (rad/s, smoothed as the velocity is) and whether the
+    // viewpoint changed: the vm loader's prefetch frustum and bin flush (player/LOADERS.md).
+    void updateAngularSpeed(const View& view, const Camera& camera, double t) {
+        double dot = 0;
+        for (int i = 0; i < 3; ++i) dot += view.forward[i] * previousForward[i];
+        double angle = haveForward ? std::acos(std::clamp(dot, -1.0, 1.0)) : 0;
+        if (haveForward && t > forwardTime) angularSpeed = 0.5 * angularSpeed + 0.5 * angle / (t - forwardTime);
+        bool stepped = false;
+        for (int i = 0; i < 3; ++i) stepped = stepped || camera.position[i] != previousPosition[i];
+        moved = !haveForward || angle > 0 || stepped;
+        haveForward = true;
+        forwardTime = t;
+        std::copy(view.forward, view.forward + 3, previousForward);
+    }
+
+    // Nodes the selector wanted to draw but could not: the visible (with requireLoadedChildren,
+    // every) unloaded children of the nodes drawn for a miss.
+    std::vector<uint32_t> wantedChildren(const PolicyFront& sel) const {
+        std::vector<uint32_t> wanted;
+        for (const DrawnNode& d : sel.drawn) {
+            if (d.reason != DrawReason::Miss) continue;
+            for (uint32_t c = skeleton.nodes[d.node].firstChild; c != kNone && skeleton.nodes[c].parent == d.node;
+                 c = skeleton.nodes[c].nextSibling)
+                if (!resident[c] && !failed[c] && (selection.nodes[c].frustumVis >= 1 || options.requireLoadedChildren))
+                    wanted.push_back(c);
+        }
+        return wanted;
+    }
+
+    // --on-miss wait (Varadhan & Manocha §4.1 Stage II): the frame waits while the drawn nodes that
+    // are not resident are fetched; one that cannot be (no room, failed) gives way to its nearest
+    // resident ancestor. Returns the wait: the disk model's time (synchronous) or the measured one.
+    double fetchFront(PolicyFront& sel, std::vector<uint32_t>& wanted, FrameStats& s) {
+        std::vector<uint32_t> front;
+        for (const DrawnNode& d : sel.drawn) {
+            front.push_back(d.node);
+            if (!resident[d.node]) wanted.push_back(d.node);
+        }
+        if (wanted.empty()) return 0;
+        auto t0 = std::chrono::steady_clock::now();
+        FetchResult r = loader->fetchNow(wanted, front, options.disk);
+        double measured = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        s.evictions += applyEvictions();
+        for (DecodedNode& node : r.nodes) {
+            uint32_t id = node.id;
+            renderer.upload(std::move(node));
+            markResident(id, true);
+            ++s.loads;
+        }
+        s.failedLoads += reportFailures();
+        fallBackToResidentAncestors(sel);
+        return options.threadedLoader ? measured : r.modelledMs;
+    }
+
+    void fallBackToResidentAncestors(PolicyFront& sel) const {
+        std::vector<uint8_t> cover(skeleton.nodes.size(), 0);
+        std::vector<uint32_t> up;
+        for (const DrawnNode& d : sel.drawn) {
+            if (resident[d.node]) continue;
+            uint32_t a = skeleton.nodes[d.node].parent;
+            while (a != kNone && !resident[a]) a = skeleton.nodes[a].parent;
+            if (a != kNone && !cover[a]) {
+                cover[a] = 1;
+                up.push_back(a);
+            }
+        }
+        if (up.empty()) return;
+        auto covered = [&](uint32_t id) {
+            for (uint32_t p = skeleton.nodes[id].parent; p != kNone; p = skeleton.nodes[p].parent)
+                if (cover[p]) return true;
+            return false;
+        };
+        std::vector<DrawnNode> out;
+        for (const DrawnNode& d : sel.drawn)
+            if (resident[d.node] && !cover[d.node] && !covered(d.node)) out.push_back(d);
+        for (uint32_t a : up)
+            if (!covered(a)) out.push_back({a, DrawReason::Miss});
+        sel.drawn = std::move(out);
+    }
+
+    uint32_t updateLoader(const std::vector<uint32_t>& visited, std::span<const DrawItem> drawn,
+                          std::span<const uint32_t> wanted, const Camera& camera, const Projection& projection) {
         uint64_t stamp = frameIndex + 1;
         std::vector<PriorityUpdate> updates;
         updates.reserve(visited.size());
@@ -194,13 +303,15 @@ struct Player::Impl {
         auto pinned = [&](uint32_t id) {
             return skeleton.nodes[id].level == 0 || selection.role(id) != DrawState::None;
         };
-        std::vector<uint32_t> evicted = loader.updateAndEvict(updates, forget, pinned);
-        for (uint32_t id : evicted) {
-            renderer.evict(id);
-            markResident(id, false);
-        }
+        std::vector<uint32_t> front;
+        for (const DrawItem& d : drawn) front.push_back(d.node);
+        LoadRequest request{updates, forget, front, wanted, pinned, nullptr};
+        if (options.loader == LoaderKind::Vm)
+            request.vm = makeVmFrame({skeleton, selection, visited, options.policy, options.policyOptions, options.vm, camera,
+                                      projection, vTime, angularSpeed, options.lookaheadSeconds, moved});
+        loader->update(request);
         lastVisited = visited;
-        return uint32_t(evicted.size());
+        return applyEvictions();
     }
 
     // Triangles full detail would draw for a visible node: its visible children's, recursively; a
@@ -224,32 +335,45 @@ struct Player::Impl {
         s.timeSeconds = timeSeconds;
         s.targetMs = c.targetTimeMs;
         s.hlod0ShareMs = share;
-        if (!options.threadedLoader) loader.step(options.syncLoadsPerFrame);
+        if (!options.threadedLoader) loader->step(options.syncLoadsPerFrame);
         s.failedLoads = reportFailures();
+        s.evictions = applyEvictions();
         s.loads = uploadReady();
 
         updateVelocity(camera, timeSeconds);
         View view = makeView(camera, velocity, options.lookaheadSeconds);
+        updateAngularSpeed(view, camera, timeSeconds);
         Evaluate evaluate = [&](uint32_t id) {
             const Node& n = skeleton.nodes[id];
             double fv = frustumVis(view, n.bounds);
             return NodeEval{nodePriority(n, view, c, fv), fv};
         };
         Projection projection = makeProjection(camera, options.viewportHeight);
-        PolicyFrame pf{skeleton, c, camera, view, projection, evaluate, resident, frameIndex, c.targetTimeMs,
-                       overhead, vTime, share, options.requireLoadedChildren, options.initialHystSwitches * c.hystSwitch};
+        const bool wait = options.onMiss == OnMiss::Wait;
+        PolicyFrame pf{skeleton, c, camera, view, projection, evaluate, wait ? waitView : resident, frameIndex,
+                       c.targetTimeMs, overhead, vTime, share, options.requireLoadedChildren,
+                       options.initialHystSwitches * c.hystSwitch};
         auto t0 = std::chrono::steady_clock::now();
         PolicyFront sel = policy->select(pf, selection);
+        std::vector<uint32_t> wanted;
+        auto t1 = std::chrono::steady_clock::now();
+        if (wait)
+            s.waitMs = fetchFront(sel, wanted, s);
+        else
+            wanted = wantedChildren(sel);
+        auto t2 = std::chrono::steady_clock::now();
         FrontAccount account = accountFront(skeleton, selection, sel.drawn);
-        s.selectionMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        s.evictions = updateLoader(sel.visited);
+        s.selectionMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t2 + (t1 - t0)).count();
+        s.evictions += updateLoader(sel.visited, account.items, wanted, camera, projection);
 
-        s.actualMs = renderer.drawFrame(camera, account.items, options.frameOptions);
+        // The feedback loops see the drawing time: a wait for the disk is not the front's cost.
+        const double drawMs = renderer.drawFrame(camera, account.items, options.frameOptions);
+        s.actualMs = drawMs + s.waitMs;
         s.estimateNoFeedbackMs = overhead + vTime0 * account.drawnCost;
         s.estimateMs = overhead + vTime * account.drawnCost;
-        vTime = nextVTime(vTime, s.actualMs, overhead, account.drawnCost, options.vTimeGain);
-        share = nextHlod0Share(share, c.targetTimeMs, s.actualMs, sel.refused, options.shareLoop);
-        policy->observe(FrameOutcome{s.actualMs, s.estimateMs, c.targetTimeMs, account.drawnCost, vTime});
+        vTime = nextVTime(vTime, drawMs, overhead, account.drawnCost, options.vTimeGain);
+        share = nextHlod0Share(share, c.targetTimeMs, drawMs, sel.refused, options.shareLoop);
+        policy->observe(FrameOutcome{drawMs, s.estimateMs, c.targetTimeMs, account.drawnCost, vTime});
 
         s.vTime = vTime;
         s.nodesPerLevel.assign(levels, 0);
@@ -266,11 +390,18 @@ struct Player::Impl {
         s.misses = sel.misses;
         s.refused = sel.refused;
         s.residentNodes = residentNodes;
-        s.residentBytes = loader.counters().residentBytes;
+        LoaderCounters k = loader->counters();
+        s.residentBytes = k.residentBytes;
+        s.demandBytes = k.demandBytes - lastDemandBytes;
+        s.prefetchBytes = k.prefetchBytes - lastPrefetchBytes;
+        lastDemandBytes = k.demandBytes;
+        lastPrefetchBytes = k.prefetchBytes;
+        s.wantedMissing = uint32_t(wanted.size());
+        for (const DrawItem& d : account.items) s.frontBytes += source->expectedBytes(d.node);
         s.memoryEstimateBytes = c.memory * residentCost;
         s.memoryEstimatePct = options.memoryBudget ? 100 * s.memoryEstimateBytes / double(options.memoryBudget) : NAN;
         s.distance = distance;
-        s.stallMs = loader.takeLongestWaitMs();
+        s.stallMs = loader->takeLongestWaitMs();
         s.policy = policy->name();
         s.benefit = frontBenefit(skeleton, account.items, projection, visible);
         s.optimisationMs = sel.optimisationMs >= 0 ? sel.optimisationMs : s.selectionMs;

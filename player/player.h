@@ -7,9 +7,11 @@
 #include "formats/constants.h"
 #include "formats/db.h"
 #include "player/feedback.h"
+#include "player/loader.h"
 #include "player/node_source.h"
 #include "player/policy.h"
 #include "player/renderer.h"
+#include "player/vm_bins.h"
 
 #include <cstdint>
 #include <functional>
@@ -45,6 +47,14 @@ struct PlayerOptions {
     // parent stays drawn, onLoadFailure is told once); true (`--strict`) makes frame() throw.
     bool strictLoads = false;
     std::function<void(const LoadFailure&)> onLoadFailure;  // called from frame(), render thread
+    // The loader policy (player/LOADERS.md): thesis (§4.3), vm and demand (Varadhan & Manocha
+    // 2002 §4, with and without prefetching), incore (every node loaded at start; a budget below
+    // the database's decoded size is then an error).
+    LoaderKind loader = LoaderKind::Thesis;
+    // A wanted node that is not loaded: draw the loaded parent (thesis) or wait for its fetch (vm).
+    OnMiss onMiss = OnMiss::Parent;
+    DiskModel disk;      // modelled fetch time of `--on-miss wait` with the synchronous loader
+    VmOptions vm;        // vm loader: bins, tolerance, prefetch frustum
 };
 
 // Everything logged for one frame (columns of the CSV, player/STATS.md).
@@ -81,6 +91,12 @@ struct FrameStats {
     uint32_t iterations = 0;         // the policy's unit of work (thesis: nodes considered)
     uint64_t visibleTriangles = 0;   // triangles full detail would draw for the drawn visible nodes
     double leftoverMs = 0;           // target_ms - est_ms: budget the front left unused by the estimate
+    // Loader columns (player/LOADERS.md), appended after the policy ones.
+    uint64_t demandBytes = 0;        // stored bytes of nodes a frame wanted, fetched during this frame
+    uint64_t prefetchBytes = 0;      // stored bytes of the other loads during this frame
+    uint64_t frontBytes = 0;         // decoded bytes of the drawn nodes
+    uint32_t wantedMissing = 0;      // nodes the selector wanted to draw that were not loaded
+    double waitMs = 0;               // --on-miss wait: fetch time added to actual_ms (modelled or measured)
 };
 
 class Player {

@@ -19,6 +19,7 @@ std::vector<std::string> statsHeader(uint32_t levels) {
     for (uint32_t l = 0; l < levels; ++l) h.push_back("nodes_l" + std::to_string(l));
     for (uint32_t l = 0; l < levels; ++l) h.push_back("tris_l" + std::to_string(l));
     h.insert(h.end(), std::begin(kPolicyColumns), std::end(kPolicyColumns));
+    h.insert(h.end(), std::begin(kLoaderColumns), std::end(kLoaderColumns));
     return h;
 }
 
@@ -46,8 +47,10 @@ void writeStatsRow(std::ostream& os, const FrameStats& s, uint32_t levels) {
     os << buf;
     for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.nodesPerLevel.size() ? s.nodesPerLevel[l] : 0);
     for (uint32_t l = 0; l < levels; ++l) os << ',' << (l < s.trianglesPerLevel.size() ? s.trianglesPerLevel[l] : 0);
-    std::snprintf(buf, sizeof buf, ",%s,%.6g,%.4f,%u,%llu,%.4f\n", s.policy, s.benefit, s.optimisationMs, s.iterations,
-                  (unsigned long long)s.visibleTriangles, s.leftoverMs);
+    std::snprintf(buf, sizeof buf, ",%s,%.6g,%.4f,%u,%llu,%.4f,%llu,%llu,%llu,%u,%.4f\n", s.policy, s.benefit,
+                  s.optimisationMs, s.iterations, (unsigned long long)s.visibleTriangles, s.leftoverMs,
+                  (unsigned long long)s.demandBytes, (unsigned long long)s.prefetchBytes,
+                  (unsigned long long)s.frontBytes, s.wantedMissing, s.waitMs);
     os << buf;
 }
 

@@ -14,7 +14,7 @@
 namespace hlod {
 
 // The fixed columns, in order. Per-level columns follow: nodes_l0..nodes_l{L-1}, then
-// tris_l0..tris_l{L-1}, where L is the database's level count; then kPolicyColumns.
+// tris_l0..tris_l{L-1}, where L is the database's level count; then kPolicyColumns, kLoaderColumns.
 inline constexpr const char* kStatsColumns[] = {
     "frame", "time_s", "distance", "target_ms", "est_nofb_ms", "est_ms", "actual_ms", "v_time", "hlod0_share_ms",
     "nodes_drawn", "tris_drawn", "up_toggles", "down_toggles", "reversals", "resident_nodes", "resident_bytes",
@@ -24,6 +24,10 @@ inline constexpr const char* kStatsColumns[] = {
 // the columns before them keep their positions.
 inline constexpr const char* kPolicyColumns[] = {"policy", "benefit", "optimisation_ms", "iterations", "visible_tris",
                                                  "leftover_ms"};
+
+// The loader columns (player/LOADERS.md), after the policy ones.
+inline constexpr const char* kLoaderColumns[] = {"demand_bytes", "prefetch_bytes", "front_bytes", "wanted_missing",
+                                                 "wait_ms"};
 
 std::vector<std::string> statsHeader(uint32_t levels);
 

@@ -39,6 +39,7 @@ struct PlayArgs {
     ConstantOptions constants{"play", kUsedByPlayer};
     std::string calibration;
     std::vector<std::string> policySettings;  // --policy-set P.NAME=VALUE
+    std::string loader = "thesis", onMiss = "parent";
 };
 
 void writePng(const std::string& file, const Image& image) {
@@ -109,6 +110,8 @@ int runPlay(PlayArgs& a) {
     std::string names[] = {a.player.policy};
     checkPolicySettings(names, a.player.policyOptions);
     a.player.viewportHeight = a.height;
+    a.player.loader = loaderKindByName(a.loader);
+    a.player.onMiss = onMissByName(a.onMiss);
     CameraPath path = readCameraPath(a.path);
     Database db = Database::open(a.db);
     a.player.threadedLoader = !a.syncLoader;
@@ -130,6 +133,10 @@ int runPlay(PlayArgs& a) {
         {"model_ms_per_flat_tri", a.renderer == "model" ? std::to_string(a.model.msPerUntexturedTriangle) : "-"},
         {"memory_budget_bytes", std::to_string(a.player.memoryBudget)},
         {"loader", a.syncLoader ? "synchronous" : "thread"},
+        {"loader_policy", loaderKindName(a.player.loader)},
+        {"on_miss", onMissName(a.player.onMiss)}};
+    appendLoaderInfo(info, a.player);
+    info.insert(info.end(), {
         {"require_loaded_children", a.player.requireLoadedChildren ? "yes" : "no"},
         {"failed_load", a.player.strictLoads ? "fatal (--strict)" : "skipped, parent drawn"},
         {"overhead_ms", std::to_string(player.overheadMs())},
@@ -142,7 +149,7 @@ int runPlay(PlayArgs& a) {
         {"share_leak", std::to_string(a.player.shareLoop.leak)},
         {"share_step", std::to_string(a.player.shareLoop.step)},
         {"initial_hyst", std::to_string(a.player.initialHystSwitches * c.hystSwitch)},
-        {"time", "simulated (camera sampled at the sum of measured frame times)"}};
+        {"time", "simulated (camera sampled at the sum of measured frame times)"}});
     for (const auto& [k, v] : info) std::cout << k << ": " << v << '\n';
     StatsFile csv(a.stats);
     if (std::ostream* os = csv.stream()) writeStatsPreamble(*os, c, info, player.levelCount());
@@ -216,6 +223,7 @@ void addPlay(CLI::App& app, int& status) {
                   "(otherwise the cost model sleeps for each modelled frame time, so the loading thread gets "
                   "real time)");
     sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame");
+    addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
     sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most");
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)");
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured with drawing off)");

@@ -5,11 +5,14 @@
 
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hlod {
 class Database;
 struct CostModel;
 struct LoadFailure;
+struct PlayerOptions;
 }  // namespace hlod
 
 namespace hlod::cli {
@@ -28,6 +31,11 @@ void warnLoadFailure(const std::string& command, const Database& db, const LoadF
 // --model-ms-per-tri, --model-ms-per-flat-tri into `flatRate`, --model-noise, --model-node-error,
 // --seed).
 void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>& flatRate);
+// The loader options (--loader, --on-miss, --disk-*, --vm-*; player/LOADERS.md); the names of
+// the loader and of the miss rule go to `loader` and `onMiss` (loaderKindByName, onMissByName).
+void addLoaderOptions(CLI::App& sub, PlayerOptions& options, std::string& loader, std::string& onMiss);
+// The disk model's figures (and the vm loader's settings) as "# key: value" lines of a run.
+void appendLoaderInfo(std::vector<std::pair<std::string, std::string>>& info, const PlayerOptions& options);
 // `hlod compare DB --path P --policies a,b,...`: one path through several selection policies,
 // one table (player/POLICIES.md).
 void addCompare(CLI::App& app, int& status);

@@ -2,7 +2,7 @@
 // loading thread's path (chunked positioned reads, XXH3 check, Draco + JPEG decode) on a
 // synthetic database. Prints figures; not run by ctest.
 //   bench_loader [blocks] [trianglesPerNode] [textureSize]
-#include "player/loader.h"
+#include "player/loader_thesis.h"
 #include "tests/support/synthetic.h"
 
 #include <chrono>
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
     const Skeleton& s = db.skeleton();
 
     for (bool threaded : {false, true}) {
-        Loader loader(source, {});
+        ThesisLoader loader(source, {});
         std::vector<PriorityUpdate> all;
         for (const Node& n : s.nodes) all.push_back({n.id, 1.0 / (1 + n.level) + n.id * 1e-9});
         auto t0 = std::chrono::steady_clock::now();

@@ -3,7 +3,7 @@
 // and (threaded) the budget held under an erratic path with no data race (run under TSan).
 #include "player/camera_path.h"
 #include "player/cost_model_renderer.h"
-#include "player/loader.h"
+#include "player/loader_thesis.h"
 #include "player/player.h"
 #include "player/replay.h"
 #include "tests/support/memory_source.h"
@@ -47,7 +47,7 @@ private:
     std::shared_ptr<const NodeSource> inner_;
 };
 
-std::vector<uint32_t> readyIds(Loader& l) {
+std::vector<uint32_t> readyIds(ThesisLoader& l) {
     std::vector<uint32_t> ids;
     for (const DecodedNode& d : l.takeReady(100, ~0ull)) ids.push_back(d.id);
     return ids;
@@ -87,7 +87,7 @@ private:
 
 TEST(Loader, LoadsHighestPriorityFirst) {
     auto src = std::make_shared<HookSource>(test::gridSkeleton(1, 1, 3));
-    Loader loader(src, {});
+    ThesisLoader loader(src, {});
     std::vector<PriorityUpdate> u{{5, 3.0}, {6, 9.0}, {7, 1.0}};
     loader.updateAndEvict(u, {}, kNothingPinned);
     EXPECT_EQ(loader.step(1), 1u);
@@ -102,7 +102,7 @@ TEST(Loader, BudgetEvictsLowestPriorityUnpinnedNodes) {
     uint64_t one = src->expectedBytes(1);
     LoaderOptions o;
     o.memoryBudget = 2 * one + one / 2;  // room for two nodes
-    Loader loader(src, o);
+    ThesisLoader loader(src, o);
     std::vector<PriorityUpdate> u{{1, 5.0}, {2, 4.0}, {3, 3.0}};
     loader.updateAndEvict(u, {}, kNothingPinned);
     EXPECT_EQ(loader.step(5), 2u);  // the third does not fit
@@ -132,7 +132,7 @@ TEST(Loader, FullBudgetMakesRoomForSeveralMoreUrgentNodes) {
         LoaderOptions o;
         o.memoryBudget = 4 * one + one / 2;  // room for four nodes
         o.roomNodes = roomNodes;
-        Loader loader(src, o);
+        ThesisLoader loader(src, o);
         std::vector<PriorityUpdate> u{{1, 1.0}, {2, 2.0}, {3, 3.0}, {4, 4.0}};
         loader.updateAndEvict(u, {}, kNothingPinned);
         EXPECT_EQ(loader.step(8), 4u);
@@ -201,7 +201,7 @@ TEST(Loader, PreemptsForMoreUrgentNodeAndResumes) {
     auto src = std::make_shared<HookSource>(test::gridSkeleton(1, 1, 3, 4096));
     LoaderOptions o;
     o.chunkBytes = 4096;  // 16 chunks per node (4096 triangles * 16 bytes)
-    Loader loader(src, o);
+    ThesisLoader loader(src, o);
     std::vector<PriorityUpdate> u{{1, 2.0}};
     loader.updateAndEvict(u, {}, kNothingPinned);
     bool raised = false;
@@ -224,7 +224,7 @@ TEST(Loader, PreemptsForMoreUrgentNodeAndResumes) {
 TEST(Loader, CorruptNodeIsReportedOnceAndNotRetried) {
     auto src = std::make_shared<HookSource>(test::gridSkeleton(1, 1, 3));
     src->corrupt = 2;
-    Loader loader(src, {});
+    ThesisLoader loader(src, {});
     std::vector<PriorityUpdate> u{{2, 9.0}, {3, 1.0}};
     loader.updateAndEvict(u, {}, kNothingPinned);
     loader.step(5);

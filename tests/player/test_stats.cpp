@@ -24,6 +24,11 @@ TEST(Stats, HeaderAndRowsAgree) {
     f.benefit = 1234.5;
     f.iterations = 7;
     f.visibleTriangles = 99;
+    f.demandBytes = 4096;
+    f.prefetchBytes = 8192;
+    f.frontBytes = 65536;
+    f.wantedMissing = 5;
+    f.waitMs = 1.25;
     writeStatsRow(os, f, 3);
     std::istringstream in(os.str());
     std::string constants, db, header, row;
@@ -39,8 +44,12 @@ TEST(Stats, HeaderAndRowsAgree) {
     EXPECT_EQ(count(header), count(row));
     EXPECT_NE(row.find(",6,60,"), std::string::npos);  // nodes_drawn, tris_drawn
     EXPECT_NE(row.find(",1,2,3,10,20,30,thesis,1234.5,"), std::string::npos) << row;  // per-level, then policy columns
-    EXPECT_TRUE(header.ends_with(",tris_l2,policy,benefit,optimisation_ms,iterations,visible_tris,leftover_ms")) << header;
+    EXPECT_NE(header.find(",tris_l2,policy,benefit,optimisation_ms,iterations,visible_tris,leftover_ms,"), std::string::npos)
+        << header;
     EXPECT_NE(row.find(",7,99,"), std::string::npos) << row;
+    // The loader columns, last (player/LOADERS.md).
+    EXPECT_TRUE(header.ends_with(",leftover_ms,demand_bytes,prefetch_bytes,front_bytes,wanted_missing,wait_ms")) << header;
+    EXPECT_TRUE(row.ends_with(",4096,8192,65536,5,1.2500")) << row;
 }
 
 TEST(Stats, SummaryMeanSdP99AndToggles) {

@@ -1,0 +1,46 @@
+// The loader options shared by `hlod play`, `hlod compare` and `hlod view` (player/LOADERS.md):
+// the loader policy, what a miss does, the disk model and the vm loader's settings.
+#include "player/cli/subcommands.h"
+
+#include "player/player.h"
+
+#include <CLI/CLI.hpp>
+
+namespace hlod::cli {
+
+void addLoaderOptions(CLI::App& sub, PlayerOptions& o, std::string& loader, std::string& onMiss) {
+    sub.add_option("--loader", loader,
+                   "loader policy (player/LOADERS.md): thesis (thesis §4.3, default), vm (Varadhan & Manocha 2002 "
+                   "prioritized prefetching), demand (vm without prefetching), incore (everything loaded first)")
+        ->check(CLI::IsMember({"thesis", "vm", "demand", "incore"}));
+    sub.add_option("--on-miss", onMiss,
+                   "a wanted node not loaded: parent (draw the loaded parent, never wait; default) or wait (the "
+                   "frame waits for its fetch: the disk model's time with --sync-loader)")
+        ->check(CLI::IsMember({"parent", "wait"}));
+    sub.add_option("--disk-seek-ms", o.disk.seekMs, "disk model: ms per node fetched")->check(CLI::NonNegativeNumber);
+    sub.add_option("--disk-mbs", o.disk.bandwidthMBs, "disk model: stored MB/s")->check(CLI::PositiveNumber);
+    sub.add_option("--disk-decode-ns", o.disk.decodeNsPerByte, "disk model: decode ns per decoded byte")
+        ->check(CLI::NonNegativeNumber);
+    sub.add_option("--vm-tolerance", o.vm.tolerance,
+                   "vm: error tolerance epsilon for selectors without one (thesis: the units of the time-slice "
+                   "mapping; sse uses sse.tolerance)")
+        ->check(CLI::PositiveNumber);
+    sub.add_option("--vm-delta", o.vm.deltaRatio, "vm: delta / epsilon, the last bin (Fig. 5: 1.2)")->check(CLI::PositiveNumber);
+    sub.add_option("--vm-bins", o.vm.binsPerTolerance, "vm: bins per epsilon (Fig. 5: 10)")->check(CLI::PositiveNumber);
+    sub.add_option("--vm-margin-deg", o.vm.marginDegrees,
+                   "vm: prefetch frustum half-angle = render's + this + angular speed x --lookahead")
+        ->check(CLI::NonNegativeNumber);
+}
+
+void appendLoaderInfo(std::vector<std::pair<std::string, std::string>>& info, const PlayerOptions& o) {
+    info.push_back({"disk_seek_ms", std::to_string(o.disk.seekMs)});
+    info.push_back({"disk_mbs", std::to_string(o.disk.bandwidthMBs)});
+    info.push_back({"disk_decode_ns_per_byte", std::to_string(o.disk.decodeNsPerByte)});
+    if (o.loader != LoaderKind::Vm) return;
+    info.push_back({"vm_tolerance", std::to_string(o.vm.tolerance)});
+    info.push_back({"vm_delta_ratio", std::to_string(o.vm.deltaRatio)});
+    info.push_back({"vm_bins_per_tolerance", std::to_string(o.vm.binsPerTolerance)});
+    info.push_back({"vm_margin_deg", std::to_string(o.vm.marginDegrees)});
+}
+
+}  // namespace hlod::cli
