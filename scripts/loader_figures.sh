@@ -10,7 +10,8 @@
 #      decoded bytes of the drawn nodes). A footprint of k x F is the budget H + k x F, where H is
 #      the hlod0 set (resident before any load, never evicted: the analogue of their skeleton,
 #      which "does not account" in their footprint, §5.2);
-#   2. Fig. 9, frame time per frame: vm, demand (footprint FIG9 x F, default 2) and incore;
+#   2. Fig. 9, frame time per frame: vm, demand (footprint FIG9 x F, default 2) and incore
+#      (INCORE=0: the vm run without its waits instead);
 #   3. Fig. 10, demand-fetched bytes per frame against half the front: the same vm and demand runs;
 #   4. Fig. 11, demand-fetched bytes as the footprint grows: vm and demand at 1, 2, 3, 4.4 x F.
 # Writes OUTDIR/NAME-LOADER-xK.csv (NAME: the path file's name without .path), OUTDIR/summary.tsv
