@@ -41,9 +41,10 @@ const char* onMissName(OnMiss onMiss);
 // Modelled time of reading and decoding one node (synchronous runs: a wait becomes frame time,
 // exactly and repeatably). Figures measured by tests/bench/bench_loader.cpp (player/LOADERS.md).
 struct DiskModel {
-    double seekMs = 0.05;             // fixed cost of one node's read
-    double bandwidthMBs = 2000;       // stored bytes, MB/s (1 MB = 1e6 bytes)
-    double decodeNsPerByte = 2.0;     // per decoded byte (DecodedNode::bytes)
+    // Defaults: bench_loader on this machine, page-cached reads (player/LOADERS.md "Disk model").
+    double seekMs = 0.0005;           // fixed cost of one node's read
+    double bandwidthMBs = 32000;      // stored bytes, MB/s (1 MB = 1e6 bytes)
+    double decodeNsPerByte = 15;      // per decoded byte (DecodedNode::bytes): Draco + JPEG
     double fetchMs(uint64_t storedBytes, uint64_t decodedBytes) const {
         return seekMs + double(storedBytes) / (bandwidthMBs * 1e3) + double(decodedBytes) * decodeNsPerByte * 1e-6;
     }

@@ -99,7 +99,7 @@ bool VmLoader::demandPendingLocked() const {
 uint32_t VmLoader::pickLocked(bool& demand) {
     auto fits = [&](uint32_t id, bool isDemand) {
         if (options_.memoryBudget == 0) return true;
-        auto keep = [&](uint32_t c) { return !isDemand && accessed_[c] == epoch_; };
+        auto keep = [&](uint32_t c) { return !isDemand && accessed_[c] + 1 >= epoch_; };
         return makeRoomLocked(source_->expectedBytes(id), keep);
     };
     while (!demand_.empty()) {

@@ -207,13 +207,11 @@ struct Player::Impl {
 
     // The viewing direction's angular speed (rad/s, smoothed as the velocity is) and whether the
     // viewpoint changed: the vm loader's prefetch frustum and bin flush (player/LOADERS.md).
-    void updateAngularSpeed(const View& view, const Camera& camera, double t) {
+    void updateAngularSpeed(const View& view, bool stepped, double t) {
         double dot = 0;
         for (int i = 0; i < 3; ++i) dot += view.forward[i] * previousForward[i];
         double angle = haveForward ? std::acos(std::clamp(dot, -1.0, 1.0)) : 0;
         if (haveForward && t > forwardTime) angularSpeed = 0.5 * angularSpeed + 0.5 * angle / (t - forwardTime);
-        bool stepped = false;
-        for (int i = 0; i < 3; ++i) stepped = stepped || camera.position[i] != previousPosition[i];
         moved = !haveForward || angle > 0 || stepped;
         haveForward = true;
         forwardTime = t;
@@ -340,9 +338,10 @@ struct Player::Impl {
         s.evictions = applyEvictions();
         s.loads = uploadReady();
 
+        const bool stepped = !std::equal(camera.position, camera.position + 3, previousPosition);
         updateVelocity(camera, timeSeconds);
         View view = makeView(camera, velocity, options.lookaheadSeconds);
-        updateAngularSpeed(view, camera, timeSeconds);
+        updateAngularSpeed(view, stepped, timeSeconds);
         Evaluate evaluate = [&](uint32_t id) {
             const Node& n = skeleton.nodes[id];
             double fv = frustumVis(view, n.bounds);

@@ -38,6 +38,7 @@ struct CompareArgs {
     CostModel model;
     std::optional<double> flatRate;  // --model-ms-per-flat-tri; default: consistent with c_textured
     ConstantOptions constants{"compare", kUsedByPlayer};
+    std::string loader = "thesis", onMiss = "parent";
 };
 
 std::vector<std::string> splitNames(const std::string& list) {
@@ -171,6 +172,8 @@ int runCompare(CompareArgs& a) {
     a.player.threadedLoader = false;
     a.player.preload = a.preload;
     a.player.viewportHeight = a.height;
+    a.player.loader = loaderKindByName(a.loader);
+    a.player.onMiss = onMissByName(a.onMiss);
     // eq. 3.1 weights of the database's node costs, as `hlod play` applies them.
     const std::string* cTextured = db.skeleton().findMeta("c_textured");
     a.model.msPerUntexturedTriangle =
@@ -199,7 +202,9 @@ int runCompare(CompareArgs& a) {
             {"step_ms", std::to_string(a.stepMs)}, {"preload", a.preload ? "yes" : "no"},
             {"warmup_frames", std::to_string(a.warmup)}, {"target_ms", std::to_string(c.targetTimeMs)},
             {"model_ms_per_tri", std::to_string(a.model.msPerTexturedTriangle)},
-            {"model_ms_per_flat_tri", std::to_string(a.model.msPerUntexturedTriangle)}, {"seed", std::to_string(a.model.seed)}};
+            {"model_ms_per_flat_tri", std::to_string(a.model.msPerUntexturedTriangle)}, {"seed", std::to_string(a.model.seed)},
+            {"loader_policy", a.loader}, {"on_miss", a.onMiss}};
+        appendLoaderInfo(setup, a.player);
         writeFile(a.prefix + ".txt", text.str());
         std::ostringstream csv;
         writeCompareCsv(csv, rows);
@@ -234,6 +239,7 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half)");
     sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none)");
     sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "nodes loaded per frame (synchronous loader)");
+    addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
     sub->add_option("--renderer", a->renderer, "model (default) or gl")->check(CLI::IsMember({"model", "gl"}));
     sub->add_option("--width", a->width, "viewport width, pixels");
     sub->add_option("--height", a->height, "viewport height, pixels (benefit and pixel thresholds)");

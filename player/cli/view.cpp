@@ -33,6 +33,8 @@ struct ViewArgs {
     bool strict = false;
     double speed = 0;        // m/s; 0: a twentieth of the model's diagonal per second
     std::string up;  // empty: the database's (FORMAT.md META "up")
+    PlayerOptions loading;  // --loader, --on-miss, disk model, vm settings (player/LOADERS.md)
+    std::string loader = "thesis", onMiss = "parent";
 };
 
 // Mouse and scroll state kept between frames (GLFW delivers scroll through a callback).
@@ -134,7 +136,9 @@ int runView(const ViewArgs& args) {
     const Database db = Database::open(args.database);
     std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
     GLFWwindow* window = glfwWindowOf(*renderer);
-    PlayerOptions options;
+    PlayerOptions options = args.loading;
+    options.loader = loaderKindByName(args.loader);
+    options.onMiss = onMissByName(args.onMiss);
     options.memoryBudget = args.memoryBudget;
     options.frameOptions.colorByLevel = args.colorByLevel;
     options.strictLoads = args.strict;
@@ -190,6 +194,7 @@ void addView(CLI::App& app, int& status) {
     sub->add_option("--height", args->gl.height, "window height")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_option("--memory", args->memoryBudget, "memory budget in bytes (thesis §4.3); 0 = none")->capture_default_str();
     sub->add_flag("--color-by-level", args->colorByLevel, "shade nodes by level (grey levels)");
+    addLoaderOptions(*sub, args->loading, args->loader, args->onMiss);
     sub->add_flag("--strict", args->strict,
                   "a node that cannot be read or decoded ends the session (exit 1); by default it is skipped "
                   "with one warning and its parent stays drawn");
