@@ -73,8 +73,7 @@ struct LoaderCounters {
     uint64_t prefetchBytes = 0;  // stored bytes of the other loads (prefetches)
 };
 
-// A node's place in the vm loader's classification (player/vm_bins.h): its error mapped to the
-// selector's tolerance, and its angle to the line of sight.
+// The vm loader's classification data of one frame (player/loader_vm.h).
 struct VmFrame;
 
 // What the render thread tells the loader once a frame, after the selection.

@@ -30,6 +30,7 @@ VmLoader::VmLoader(std::shared_ptr<const NodeSource> source, const LoaderOptions
       classified_(source_->skeleton().nodes.size(), 0),
       accessed_(source_->skeleton().nodes.size(), 0),
       error_(source_->skeleton().nodes.size(), 0),
+      inFi_(source_->skeleton().nodes.size(), 0),
       drawn_(source_->skeleton().nodes.size(), 0) {}
 
 VmLoader::~VmLoader() { joinThread(); }
@@ -43,9 +44,11 @@ void VmLoader::onFetchedLocked(uint32_t id) { accessLocked(id); }
 
 // CLASSIFY(O) of §4.2.3 with the integrated priority; a node outside the prefetch frustum F_I
 // (theta > theta1) or beyond the last bin is not prefetched. A node the selector did not evaluate
-// inherits the error of the node whose PAR/CHD it is (player/LOADERS.md).
-void VmLoader::classifyLocked(uint32_t id, double inherited) {
-    if (classified_[id] == flush_ || !vm_) return;
+// inherits the error of the node whose PAR/CHD it is (player/LOADERS.md). Returns whether the node
+// lies in F_I.
+bool VmLoader::classifyLocked(uint32_t id, double inherited) {
+    if (!vm_) return false;
+    if (classified_[id] == flush_) return inFi_[id] != 0;
     classified_[id] = flush_;
     const Node& n = source_->skeleton().nodes[id];
     double error = inherited;
@@ -54,10 +57,12 @@ void VmLoader::classifyLocked(uint32_t id, double inherited) {
     else if (vm_->nativeErrors)
         error = projectedErrorPx(n, vm_->projection);
     double theta = angleToLineOfSight(n, vm_->eye, vm_->forward);
-    if (theta > vm_->theta1) return;
+    inFi_[id] = theta <= vm_->theta1;
+    if (!inFi_[id]) return false;
     double p = integratedPriority(error, vm_->tolerance, angularPriority(theta, vm_->theta0, vm_->theta1));
     error_[id] = error;
     bins_.push(id, p);
+    return true;
 }
 
 void VmLoader::update(const LoadRequest& request) {
@@ -82,6 +87,7 @@ void VmLoader::update(const LoadRequest& request) {
             expand_.clear();
             ++flush_;
             for (uint32_t id : front_) classifyLocked(id, 0);
+            for (uint32_t id : vm_->outside) classifyLocked(id, 0);
         }
         dirty_ = true;
     }
@@ -95,10 +101,12 @@ bool VmLoader::demandPendingLocked() const {
 }
 
 // The next node to load: the first wanted one still missing, else (vm) the next of PAR(O) and
-// CHD(O) of the popped nodes that is not in memory (those in memory are accessed, §4.3).
+// CHD(O) of the popped nodes that is not in memory (those in memory are accessed, §4.3); a popped
+// node outside the render frustum that is not in memory comes first itself.
 uint32_t VmLoader::pickLocked(bool& demand) {
     auto fits = [&](uint32_t id, bool isDemand) {
         if (options_.memoryBudget == 0) return true;
+        // A prefetch spares the nodes accessed in this fetch and the previous one (LOADERS.md, choice 9).
         auto keep = [&](uint32_t c) { return !isDemand && accessed_[c] + 1 >= epoch_; };
         return makeRoomLocked(source_->expectedBytes(id), keep);
     };
@@ -118,13 +126,15 @@ uint32_t VmLoader::pickLocked(bool& demand) {
             uint32_t o = bins_.pop();
             if (o == kNoNode) return kNoNode;
             double error = error_[o];
+            if (state_[o] == Residency::Unloaded) expand_.push_back({o, error});  // outside F_R: O itself first
             if (s.nodes[o].parent != kNone) expand_.push_back({s.nodes[o].parent, error});
             for (uint32_t c = s.nodes[o].firstChild; c != kNone && s.nodes[c].parent == o; c = s.nodes[c].nextSibling)
                 expand_.push_back({c, error});
         }
         auto [id, error] = expand_.front();
         expand_.pop_front();
-        classifyLocked(id, error);
+        // PAR(O) and CHD(O) outside F_I are not loaded (LOADERS.md): F_I bounds the prefetch.
+        if (!classifyLocked(id, error)) continue;
         if (s.nodes[id].level == 0 || state_[id] == Residency::Failed || state_[id] == Residency::Loading) continue;
         if (state_[id] != Residency::Unloaded) {
             accessLocked(id);

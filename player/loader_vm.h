@@ -5,7 +5,7 @@
 // parent and children (PREFETCH), classifying each; a demand preempts a prefetch between two
 // chunks. Replacement by the LRU variant of §4.3 (player/vm_lru.h): victims from the head, never a
 // node drawn this frame, never hlod0; a prefetch never evicts a node accessed in this frame's
-// fetch (beyond StartTail). Open choices: player/LOADERS.md.
+// fetch or the previous one ("recently fetched", §4.3). Open choices: player/LOADERS.md.
 #pragma once
 
 #include "player/benefit.h"
@@ -26,6 +26,9 @@ struct VmFrame {
     // eps_O of the nodes the selector evaluated this frame (player/LOADERS.md: the thesis
     // selector's time slices mapped to pixels-like errors, or the projected error of `sse`).
     std::unordered_map<uint32_t, double> errors;
+    // Visited nodes outside the render frustum (the cut beyond F_R, §4.2.2 visibility events):
+    // classified with the front, loaded themselves when popped.
+    std::vector<uint32_t> outside;
     bool nativeErrors = false;  // others: projectedErrorPx with `projection`; else inherited
     Projection projection;
     double eye[3] = {0, 0, 0}, forward[3] = {0, 0, -1};
@@ -55,6 +58,7 @@ private:
     std::deque<std::pair<uint32_t, double>> expand_;  // PAR(O) and CHD(O) of popped nodes, with eps_O
     std::vector<uint64_t> classified_, accessed_;    // flush / fetch epoch of the last classification, access
     std::vector<double> error_;                      // eps_O at the last classification
+    std::vector<uint8_t> inFi_;                      // within the prefetch frustum at the last one
     std::vector<uint8_t> drawn_;
     std::vector<uint32_t> front_;
     uint64_t flush_ = 0, epoch_ = 0;
@@ -65,7 +69,7 @@ private:
     void onFailedLocked(uint32_t id) override { lru_.remove(id); }
     void onFetchedLocked(uint32_t id) override;
     uint32_t pickLocked(bool& demand);
-    void classifyLocked(uint32_t id, double inherited);
+    bool classifyLocked(uint32_t id, double inherited);
     void accessLocked(uint32_t id);
     bool demandPendingLocked() const;
 };

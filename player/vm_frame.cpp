@@ -37,12 +37,25 @@ std::shared_ptr<const VmFrame> makeVmFrame(const VmFrameInput& in) {
     f->theta1 = std::min(f->theta0 + in.options.marginDegrees * M_PI / 180 + in.angularSpeed * in.lookaheadSeconds, M_PI);
     f->moved = in.moved;
     const Skeleton& s = in.skeleton;
+    std::vector<uint8_t> seen(s.nodes.size(), 0);
+    for (uint32_t id : in.visited) {
+        seen[id] = 1;
+        if (in.state.nodes[id].frustumVis < 1) f->outside.push_back(id);
+    }
     if (thesis) {
-        std::vector<uint8_t> seen(s.nodes.size(), 0);
-        for (uint32_t id : in.visited) seen[id] = 1;
         for (uint32_t id : in.visited) {
             const NodeState& n = in.state.nodes[id];
-            if (n.frustumVis < 1) continue;  // not sliced this frame: inherits
+            const uint32_t parent = s.nodes[id].parent;
+            double slice = n.timeSlice;
+            if (n.frustumVis < 1) {
+                // Outside F_R: the slice it would get by eq. 4.1 were it visible among its siblings.
+                if (parent == kNone || !seen[parent] || in.state.nodes[parent].frustumVis < 1) continue;  // inherits
+                double sum = n.priority;
+                for (uint32_t c = s.nodes[parent].firstChild; c != kNone && s.nodes[c].parent == parent;
+                     c = s.nodes[c].nextSibling)
+                    if (seen[c] && in.state.nodes[c].frustumVis >= 1) sum += in.state.nodes[c].priority;
+                slice = sum > 0 ? in.state.nodes[parent].timeSlice * n.priority / sum : 0;
+            }
             double need = 0, needAll = 0;
             bool anySeen = false;
             for (uint32_t c = s.nodes[id].firstChild; c != kNone && s.nodes[c].parent == id; c = s.nodes[c].nextSibling) {
@@ -54,7 +67,7 @@ std::shared_ptr<const VmFrame> makeVmFrame(const VmFrameInput& in) {
                 }
             }
             need = (anySeen ? need : needAll) * in.vTime;
-            f->errors[id] = need > 0 ? f->tolerance * n.timeSlice / need : 0;
+            f->errors[id] = need > 0 ? f->tolerance * slice / need : 0;
         }
     }
     return f;

@@ -34,6 +34,9 @@ struct VmFrameInput {
 //     a leaf has 0; an invisible node is left to inherit.
 //   sse, sse-budget: eps_O = projectedErrorPx, epsilon = the policy's tolerance (native).
 //   any other: projectedErrorPx against VmOptions::tolerance.
+// The evaluated nodes outside the render frustum are listed (VmFrame::outside) for the visibility
+// events of §4.2.2; for the thesis selectors their slice is the one eq. 4.1 would give them were
+// they visible among their visible siblings.
 std::shared_ptr<const VmFrame> makeVmFrame(const VmFrameInput& in);
 
 // Half-angle of the cone around the render frustum F_R (its half diagonal field of view).

@@ -1,6 +1,6 @@
 // The loader policies of player/LOADERS.md: Varadhan & Manocha 2002's bins (Fig. 5), angle
-// priority (§4.2.2), LRU replacement (§4.3, Fig. 7), a demand preempting a prefetch within one
-// chunk, valid fronts (player/front.h checkCut) from the vm and thesis loaders with both miss
+// priority and prefetch frustum (§4.2.2), LRU replacement (§4.3, Fig. 7), a demand preempting a
+// prefetch within one chunk, valid fronts (player/front.h checkCut) from the vm and thesis loaders with both miss
 // rules and both selectors, and the disk model turning each wait into exactly its modelled time.
 #include "player/camera_path.h"
 #include "player/cost_model_renderer.h"
@@ -183,6 +183,35 @@ TEST(VmLoader, PrefetchesChildrenOfThePoppedNodeAndADemandPreemptsWithinOneChunk
     LoaderCounters k = loader.counters();
     EXPECT_EQ(k.demandBytes, src->nodeSize(7));
     EXPECT_EQ(k.prefetchBytes, k.bytesRead - k.demandBytes - src->nodeSize(0));  // hlod0 is neither
+}
+
+// Visibility events (§4.2.2): nodes outside the render frustum F_R but inside the prefetch
+// frustum F_I are prefetched themselves; one outside F_I is not.
+TEST(VmLoader, PrefetchesNodesOutsideTheRenderFrustumWithinThePrefetchFrustum) {
+    auto src = std::make_shared<ChunkLogSource>(test::gridSkeleton(1, 1, 2, 512));  // root 0, quadrants 1-4
+    const Skeleton& s = src->skeleton();
+    VmLoader loader(src, {}, true);
+    loader.loadPinned(0);
+    std::vector<uint32_t> front{1};
+    loader.update({{}, {}, front, front, {}, nullptr});  // node 1 is fetched first
+    EXPECT_EQ(loader.step(10), 1u);
+    auto f = std::make_shared<VmFrame>();
+    const double eye[3] = {25, 25, 1000}, down[3] = {0, 0, -1};  // above node 1, looking down
+    std::copy(eye, eye + 3, f->eye);
+    std::copy(down, down + 3, f->forward);
+    EXPECT_EQ(angleToLineOfSight(s.nodes[1], eye, down), 0.0);
+    const double side = angleToLineOfSight(s.nodes[2], eye, down), corner = angleToLineOfSight(s.nodes[4], eye, down);
+    EXPECT_NEAR(side, angleToLineOfSight(s.nodes[3], eye, down), 1e-12);
+    ASSERT_LT(side, corner);
+    f->theta0 = side / 2;                // nodes 2, 3 (beside) and 4 (diagonal) lie outside F_R ...
+    f->theta1 = (side + corner) / 2;     // ... 2 and 3 inside F_I, 4 outside
+    f->outside = {2, 3, 4};
+    loader.update({{}, {}, front, {}, {}, f});
+    loader.step(10);
+    EXPECT_EQ(loader.residency(2), Residency::Ready);
+    EXPECT_EQ(loader.residency(3), Residency::Ready);
+    EXPECT_EQ(loader.residency(4), Residency::Unloaded);
+    EXPECT_EQ(loader.counters().prefetchBytes, src->nodeSize(2) + src->nodeSize(3));
 }
 
 namespace {
