@@ -245,7 +245,6 @@ struct Player::Impl {
         auto t0 = std::chrono::steady_clock::now();
         FetchResult r = loader->fetchNow(wanted, front, options.disk);
         double measured = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        s.evictions += applyEvictions();
         for (DecodedNode& node : r.nodes) {
             uint32_t id = node.id;
             renderer.upload(std::move(node));
@@ -283,7 +282,7 @@ struct Player::Impl {
         sel.drawn = std::move(out);
     }
 
-    uint32_t updateLoader(const std::vector<uint32_t>& visited, std::span<const DrawItem> drawn,
+    void updateLoader(const std::vector<uint32_t>& visited, std::span<const DrawItem> drawn,
                           std::span<const uint32_t> wanted, const Camera& camera, const Projection& projection) {
         uint64_t stamp = frameIndex + 1;
         std::vector<PriorityUpdate> updates;
@@ -309,7 +308,6 @@ struct Player::Impl {
                                       projection, vTime, angularSpeed, options.lookaheadSeconds, moved});
         loader->update(request);
         lastVisited = visited;
-        return applyEvictions();
     }
 
     // Triangles full detail would draw for a visible node: its visible children's, recursively; a
@@ -363,10 +361,13 @@ struct Player::Impl {
         auto t2 = std::chrono::steady_clock::now();
         FrontAccount account = accountFront(skeleton, selection, sel.drawn);
         s.selectionMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t2 + (t1 - t0)).count();
-        s.evictions += updateLoader(sel.visited, account.items, wanted, camera, projection);
+        updateLoader(sel.visited, account.items, wanted, camera, projection);
 
         // The feedback loops see the drawing time: a wait for the disk is not the front's cost.
         const double drawMs = renderer.drawFrame(camera, account.items, options.frameOptions);
+        // Evictions of this frame's fetch and update leave the renderer after the draw: a loading
+        // thread may have evicted a node of this front before update() protected it.
+        s.evictions += applyEvictions();
         s.actualMs = drawMs + s.waitMs;
         s.estimateNoFeedbackMs = overhead + vTime0 * account.drawnCost;
         s.estimateMs = overhead + vTime * account.drawnCost;
