@@ -55,6 +55,7 @@ struct LoaderOptions {
     uint64_t chunkBytes = 64 << 10; // read unit; preemption is checked between chunks
     uint32_t maxReady = 64;         // decoded nodes waiting for upload before the loader pauses
     uint32_t maxSuspended = 8;      // preempted partial loads kept for resumption
+    uint32_t roomNodes = 4;         // thesis: eviction makes room for this many of the most urgent unloaded nodes
 };
 
 struct PriorityUpdate {

@@ -9,6 +9,7 @@
 #include "player/loader_thesis.h"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 namespace hlod {
@@ -103,6 +104,43 @@ void ThesisLoader::update(const LoadRequest& request) {
     evicted_.insert(evicted_.end(), evicted.begin(), evicted.end());
 }
 
+uint32_t ThesisLoader::nextUnloadedLocked(uint32_t id) const {
+    do id = queue_.next(id);
+    while (id != kNoNode && queue_.loaded(id));
+    return id;
+}
+
+// §4.3: "unloading the nodes in the set mem with the smallest priority until the above condition
+// is satisfied". First the budget itself; then room for the roomNodes most urgent unloaded
+// nodes (what the loader can take before the next pass), each only at the expense of resident
+// nodes of lower priority than its own. Room for just the most urgent one held a full budget to
+// one load a frame while most of it was nodes no longer visited (player/LOADER_RUNS.md, issue 12).
+void ThesisLoader::evictForLoadsLocked(const std::function<bool(uint32_t)>& pinned, std::vector<uint32_t>& evicted) {
+    uint32_t victim = queue_.tail();
+    auto evictableBelow = [&](double priority) {  // the next victim of priority below `priority`
+        for (; victim != kNoNode && queue_.priority(victim) < priority; victim = queue_.prev(victim))
+            if (state_[victim] == Residency::Resident && !pinned(victim)) return true;
+        return false;
+    };
+    auto evictVictim = [&] {
+        uint32_t c = victim;
+        victim = queue_.prev(c);
+        counters_.residentBytes -= nodeBytes_[c];
+        state_[c] = Residency::Unloaded;
+        queue_.setLoaded(c, false);
+        evicted.push_back(c);
+    };
+    const uint64_t budget = options_.memoryBudget;
+    while (counters_.residentBytes > budget && evictableBelow(std::numeric_limits<double>::infinity())) evictVictim();
+    uint64_t need = 0;
+    uint32_t want = queue_.highestUnloaded();
+    for (uint32_t n = 0; n < options_.roomNodes && want != kNoNode; ++n, want = nextUnloadedLocked(want)) {
+        need += source_->expectedBytes(want);
+        while (counters_.residentBytes + need > budget && evictableBelow(queue_.priority(want))) evictVictim();
+        if (counters_.residentBytes + need > budget) break;
+    }
+}
+
 std::vector<uint32_t> ThesisLoader::updateAndEvict(std::span<const PriorityUpdate> updates,
                                                    std::span<const uint32_t> forget,
                                                    const std::function<bool(uint32_t)>& pinned) {
@@ -120,20 +158,7 @@ std::vector<uint32_t> ThesisLoader::updateAndEvict(std::span<const PriorityUpdat
             queue_.update(u.id, u.priority);
             queue_.setLoaded(u.id, state_[u.id] != Residency::Unloaded);
         }
-        uint64_t budget = options_.memoryBudget;
-        for (uint32_t c = queue_.tail(); budget > 0 && c != kNoNode;) {
-            uint32_t above = queue_.prev(c);
-            uint32_t want = queue_.highestUnloaded();
-            uint64_t need = want != kNoNode && queue_.priority(want) > queue_.priority(c) ? source_->expectedBytes(want) : 0;
-            if (counters_.residentBytes + need <= budget) break;
-            if (state_[c] == Residency::Resident && !pinned(c)) {
-                counters_.residentBytes -= nodeBytes_[c];
-                state_[c] = Residency::Unloaded;
-                queue_.setLoaded(c, false);
-                evicted.push_back(c);
-            }
-            c = above;
-        }
+        if (options_.memoryBudget > 0) evictForLoadsLocked(pinned, evicted);
         dirty_ = true;
     }
     wake_.notify_one();

@@ -20,8 +20,8 @@ public:
     void update(const LoadRequest& request) override;
     // This frame's priorities; `forget` were visited last frame but not now (they sink to
     // priority 0, or leave the queue when unloaded). Then evicts resident nodes, lowest
-    // priority first and never `pinned` ones, until the budget holds and the most urgent
-    // unloaded node fits. Returns the evicted nodes (the caller evicts them from the renderer).
+    // priority first and never `pinned` ones, until the budget holds and the roomNodes most
+    // urgent unloaded nodes fit (each only in place of nodes of lower priority than its own). Returns the evicted nodes (the caller evicts them from the renderer).
     std::vector<uint32_t> updateAndEvict(std::span<const PriorityUpdate> updates, std::span<const uint32_t> forget,
                                          const std::function<bool(uint32_t)>& pinned);
 
@@ -45,6 +45,8 @@ private:
         if (queue_.contains(id)) queue_.setLoaded(id, true);
     }
     uint32_t pickLocked() const;
+    uint32_t nextUnloadedLocked(uint32_t id) const;
+    void evictForLoadsLocked(const std::function<bool(uint32_t)>& pinned, std::vector<uint32_t>& evicted);
     bool shouldPreemptLocked(uint32_t id) const;
     Partial takeSuspended(uint32_t id);
     void suspend(uint32_t id, Partial&& partial);

@@ -72,7 +72,11 @@ struct Player::Impl {
           c(constants),
           renderer(r),
           options(o),
-          loader(makeLoader(o.loader, source, LoaderOptions{o.memoryBudget, o.chunkBytes, 64, 8})),
+          // Room is made each frame for what the loader can take before the next frame: the
+          // synchronous step's nodes, or what the render thread may upload in one frame.
+          loader(makeLoader(o.loader, source,
+                            LoaderOptions{o.memoryBudget, o.chunkBytes, 64, 8,
+                                          o.threadedLoader ? o.maxUploadsPerFrame : o.syncLoadsPerFrame})),
           selection(skeleton),
           policy(makePolicy(o.policy, o.policyOptions)),
           resident(skeleton.nodes.size(), 0),

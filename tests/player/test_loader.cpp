@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -119,6 +120,81 @@ TEST(Loader, BudgetEvictsLowestPriorityUnpinnedNodes) {
     EXPECT_TRUE(evicted.empty());
     EXPECT_EQ(loader.step(5), 0u);
     EXPECT_LE(loader.counters().residentBytes, o.memoryBudget);
+}
+
+// Issue 12: with the budget full, eviction made room for the most urgent unloaded node only, so
+// the loader took one node a frame whatever its rate. It now makes room for roomNodes of them,
+// each only in place of resident nodes of lower priority than its own (§4.3's order).
+TEST(Loader, FullBudgetMakesRoomForSeveralMoreUrgentNodes) {
+    auto src = std::make_shared<HookSource>(test::gridSkeleton(1, 1, 3, 512));
+    uint64_t one = src->expectedBytes(1);
+    for (uint32_t roomNodes : {1u, 4u}) {
+        LoaderOptions o;
+        o.memoryBudget = 4 * one + one / 2;  // room for four nodes
+        o.roomNodes = roomNodes;
+        ThesisLoader loader(src, o);
+        std::vector<PriorityUpdate> u{{1, 1.0}, {2, 2.0}, {3, 3.0}, {4, 4.0}};
+        loader.updateAndEvict(u, {}, kNothingPinned);
+        EXPECT_EQ(loader.step(8), 4u);
+        readyIds(loader);
+        // Four more urgent nodes and one less urgent than every resident node (0.5).
+        std::vector<PriorityUpdate> u2{{1, 1.0}, {2, 2.0}, {3, 3.0}, {4, 4.0}, {5, 13.0}, {6, 12.0}, {7, 11.0}, {8, 10.0}, {9, 0.5}};
+        auto evicted = loader.updateAndEvict(u2, {}, kNothingPinned);
+        if (roomNodes == 1) {  // the rule before the fix: one victim, one load a frame
+            EXPECT_EQ(evicted, std::vector<uint32_t>{1});
+            EXPECT_EQ(loader.step(8), 1u);
+            continue;
+        }
+        EXPECT_EQ(evicted, (std::vector<uint32_t>{1, 2, 3, 4}));
+        EXPECT_EQ(loader.step(8), 4u);
+        EXPECT_EQ(readyIds(loader), (std::vector<uint32_t>{5, 6, 7, 8}));
+        EXPECT_LE(loader.counters().residentBytes, o.memoryBudget);
+        // Two urgent nodes and two between the resident ones (10..13): only the two lowest-priority
+        // resident nodes make way; a node never displaces a more urgent one.
+        std::vector<PriorityUpdate> u3{{5, 13.0}, {6, 12.0}, {7, 11.0}, {8, 10.0}, {1, 20.0}, {2, 19.0}, {3, 11.5}, {4, 10.5}};
+        evicted = loader.updateAndEvict(u3, {}, kNothingPinned);
+        EXPECT_EQ(evicted, (std::vector<uint32_t>{8, 7}));
+        EXPECT_EQ(loader.step(8), 2u);
+        EXPECT_EQ(readyIds(loader), (std::vector<uint32_t>{1, 2}));
+    }
+}
+
+// The same on a replay: once the budget binds, a frame that follows evictions loads the
+// synchronous loader's 4 nodes (before the fix: the eviction made room for one, so such a frame
+// loaded at most one node: all nodes here have the same size).
+TEST(Loader, FullBudgetKeepsTheSynchronousLoadRate) {
+    Skeleton s = test::gridSkeleton(4, 4, 4, 512, 50);
+    auto src = memorySource(s);
+    CostModel model;
+    model.msPerTexturedTriangle = 1e-3;
+    CostModelRenderer renderer(model);
+    PlayerOptions po;
+    po.threadedLoader = false;
+    po.syncLoadsPerFrame = 4;
+    uint64_t one = src->expectedBytes(0);
+    for (const Node& n : s.nodes) ASSERT_EQ(src->expectedBytes(n.id), one);
+    po.memoryBudget = one * (16 + 160);  // hlod0 and 160 more nodes
+    Constants c;
+    Player player(src, c, renderer, po);
+    PathOptions pathOptions;
+    pathOptions.kind = PathKind::Drive;
+    CameraPath path = generatePath(s, pathOptions);
+    ReplayOptions ro;
+    ro.maxFrames = 1000;
+    bool evictedBefore = false;
+    uint64_t framesAfterEvictions = 0, maxLoadsAfterEvictions = 0, misses = 0;
+    replayPath(player, path, ro, [&](const FrameStats& f) {
+        ASSERT_LE(f.residentBytes, po.memoryBudget);
+        if (evictedBefore) {
+            ++framesAfterEvictions;
+            maxLoadsAfterEvictions = std::max<uint64_t>(maxLoadsAfterEvictions, f.loads);
+        }
+        evictedBefore = f.evictions > 0;
+        misses += f.misses;
+    });
+    std::cout << "frames after evictions " << framesAfterEvictions << ", misses " << misses << "\n";
+    EXPECT_GT(framesAfterEvictions, 100u);  // the budget binds
+    EXPECT_EQ(maxLoadsAfterEvictions, 4u);
 }
 
 TEST(Loader, PreemptsForMoreUrgentNodeAndResumes) {

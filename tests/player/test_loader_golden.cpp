@@ -1,7 +1,9 @@
 // `--loader thesis` is today's loader: with the synchronous loader, the per-frame CSV of a replay
 // (an erratic path over a 4 x 4 grid of four levels, without and with a memory budget) matches,
 // column for column, the rows written by the loader before the loader interface existed
-// (tests/data/player/thesis_sync_*.csv, written by commit c4c55a8). Columns measured in wall-clock
+// (tests/data/player/thesis_sync_*.csv, written by commit c4c55a8; the budget file rewritten on
+// the same columns for the full-budget eviction of issue 12 item 4, player/LOADER_RUNS.md: room
+// for the frame's loads, not one node). Columns measured in wall-clock
 // time (selection_ms, optimisation_ms, stall_ms) are left out; columns added since are ignored.
 #include "player/camera_path.h"
 #include "player/cost_model_renderer.h"
