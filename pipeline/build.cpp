@@ -254,6 +254,7 @@ void MemoryGate::acquire(uint64_t bytes) {
     std::unique_lock lock(mutex_);
     freed_.wait(lock, [&] { return used_ == 0 || used_ + bytes <= limit_; });
     used_ += bytes;
+    peak_ = std::max(peak_, used_);
 }
 
 void MemoryGate::release(uint64_t bytes) {
@@ -267,6 +268,11 @@ void MemoryGate::release(uint64_t bytes) {
 uint64_t MemoryGate::inUse() const {
     const std::lock_guard lock(mutex_);
     return used_;
+}
+
+uint64_t MemoryGate::peak() const {
+    const std::lock_guard lock(mutex_);
+    return peak_;
 }
 
 uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels) {
@@ -322,7 +328,9 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const int cores = options.jobs > 0 ? options.jobs : tbb::info::default_concurrency();
     std::vector<BlockStats> stats(blockCount);
     MemoryGate gate(options.memoryLimit);
+    TextureStore textures((fs::path(temp.path) / "textures").string());  // each texture file decoded once, read by rectangles
     BuildOptions blockOptions = options;  // a grid's blocks share one position lattice: no cracks between them
+    blockOptions.textures = &textures;
     if (blockOptions.draco.positionStep <= 0) blockOptions.draco.positionStep = inputs.positionStep;
     blockOptions.up = up.axis;
     progress.beginStage("build", expectedWork(inputs.blocks, first, last, options.constants));
@@ -336,6 +344,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
 
     BuildSummary summary;
     summary.blockCount = blockCount;
+    summary.gatePeak = gate.peak();
     std::set<TextureProblem> problems(inputs.textureProblems.begin(), inputs.textureProblems.end());
     for (uint32_t b = first; b < last; ++b) {
         for (const std::string& w : stats[b].warnings) progress.message("warning: " + w);

@@ -20,8 +20,6 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <map>
-#include <optional>
 
 namespace hlod {
 namespace {
@@ -36,52 +34,6 @@ struct Pending {
     double factor;
     uint32_t level;
     uint32_t parentLocal;
-};
-
-// Source textures of one block, loaded on first use. One that fails to decode (truncated,
-// corrupt: its header passed checkTextures) is a TextureProblem and its material untextured in
-// this block, or, with BuildOptions::strict, fatal.
-class TextureCache {
-public:
-    TextureCache(const std::vector<Material>& materials, bool strict, std::vector<TextureProblem>& problems, Progress* progress)
-        : materials_(materials), strict_(strict), problems_(problems), progress_(progress) {}
-
-    // The material's texture downsampled for `level` (factor); nullptr when untextured.
-    const Image* get(uint32_t material, uint32_t level, double factor) {
-        if (material >= materials_.size()) return nullptr;
-        const Image* source = materials_[material].image.get();
-        if (!source && materials_[material].texturePath.empty()) return nullptr;
-        if (!source) {
-            auto it = sources_.find(material);
-            if (it == sources_.end()) it = sources_.emplace(material, load(material)).first;
-            if (!it->second) return nullptr;
-            source = &*it->second;
-        }
-        if (factor <= 1) return source;
-        auto it = scaled_.find({material, level});
-        if (it == scaled_.end()) it = scaled_.emplace(std::pair{material, level}, downsampleTexture(*source, factor)).first;
-        return &it->second;
-    }
-
-private:
-    std::optional<Image> load(uint32_t material) {
-        try {
-            Image image = loadTexture(materials_[material].texturePath);
-            if (progress_) progress_->textureLoaded(uint64_t{image.width} * image.height);
-            return image;
-        } catch (const InputError& e) {
-            if (strict_) throw InputError(std::string(e.what()) + " (--strict)");
-            problems_.push_back({e.what(), materials_[material].name});
-            return std::nullopt;
-        }
-    }
-
-    const std::vector<Material>& materials_;
-    bool strict_;
-    std::vector<TextureProblem>& problems_;
-    Progress* progress_;
-    std::map<uint32_t, std::optional<Image>> sources_;
-    std::map<std::pair<uint32_t, uint32_t>, Image> scaled_;
 };
 
 // Source texels the triangles of `mesh` cover in `texture` (the area of their UV triangles).
@@ -103,12 +55,15 @@ double usedTexels(const MeshData& mesh, const Image& texture) {
 // by the node's factor (thesis §3.2: texture "down-sampled by this simplification factor", as
 // the cropped atlases of the other nodes are), at least kMinBakeTexels. An untextured piece is
 // not baked (image empty): its node stays untextured.
-BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, uint32_t level, double factor, TextureCache& textures) {
-    const std::vector<SubMesh> original = splitByMaterial(piece);
+BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, double factor, BlockTextures& textures) {
+    std::vector<SubMesh> original = splitByMaterial(piece);
+    std::vector<Image> regions(original.size());  // of each material's downsampled texture, what its triangles cover
     std::vector<BakeSource> sources;
     double texels = 0;
-    for (const SubMesh& part : original) {
-        const Image* texture = part.mesh.texcoords.empty() ? nullptr : textures.get(part.material, level, factor);
+    for (size_t i = 0; i < original.size(); ++i) {
+        SubMesh& part = original[i];
+        if (!part.mesh.texcoords.empty()) regions[i] = textures.region(part.material, factor, part.mesh);
+        const Image* texture = regions[i].width > 0 ? &regions[i] : nullptr;
         if (texture) texels += usedTexels(part.mesh, *texture);
         sources.push_back({&part.mesh, texture});
     }
@@ -127,7 +82,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     const uint32_t levelFactor = static_cast<uint32_t>(c.levelFactor);
     BlockStats stats;
     stats.inputTriangles = block.mesh.triangleCount();
-    TextureCache textures(materials, options.strict, stats.textureProblems, progress);
+    BlockTextures textures(materials, options.textures, options.strict, stats.textureProblems, progress);
     std::deque<Pending> queue;
     Piece welded = weldPiece(block, options.draco.positionStep / 2);  // weld.cpp: chunk borders become interior
     const double rootFactor = static_cast<double>(welded.mesh.triangleCount()) / c.desiredTris;  // §3.2 hlod0
@@ -147,13 +102,11 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         std::vector<Image> images(parts.size());
         double psnr = 0;
         if (simplified.geometryOnly) {
-            if (BakedTexture baked = bakeNode(parts.at(0).mesh, p.piece, p.level, p.factor, textures); baked.image.width > 0) {
+            if (BakedTexture baked = bakeNode(parts.at(0).mesh, p.piece, p.factor, textures); baked.image.width > 0) {
                 parts[0].mesh = std::move(baked.mesh), images[0] = std::move(baked.image), psnr = baked.psnr;
             }
         } else {
-            for (size_t i = 0; i < parts.size(); ++i)
-                if (const Image* scaled = textures.get(parts[i].material, p.level, textureFactor))
-                    images[i] = atlasTexture(*scaled, parts[i].mesh);
+            for (size_t i = 0; i < parts.size(); ++i) images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh);
         }
         emit(packNode(parts, images, bounds, p.parentLocal, p.level, blockIndex, error.max, options));
         if (stats.nodesPerLevel.size() <= p.level) stats.nodesPerLevel.resize(p.level + 1);
