@@ -11,6 +11,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -29,9 +31,15 @@ namespace fs = std::filesystem;
 
 // Working set of buildBlock: per input triangle (the piece, its per-material copies, the
 // simplified meshes, the CGAL tree of the error measure, the children's pieces) and per source
-// texel (the decoded atlas, its downsampled levels, the node atlases being encoded).
+// texel the block's materials use. Since issue #14 no source texture is held (texture_store.cpp:
+// decoded once to a temporary file, read by the rectangles of a node's charts), so a texel costs
+// only through the node atlases, baked regions and JPEG coding: 1/12 byte. Measured (pipeline/
+// MEMORY.md): a 490,000-triangle block with 55 x 4K JPEG atlases (923 Mtexel) peaked 270 MiB
+// above the process's 128 MiB baseline (the model: 196 + 77 = 273 MB); before, the model said
+// 5.7 GB (6 B per source texel, every atlas decoded and downsampled whole) for 4.4 GiB measured.
+// The per-texel figure is fitted on that one generated input.
 constexpr uint64_t kBytesPerBlockTriangle = 400;
-constexpr uint64_t kBytesPerSourceTexel = 6;
+constexpr uint64_t kSourceTexelsPerByte = 12;
 
 struct BlockSource {
     std::string file;      // mesh file of a folder input, or the temporary piece file
@@ -209,6 +217,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
                        [&](NodeRecord&& r) { records.add(r); });
     records.setGeometricErrors(stats.geometricErrors);
     records.finish();
+    malloc_trim(0);  // a worker thread's heap keeps a finished block's memory otherwise (glibc arenas)
     stats.degenerateDropped = mesh.stats.degenerateDropped;
     stats.warnings = mesh.stats.warnings;
     stats.textureProblems.insert(stats.textureProblems.begin(), mesh.stats.textureProblems.begin(), mesh.stats.textureProblems.end());
@@ -276,7 +285,7 @@ uint64_t MemoryGate::peak() const {
 }
 
 uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels) {
-    return triangles * kBytesPerBlockTriangle + texels * kBytesPerSourceTexel;
+    return triangles * kBytesPerBlockTriangle + texels / kSourceTexelsPerByte;
 }
 
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {
@@ -317,6 +326,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const fs::path outputParent = fs::absolute(request.output).parent_path();
     TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
     const Inputs inputs = findBlocks(request.input, options, temp.path, progress);
+    malloc_trim(0);  // the split's freed buffers go back to the system, not to the main thread's heap alone
     const uint32_t blockCount = static_cast<uint32_t>(inputs.blocks.size());
     const uint32_t first = std::min(request.firstBlock, blockCount), last = std::min(request.lastBlock, blockCount);
     if (first >= last) throw std::invalid_argument("no blocks selected (input has " + std::to_string(blockCount) + ")");

@@ -16,6 +16,7 @@
 // one position lattice (DracoOptions::positionStep, by default the block root's), so the
 // borders the cuts made identical stay identical after quantization.
 #include "pipeline/pipeline.h"
+#include "pipeline/texture_charts.h"
 
 #include <algorithm>
 #include <cmath>
@@ -56,16 +57,19 @@ double usedTexels(const MeshData& mesh, const Image& texture) {
 // the cropped atlases of the other nodes are), at least kMinBakeTexels. An untextured piece is
 // not baked (image empty): its node stays untextured.
 BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, double factor, BlockTextures& textures) {
-    std::vector<SubMesh> original = splitByMaterial(piece);
-    std::vector<Image> regions(original.size());  // of each material's downsampled texture, what its triangles cover
+    std::vector<TexturedChart> original;  // by material and UV chart, each with the texels it covers
+    for (SubMesh& part : splitByMaterial(piece)) {
+        std::vector<TexturedChart> charts;
+        if (!part.mesh.texcoords.empty()) charts = textureCharts(textures, part.material, factor, part.mesh);
+        if (charts.empty()) original.push_back({std::move(part.mesh), {}});
+        for (TexturedChart& c : charts) original.push_back(std::move(c));
+    }
     std::vector<BakeSource> sources;
     double texels = 0;
-    for (size_t i = 0; i < original.size(); ++i) {
-        SubMesh& part = original[i];
-        if (!part.mesh.texcoords.empty()) regions[i] = textures.region(part.material, factor, part.mesh);
-        const Image* texture = regions[i].width > 0 ? &regions[i] : nullptr;
-        if (texture) texels += usedTexels(part.mesh, *texture);
-        sources.push_back({&part.mesh, texture});
+    for (const TexturedChart& c : original) {
+        const Image* texture = c.texels.width > 0 ? &c.texels : nullptr;
+        if (texture) texels += usedTexels(c.mesh, *texture);
+        sources.push_back({&c.mesh, texture});
     }
     if (texels <= 0) return {};
     return bakeTexture(simplified, sources, std::max<uint64_t>(kMinBakeTexels, static_cast<uint64_t>(texels)));

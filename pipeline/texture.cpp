@@ -14,6 +14,7 @@
 #include "pipeline/pipeline.h"
 
 #include "formats/layout.h"
+#include "pipeline/texture_charts.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -237,6 +238,30 @@ Image BlockTextures::region(uint32_t material, double factor, MeshData& mesh) {
         mesh.texcoords[2 * v + 1] = static_cast<float>((double(mesh.texcoords[2 * v + 1]) * height - y0) / texels.height);
     }
     return texels;
+}
+
+std::vector<TexturedChart> textureCharts(BlockTextures& textures, uint32_t material, double factor, const MeshData& mesh) {
+    if (!textures.source(material) || mesh.vertexCount() == 0) return {};
+    uint32_t count = 0;
+    const std::vector<uint32_t> chart = chartOfVertex(mesh, count);
+    std::vector<TexturedChart> out(count);
+    std::vector<uint32_t> local(mesh.vertexCount(), kNone);
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        MeshData& m = out[chart[mesh.indices[3 * t]]].mesh;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = mesh.indices[3 * t + k];
+            if (local[v] == kNone) {
+                local[v] = static_cast<uint32_t>(m.vertexCount());
+                m.positions.insert(m.positions.end(), &mesh.positions[3 * v], &mesh.positions[3 * v] + 3);
+                m.texcoords.insert(m.texcoords.end(), &mesh.texcoords[2 * v], &mesh.texcoords[2 * v] + 2);
+                if (!mesh.normals.empty()) m.normals.insert(m.normals.end(), &mesh.normals[3 * v], &mesh.normals[3 * v] + 3);
+                if (!mesh.colors.empty()) m.colors.insert(m.colors.end(), &mesh.colors[4 * v], &mesh.colors[4 * v] + 4);
+            }
+            m.indices.push_back(local[v]);
+        }
+    }
+    for (TexturedChart& c : out) c.texels = textures.region(material, factor, c.mesh);
+    return out;
 }
 
 }  // namespace hlod

@@ -1,5 +1,6 @@
 // Node textures: downsampling by the factor, chart repacking with exact UVs, no unused texels.
 #include "helpers.h"
+#include "pipeline/texture_charts.h"
 
 #include <array>
 #include <fstream>
@@ -101,6 +102,35 @@ TEST(Texture, ScaledRegionEqualsTheWholeDownsampledImage) {
                             << "factor " << factor << " texel " << x << "," << y;
         }
     }
+}
+
+// What a baked node samples: its original triangles by chart, each with only the texels under it
+// (two charts in opposite corners: two small rectangles, not the atlas between them), the same
+// texels under the rewritten UVs as under the source's.
+TEST(Texture, ChartsForBakingHoldOnlyTheirOwnTexels) {
+    const Image source = testImage(256, 256);
+    const std::vector<Material> materials = {{"m", "", std::make_shared<Image>(source)}};
+    std::vector<TextureProblem> problems;
+    BlockTextures textures(materials, nullptr, false, problems, nullptr);
+    const MeshData mesh = twoCharts();
+    const std::vector<TexturedChart> charts = textureCharts(textures, 0, 1, mesh);
+    ASSERT_EQ(charts.size(), 2u);
+    uint64_t texels = 0;
+    for (const TexturedChart& c : charts) {
+        texels += uint64_t(c.texels.width) * c.texels.height;
+        ASSERT_EQ(c.mesh.triangleCount(), 1u);
+        for (size_t v = 0; v < 3; ++v) {
+            const float* uv = &c.mesh.texcoords[2 * v];
+            const float* original = nullptr;  // the source vertex at the same position
+            for (size_t w = 0; w < mesh.vertexCount(); ++w)
+                if (mesh.positions[3 * w] == c.mesh.positions[3 * v] && mesh.positions[3 * w + 1] == c.mesh.positions[3 * v + 1])
+                    original = &mesh.texcoords[2 * w];
+            ASSERT_NE(original, nullptr);
+            for (int ch = 0; ch < 2; ++ch) EXPECT_EQ(texel(c.texels, uv[0], uv[1], ch), texel(source, original[0], original[1], ch));
+        }
+    }
+    EXPECT_LT(texels, uint64_t(256) * 256 / 8);
+    EXPECT_TRUE(textureCharts(textures, 1, 1, mesh).empty()) << "no such material: untextured";
 }
 
 // A texture file goes through the store once (decoded by strips into a temporary file) and reads
