@@ -254,8 +254,7 @@ Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws I
 // (its pixels are decoded, and a truncated or corrupt body found, when a block loads it).
 std::string textureProblem(const std::string& path);
 
-// texture_store.cpp: a source texture read by rectangles: an image in memory, or rows of 8-bit
-// texels in a file (the build's decoded copy of a texture file).
+// texture_store.cpp: a texture read by rectangles: an image in memory, or a decoded file's rows.
 struct TextureSource {
     uint32_t width = 0, height = 0, channels = 0;
     const Image* image = nullptr;  // in memory, or
@@ -284,8 +283,7 @@ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
-// The charts of `mesh` (one material's triangles) cut from `source` downsampled by `factor` and
-// packed into one atlas; mesh's UVs rewritten onto it.
+// The charts of `mesh` (one material's triangles) of `source` downsampled by factor, packed; UVs rewritten.
 Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh);
 // The textures of one block's materials: a texture file through `store` (nullptr: a store of
 // the block's own, in memory), an embedded image as it is. A texture that fails to decode is a
@@ -295,8 +293,7 @@ public:
     BlockTextures(const std::vector<Material>& materials, TextureStore* store, bool strict, std::vector<TextureProblem>& problems,
                   Progress* progress);
     const TextureSource* source(uint32_t material);  // nullptr: untextured
-    // atlasTexture of the material's texture; an empty image (width 0) when untextured.
-    Image atlas(uint32_t material, double factor, MeshData& mesh);
+    Image atlas(uint32_t material, double factor, MeshData& mesh);  // atlasTexture; width 0: untextured
     // The rectangle of the material's texture downsampled by `factor` that `mesh`'s UVs cover
     // (+1 texel margin), mesh's UVs rewritten onto it (what bakeTexture samples); width 0 when untextured.
     Image region(uint32_t material, double factor, MeshData& mesh);
