@@ -12,6 +12,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -31,9 +33,15 @@ namespace fs = std::filesystem;
 
 // Working set of buildBlock: per input triangle (the piece, its per-material copies, the
 // simplified meshes, the CGAL tree of the error measure, the children's pieces) and per source
-// texel (the decoded atlas, its downsampled levels, the node atlases being encoded).
+// texel the block's materials use. Since issue #14 no source texture is held (texture_store.cpp:
+// decoded once to a temporary file, read by the rectangles of a node's charts), so a texel costs
+// only through the node atlases, baked regions and JPEG coding: 1/12 byte. Measured (pipeline/
+// MEMORY.md): a 490,000-triangle block with 55 x 4K JPEG atlases (923 Mtexel) peaked 233 MB
+// above the process's ~128 MiB baseline (the model: 196 + 77 = 273 MB); before, the model said
+// 5.7 GB (6 B per source texel, every atlas decoded and downsampled whole) for 4.6 GB measured.
+// The per-texel figure is fitted on that one generated input.
 constexpr uint64_t kBytesPerBlockTriangle = 400;
-constexpr uint64_t kBytesPerSourceTexel = 6;
+constexpr uint64_t kSourceTexelsPerByte = 12;
 
 std::string extensionOf(const fs::path& p) {
     std::string ext = p.extension().string();
@@ -204,6 +212,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
                        [&](NodeRecord&& r) { records.add(r); });
     records.setGeometricErrors(stats.geometricErrors);
     records.finish();
+    malloc_trim(0);  // a worker thread's heap keeps a finished block's memory otherwise (glibc arenas)
     stats.degenerateDropped = mesh.stats.degenerateDropped;
     stats.warnings = mesh.stats.warnings;
     stats.textureProblems.insert(stats.textureProblems.begin(), mesh.stats.textureProblems.begin(), mesh.stats.textureProblems.end());
@@ -249,6 +258,7 @@ void MemoryGate::acquire(uint64_t bytes) {
     std::unique_lock lock(mutex_);
     freed_.wait(lock, [&] { return used_ == 0 || used_ + bytes <= limit_; });
     used_ += bytes;
+    peak_ = std::max(peak_, used_);
 }
 
 void MemoryGate::release(uint64_t bytes) {
@@ -264,8 +274,13 @@ uint64_t MemoryGate::inUse() const {
     return used_;
 }
 
+uint64_t MemoryGate::peak() const {
+    const std::lock_guard lock(mutex_);
+    return peak_;
+}
+
 uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels) {
-    return triangles * kBytesPerBlockTriangle + texels * kBytesPerSourceTexel;
+    return triangles * kBytesPerBlockTriangle + texels / kSourceTexelsPerByte;
 }
 
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {
@@ -311,6 +326,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const fs::path outputParent = fs::absolute(request.output).parent_path();
     TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
     const SplitInputs inputs = work ? std::move(work->inputs) : findBlocks(input, options, temp.path, progress);
+    malloc_trim(0);  // the split's freed buffers go back to the system, not to the main thread's heap alone
     const uint32_t blockCount = static_cast<uint32_t>(inputs.blocks.size());
     const uint32_t first = std::min(request.firstBlock, blockCount), last = std::min(request.lastBlock, blockCount);
     if (first >= last) throw std::invalid_argument("no blocks selected (input has " + std::to_string(blockCount) + ")");
@@ -322,7 +338,9 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const int cores = options.jobs > 0 ? options.jobs : tbb::info::default_concurrency();
     std::vector<BlockStats> stats(blockCount);
     MemoryGate gate(options.memoryLimit);
+    TextureStore textures((fs::path(temp.path) / "textures").string());  // each texture file decoded once, read by rectangles
     BuildOptions blockOptions = options;  // a grid's blocks share one position lattice: no cracks between them
+    blockOptions.textures = &textures;
     if (blockOptions.draco.positionStep <= 0) blockOptions.draco.positionStep = inputs.positionStep;
     blockOptions.up = up.axis;
     progress.beginStage("build", expectedWork(inputs.blocks, first, last, options.constants));
@@ -336,6 +354,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
 
     BuildSummary summary;
     summary.blockCount = blockCount;
+    summary.gatePeak = gate.peak();
     std::set<TextureProblem> problems(inputs.textureProblems.begin(), inputs.textureProblems.end());
     for (uint32_t b = first; b < last; ++b) {
         for (const std::string& w : stats[b].warnings) progress.message("warning: " + w);

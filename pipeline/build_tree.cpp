@@ -20,14 +20,13 @@
 // triangles instead of the original ones (bottomUp below): each input triangle is simplified
 // about 1.33 times instead of once per level.
 #include "pipeline/pipeline.h"
+#include "pipeline/texture_charts.h"
 
 #include <meshoptimizer.h>
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <map>
-#include <optional>
 
 namespace hlod {
 namespace {
@@ -42,52 +41,6 @@ struct Pending {
     double factor;
     uint32_t level;
     uint32_t parentLocal;
-};
-
-// Source textures of one block, loaded on first use. One that fails to decode (truncated,
-// corrupt: its header passed checkTextures) is a TextureProblem and its material untextured in
-// this block, or, with BuildOptions::strict, fatal.
-class TextureCache {
-public:
-    TextureCache(const std::vector<Material>& materials, bool strict, std::vector<TextureProblem>& problems, Progress* progress)
-        : materials_(materials), strict_(strict), problems_(problems), progress_(progress) {}
-
-    // The material's texture downsampled for `level` (factor); nullptr when untextured.
-    const Image* get(uint32_t material, uint32_t level, double factor) {
-        if (material >= materials_.size()) return nullptr;
-        const Image* source = materials_[material].image.get();
-        if (!source && materials_[material].texturePath.empty()) return nullptr;
-        if (!source) {
-            auto it = sources_.find(material);
-            if (it == sources_.end()) it = sources_.emplace(material, load(material)).first;
-            if (!it->second) return nullptr;
-            source = &*it->second;
-        }
-        if (factor <= 1) return source;
-        auto it = scaled_.find({material, level});
-        if (it == scaled_.end()) it = scaled_.emplace(std::pair{material, level}, downsampleTexture(*source, factor)).first;
-        return &it->second;
-    }
-
-private:
-    std::optional<Image> load(uint32_t material) {
-        try {
-            Image image = loadTexture(materials_[material].texturePath);
-            if (progress_) progress_->textureLoaded(uint64_t{image.width} * image.height);
-            return image;
-        } catch (const InputError& e) {
-            if (strict_) throw InputError(std::string(e.what()) + " (--strict)");
-            problems_.push_back({e.what(), materials_[material].name});
-            return std::nullopt;
-        }
-    }
-
-    const std::vector<Material>& materials_;
-    bool strict_;
-    std::vector<TextureProblem>& problems_;
-    Progress* progress_;
-    std::map<uint32_t, std::optional<Image>> sources_;
-    std::map<std::pair<uint32_t, uint32_t>, Image> scaled_;
 };
 
 // Source texels the triangles of `mesh` cover in `texture` (the area of their UV triangles).
@@ -109,14 +62,20 @@ double usedTexels(const MeshData& mesh, const Image& texture) {
 // by the node's factor (thesis §3.2: texture "down-sampled by this simplification factor", as
 // the cropped atlases of the other nodes are), at least kMinBakeTexels. An untextured piece is
 // not baked (image empty): its node stays untextured.
-BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, uint32_t level, double factor, TextureCache& textures) {
-    const std::vector<SubMesh> original = splitByMaterial(piece);
+BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, double factor, BlockTextures& textures) {
+    std::vector<TexturedChart> original;  // by material and UV chart, each with the texels it covers
+    for (SubMesh& part : splitByMaterial(piece)) {
+        std::vector<TexturedChart> charts;
+        if (!part.mesh.texcoords.empty()) charts = textureCharts(textures, part.material, factor, part.mesh);
+        if (charts.empty()) original.push_back({std::move(part.mesh), {}});
+        for (TexturedChart& c : charts) original.push_back(std::move(c));
+    }
     std::vector<BakeSource> sources;
     double texels = 0;
-    for (const SubMesh& part : original) {
-        const Image* texture = part.mesh.texcoords.empty() ? nullptr : textures.get(part.material, level, factor);
-        if (texture) texels += usedTexels(part.mesh, *texture);
-        sources.push_back({&part.mesh, texture});
+    for (const TexturedChart& c : original) {
+        const Image* texture = c.texels.width > 0 ? &c.texels : nullptr;
+        if (texture) texels += usedTexels(c.mesh, *texture);
+        sources.push_back({&c.mesh, texture});
     }
     if (texels <= 0) return {};
     return bakeTexture(simplified, sources, std::max<uint64_t>(kMinBakeTexels, static_cast<uint64_t>(texels)));
@@ -135,7 +94,7 @@ struct NodeOut {
 // Textures, geometric error (against the node's ORIGINAL piece, error.cpp) and packing of a
 // simplified node; the same in both modes.
 NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, double factor, uint32_t level, bool leaf,
-                   uint32_t blockIndex, const BuildOptions& options, TextureCache& textures) {
+                   uint32_t blockIndex, const BuildOptions& options, BlockTextures& textures) {
     std::vector<SubMesh> parts = splitByMaterial(simplified.piece);
     const Box3f bounds = pieceBounds(original.mesh);
     const double extent = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
@@ -146,13 +105,11 @@ NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, doub
     const double textureFactor = leaf ? 1.0 : factor;  // a leaf keeps the source's texels
     std::vector<Image> images(parts.size());
     if (simplified.geometryOnly) {
-        if (BakedTexture baked = bakeNode(parts.at(0).mesh, original, level, factor, textures); baked.image.width > 0) {
+        if (BakedTexture baked = bakeNode(parts.at(0).mesh, original, factor, textures); baked.image.width > 0) {
             parts[0].mesh = std::move(baked.mesh), images[0] = std::move(baked.image), out.psnr = static_cast<float>(baked.psnr);
         }
     } else {
-        for (size_t i = 0; i < parts.size(); ++i)
-            if (const Image* scaled = textures.get(parts[i].material, level, textureFactor))
-                images[i] = atlasTexture(*scaled, parts[i].mesh);
+        for (size_t i = 0; i < parts.size(); ++i) images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh);
     }
     out.record = packNode(parts, images, bounds, kNone, level, blockIndex, out.error.max, options);
     out.baked = simplified.geometryOnly;
@@ -237,7 +194,7 @@ struct BottomUpNode {
     std::vector<uint32_t> children;
 };
 uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions& options, uint32_t blockIndex,
-                  TextureCache& textures, Progress* progress, std::vector<BottomUpNode>& nodes, SimplifiedNode& result) {
+                  BlockTextures& textures, Progress* progress, std::vector<BottomUpNode>& nodes, SimplifiedNode& result) {
     const Constants& c = options.constants;
     BottomUpNode node;
     if (isLeaf(factor, c.levelFactor, options.leafRule)) {
@@ -274,7 +231,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     const uint32_t levelFactor = static_cast<uint32_t>(c.levelFactor);
     BlockStats stats;
     stats.inputTriangles = block.mesh.triangleCount();
-    TextureCache textures(materials, options.strict, stats.textureProblems, progress);
+    BlockTextures textures(materials, options.textures, options.strict, stats.textureProblems, progress);
     Piece welded = weldPiece(block, options.draco.positionStep / 2);  // weld.cpp: chunk borders become interior
     const double rootFactor = static_cast<double>(welded.mesh.triangleCount()) / c.desiredTris;  // §3.2 hlod0
     std::vector<uint32_t> parentOf;

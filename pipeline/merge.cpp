@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 
 namespace hlod {
@@ -85,15 +86,20 @@ void BlockRecordWriter::finish() {
     if (!ok) throw std::runtime_error(impl_->file + ": write failed");
 }
 
-std::vector<NodeRecord> readBlockRecords(const std::string& file, size_t maxRecords) {
+namespace {
+
+// Reads up to maxRecords records of a block record file in order, handing each to `each` (so a
+// merge holds one node's blobs at a time, not a block's: issue #14, a 418 MB block's records
+// were the build's peak RSS).
+void readRecords(const std::string& file, size_t maxRecords, const std::function<void(NodeRecord&&)>& each) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> holder(std::fopen(file.c_str(), "rb"), &std::fclose);
     std::FILE* f = holder.get();
     if (!f) throw std::runtime_error(file + ": cannot read block record file (" + std::strerror(errno) + ")");
-    std::vector<NodeRecord> records;
-    while (records.size() < maxRecords) {
+    size_t count = 0;
+    while (count < maxRecords) {
         const uint32_t tag = read<uint32_t>(f, file);
         if (tag == kEndTag) {
-            if (read<uint64_t>(f, file) != records.size()) throw std::runtime_error(file + ": corrupt block record file (count)");
+            if (read<uint64_t>(f, file) != count) throw std::runtime_error(file + ": corrupt block record file (count)");
             break;
         }
         if (tag != kRecordTag) throw std::runtime_error(file + ": corrupt block record file");
@@ -109,8 +115,16 @@ std::vector<NodeRecord> readBlockRecords(const std::string& file, size_t maxReco
             if (!blob.bytes.empty() && std::fread(blob.bytes.data(), 1, blob.bytes.size(), f) != blob.bytes.size())
                 throw std::runtime_error(file + ": truncated block record file");
         }
-        records.push_back(std::move(r));
+        ++count;
+        each(std::move(r));
     }
+}
+
+}  // namespace
+
+std::vector<NodeRecord> readBlockRecords(const std::string& file, size_t maxRecords) {
+    std::vector<NodeRecord> records;
+    readRecords(file, maxRecords, [&](NodeRecord&& r) { records.push_back(std::move(r)); });
     return records;
 }
 
@@ -172,14 +186,14 @@ void mergeShards(const std::vector<std::string>& shardDirs, const std::string& o
         roots[b] = writer.addNode(std::move(records[0].node));
     }
     for (uint32_t b = 0; b < owner.size(); ++b) {
-        auto records = readBlockRecords(blockRecordPath(owner[b], b), SIZE_MAX);
-        std::vector<uint32_t> ids(records.size(), kNone);
-        ids[0] = roots[b];
-        for (size_t i = 1; i < records.size(); ++i) {
-            if (records[i].parentLocal >= i) throw std::runtime_error(blockRecordPath(owner[b], b) + ": corrupt parent link");
-            records[i].node.parent = ids[records[i].parentLocal];
-            ids[i] = writer.addNode(std::move(records[i].node));
-        }
+        std::vector<uint32_t> ids;  // database id of each record of the block
+        readRecords(blockRecordPath(owner[b], b), SIZE_MAX, [&](NodeRecord&& r) {
+            const size_t i = ids.size();
+            if (i == 0) return ids.push_back(roots[b]);  // hlod0, written above
+            if (r.parentLocal >= i) throw std::runtime_error(blockRecordPath(owner[b], b) + ": corrupt parent link");
+            r.node.parent = ids[r.parentLocal];
+            ids.push_back(writer.addNode(std::move(r.node)));
+        });
     }
     for (const auto& [key, value] : first.meta) writer.setMeta(key, value);
     writer.finish();

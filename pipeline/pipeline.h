@@ -19,8 +19,10 @@
 #include <cstdio>
 #include <functional>
 #include <iosfwd>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -243,16 +245,68 @@ struct SurfaceError {
 SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original, double spacing);
 
 // texture.cpp. A node's texture for one material: the source atlas downsampled by the node's
-// factor (sqrt(factor) per side, stb_image_resize box filter), then the UV charts its triangles use (connected
-// triangles; bounding rectangle + 1 texel margin each) repacked into one atlas; UVs rewritten
-// affinely per chart, exactly.
+// factor (sqrt(factor) per side, box filter), of which only the UV charts its triangles use
+// (connected triangles; bounding rectangle + 1 texel margin each) are read (texture_store.cpp)
+// and repacked into one atlas; UVs rewritten affinely per chart, exactly.
 Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError (corrupt, truncated)
 // What makes a texture file unusable, found from its header alone ("is missing", "is empty (0
 // bytes)", "is not a readable image (...)", "has absurd size ..."), or "" when it looks usable
 // (its pixels are decoded, and a truncated or corrupt body found, when a block loads it).
 std::string textureProblem(const std::string& path);
-Image downsampleTexture(const Image& source, double factor);
-Image atlasTexture(const Image& scaled, MeshData& mesh);
+
+// texture_store.cpp: a texture read by rectangles: an image in memory, or a decoded file's rows.
+struct TextureSource {
+    uint32_t width = 0, height = 0, channels = 0;
+    const Image* image = nullptr;  // in memory, or
+    int file = -1;                 // width x height x channels bytes, row by row
+    void rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out) const;  // [x0, x1) of rows [y0, y1)
+};
+inline TextureSource textureView(const Image& image) { return {image.width, image.height, image.channels, &image, -1}; }
+uint32_t scaledSide(uint32_t side, double factor);  // a side downsampled by factor (sqrt per side; factor <= 1: as is)
+// Texels [x0, x1) x [y0, y1) of the source downsampled to scaledWidth x scaledHeight (box filter:
+// each texel the area-weighted mean of the source texels it covers; equal sizes: a copy).
+Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t scaledHeight, uint32_t x0, uint32_t y0, uint32_t x1,
+                   uint32_t y1);
+Image downsampleTexture(const Image& source, double factor);  // the whole image by scaledRegion
+// The texture files of a build, each decoded once (by strips of scanlines) into a file under
+// `dir` and read back by rectangles; dir "" keeps them decoded in memory. Thread-safe.
+class TextureStore {
+public:
+    explicit TextureStore(const std::string& dir = "");
+    ~TextureStore();
+    TextureStore(const TextureStore&) = delete;
+    TextureStore& operator=(const TextureStore&) = delete;
+    // Decodes `path` on its first call; throws InputError (corrupt, truncated) on every call.
+    TextureSource open(const std::string& path, Progress* progress);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+// The charts of `mesh` (one material's triangles) of `source` downsampled by factor, packed; UVs rewritten.
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh);
+// The textures of one block's materials: a texture file through `store` (nullptr: a store of
+// the block's own, in memory), an embedded image as it is. A texture that fails to decode is a
+// TextureProblem and its material untextured in this block, or, with `strict`, fatal.
+class BlockTextures {
+public:
+    BlockTextures(const std::vector<Material>& materials, TextureStore* store, bool strict, std::vector<TextureProblem>& problems,
+                  Progress* progress);
+    const TextureSource* source(uint32_t material);  // nullptr: untextured
+    Image atlas(uint32_t material, double factor, MeshData& mesh);  // atlasTexture; width 0: untextured
+    // The rectangle of the material's texture downsampled by `factor` that `mesh`'s UVs cover
+    // (+1 texel margin), mesh's UVs rewritten onto it (what bakeTexture samples); width 0 when untextured.
+    Image region(uint32_t material, double factor, MeshData& mesh);
+
+private:
+    const std::vector<Material>& materials_;
+    std::unique_ptr<TextureStore> own_;
+    TextureStore* store_;
+    bool strict_;
+    std::vector<TextureProblem>& problems_;
+    Progress* progress_;
+    std::map<uint32_t, std::optional<TextureSource>> sources_;
+};
 
 // bake.cpp (charts: chart.cpp; pipeline/BAKE.md): a new parameterisation of a simplified node
 // and a texture baked from its original surface, for nodes whose source UVs no longer apply.
@@ -287,6 +341,7 @@ struct BuildOptions {
     ReadOptions read;              // --allow-outside-input
     bool strict = false;           // --strict: a TextureProblem is fatal (InputError, exit 2)
     std::string up;                // --up y|z; empty: by the input's format (chooseUpAxis)
+    TextureStore* textures = nullptr;  // runBuild's (texture files decoded once per build); nullptr: per block
 };
 
 // build.cpp: the up axis recorded in the database (META "up", FORMAT.md) and why: `requested`
@@ -340,9 +395,10 @@ public:
     void acquire(uint64_t bytes);
     void release(uint64_t bytes);
     uint64_t inUse() const;
+    uint64_t peak() const;  // the largest inUse() so far
 
 private:
-    uint64_t limit_, used_ = 0;
+    uint64_t limit_, used_ = 0, peak_ = 0;
     mutable std::mutex mutex_;
     std::condition_variable freed_;
 };
@@ -433,6 +489,7 @@ struct BuildSummary {
     uint64_t inputTriangles = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<NodeQuality> nodes;  // per node of the blocks built (the build report's "nodes")
+    uint64_t gatePeak = 0;           // the memory gate's largest estimate of the blocks built at once
 };
 BuildSummary runBuild(const BuildRequest& request, Progress& progress);
 

@@ -1,8 +1,9 @@
 // Node textures (thesis §3.2: "the original texture data is down-sampled by this
 // simplification factor as well"). Per material, the source atlas (read by OpenImageIO) is
-// downsampled once per level so its texel count drops by the factor (sqrt(factor) per side)
-// with stb_image_resize's box filter: the average of the covered texels, 86-155 Mpix/s here,
-// 2-3.6x OpenImageIO's box resize (24-79 Mpix/s; its default lanczos3: 4 Mpix/s). A node
+// downsampled so its texel count drops by the node's factor (sqrt(factor) per side) with a box
+// filter: the area-weighted average of the covered texels (texture_store.cpp, which reads only
+// the rectangles a node uses; stb_image_resize's box filter, used before issue #14, needed the
+// whole atlas decoded and downsampled in memory). A node
 // then keeps only the charts its triangles use: each connected set of triangles gets the
 // bounding rectangle of its texels plus one texel of margin (so bilinear filtering at a chart
 // border reads the source's own neighbours, never another chart), and the rectangles are
@@ -13,10 +14,9 @@
 #include "pipeline/pipeline.h"
 
 #include "formats/layout.h"
+#include "pipeline/texture_charts.h"
 
 #include <OpenImageIO/imageio.h>
-#define STB_IMAGE_RESIZE_IMPLEMENTATION
-#include <stb_image_resize.h>
 
 #include <algorithm>
 #include <cmath>
@@ -71,19 +71,6 @@ uint64_t textureTexels(const std::string& path) {
     auto input = OIIO::ImageInput::open(path);
     if (!input || !absurd(input->spec()).empty()) return 0;
     return static_cast<uint64_t>(input->spec().width) * static_cast<uint64_t>(input->spec().height);
-}
-
-Image downsampleTexture(const Image& source, double factor) {
-    const double scale = factor > 1 ? 1 / std::sqrt(factor) : 1;
-    const int w = static_cast<int>(source.width), h = static_cast<int>(source.height), nc = static_cast<int>(source.channels);
-    const int ow = std::max(1, static_cast<int>(std::lround(w * scale))), oh = std::max(1, static_cast<int>(std::lround(h * scale)));
-    if (ow == w && oh == h) return source;
-    Image image{static_cast<uint32_t>(ow), static_cast<uint32_t>(oh), source.channels, {}};
-    image.pixels.resize(static_cast<size_t>(ow) * oh * nc);
-    if (!stbir_resize_uint8_generic(source.pixels.data(), w, h, 0, image.pixels.data(), ow, oh, 0, nc, STBIR_ALPHA_CHANNEL_NONE, 0,
-                                    STBIR_EDGE_CLAMP, STBIR_FILTER_BOX, STBIR_COLORSPACE_LINEAR, nullptr))
-        throw std::runtime_error("downsampleTexture: cannot resize " + std::to_string(w) + "x" + std::to_string(h));
-    return image;
 }
 
 namespace {
@@ -148,23 +135,32 @@ std::pair<int, int> packCharts(std::vector<Chart>& charts) {
     return {width, std::max(kBlock, y + shelf)};
 }
 
-// Copies the chart's rectangle to its place and fills the padding with its edge texels.
-void copyChart(const Image& source, const Chart& c, Image& atlas) {
-    const size_t nc = source.channels;
+// Copies the chart's rectangle (`texels`, cut from the scaled source) to its place and fills the
+// padding with its edge texels.
+void copyChart(const Image& texels, const Chart& c, Image& atlas) {
+    const size_t nc = texels.channels;
     for (int y = 0; y < c.height(); ++y) {
-        const int sy = std::min(c.y0 + y, c.y1 - 1);
+        const int sy = std::min(y, c.y1 - c.y0 - 1);
         uint8_t* row = &atlas.pixels[(static_cast<size_t>(c.oy + y) * atlas.width + c.ox) * nc];
-        std::copy_n(&source.pixels[(static_cast<size_t>(sy) * source.width + c.x0) * nc], static_cast<size_t>(c.x1 - c.x0) * nc, row);
+        std::copy_n(&texels.pixels[static_cast<size_t>(sy) * texels.width * nc], static_cast<size_t>(c.x1 - c.x0) * nc, row);
         for (int x = c.x1 - c.x0; x < c.width(); ++x) std::copy_n(row + (c.x1 - c.x0 - 1) * nc, nc, row + x * nc);
     }
 }
 
+// The texel rectangle [lo, hi) of UVs in [uvLo, uvHi] (clamped to [0, 1]) plus one texel of margin.
+void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
+    lo = std::max(0, static_cast<int>(std::floor(std::clamp(uvLo, 0.0f, 1.0f) * size)) - 1);
+    hi = std::min(static_cast<int>(size), static_cast<int>(std::ceil(std::clamp(uvHi, 0.0f, 1.0f) * size)) + 1);
+    hi = std::max(hi, lo + 1);
+}
+
 }  // namespace
 
-Image atlasTexture(const Image& scaled, MeshData& mesh) {
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
     uint32_t count = 0;
     const std::vector<uint32_t> chart = chartOfVertex(mesh, count);
-    const double size[2] = {static_cast<double>(scaled.width), static_cast<double>(scaled.height)};
+    const uint32_t scaledWidth = scaledSide(source.width, factor), scaledHeight = scaledSide(source.height, factor);
+    const double size[2] = {static_cast<double>(scaledWidth), static_cast<double>(scaledHeight)};
     std::vector<float> lo(2 * count, 1), hi(2 * count, 0);
     for (size_t v = 0; v < mesh.vertexCount(); ++v)
         for (int a = 0; a < 2; ++a) {
@@ -173,25 +169,99 @@ Image atlasTexture(const Image& scaled, MeshData& mesh) {
         }
     std::vector<Chart> charts(count);
     for (uint32_t c = 0; c < count; ++c) {
-        int* begin[2] = {&charts[c].x0, &charts[c].y0};
-        int* end[2] = {&charts[c].x1, &charts[c].y1};
-        for (int a = 0; a < 2; ++a) {
-            *begin[a] = std::max(0, static_cast<int>(std::floor(lo[2 * c + a] * size[a])) - 1);
-            *end[a] = std::min(static_cast<int>(size[a]), static_cast<int>(std::ceil(hi[2 * c + a] * size[a])) + 1);
-            *end[a] = std::max(*end[a], *begin[a] + 1);
-        }
+        texelRange(lo[2 * c], hi[2 * c], size[0], charts[c].x0, charts[c].x1);
+        texelRange(lo[2 * c + 1], hi[2 * c + 1], size[1], charts[c].y0, charts[c].y1);
     }
     const auto [width, height] = packCharts(charts);
-    const uint32_t nc = scaled.channels;
+    const uint32_t nc = source.channels;
     Image atlas{static_cast<uint32_t>(width), static_cast<uint32_t>(height), nc, {}};
     atlas.pixels.assign(static_cast<size_t>(width) * height * nc, 0);
-    for (const Chart& c : charts) copyChart(scaled, c, atlas);
+    for (const Chart& c : charts)
+        copyChart(scaledRegion(source, scaledWidth, scaledHeight, static_cast<uint32_t>(c.x0), static_cast<uint32_t>(c.y0),
+                               static_cast<uint32_t>(c.x1), static_cast<uint32_t>(c.y1)),
+                  c, atlas);
     for (size_t v = 0; v < mesh.vertexCount(); ++v) {
         const Chart& c = charts[chart[v]];
         mesh.texcoords[2 * v] = static_cast<float>((mesh.texcoords[2 * v] * size[0] - c.x0 + c.ox) / width);
         mesh.texcoords[2 * v + 1] = static_cast<float>((mesh.texcoords[2 * v + 1] * size[1] - c.y0 + c.oy) / height);
     }
     return atlas;
+}
+
+BlockTextures::BlockTextures(const std::vector<Material>& materials, TextureStore* store, bool strict,
+                             std::vector<TextureProblem>& problems, Progress* progress)
+    : materials_(materials),
+      own_(store ? nullptr : std::make_unique<TextureStore>()),
+      store_(store ? store : own_.get()),
+      strict_(strict),
+      problems_(problems),
+      progress_(progress) {}
+
+const TextureSource* BlockTextures::source(uint32_t material) {
+    if (material >= materials_.size()) return nullptr;
+    const Material& m = materials_[material];
+    if (!m.image && m.texturePath.empty()) return nullptr;
+    auto it = sources_.find(material);
+    if (it == sources_.end()) {
+        std::optional<TextureSource> source;
+        if (m.image) source = textureView(*m.image);
+        else try {
+                source = store_->open(m.texturePath, progress_);
+            } catch (const InputError& e) {
+                if (strict_) throw InputError(std::string(e.what()) + " (--strict)");
+                problems_.push_back({e.what(), m.name});
+            }
+        it = sources_.emplace(material, source).first;
+    }
+    return it->second ? &*it->second : nullptr;
+}
+
+Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh) {
+    const TextureSource* s = source(material);
+    return s ? atlasTexture(*s, factor, mesh) : Image{};
+}
+
+Image BlockTextures::region(uint32_t material, double factor, MeshData& mesh) {
+    const TextureSource* s = source(material);
+    if (!s || mesh.vertexCount() == 0) return {};
+    const uint32_t width = scaledSide(s->width, factor), height = scaledSide(s->height, factor);
+    float lo[2] = {1, 1}, hi[2] = {0, 0};
+    for (size_t v = 0; v < mesh.vertexCount(); ++v)
+        for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], mesh.texcoords[2 * v + a]), hi[a] = std::max(hi[a], mesh.texcoords[2 * v + a]);
+    int x0, x1, y0, y1;
+    texelRange(lo[0], hi[0], width, x0, x1);
+    texelRange(lo[1], hi[1], height, y0, y1);
+    Image texels = scaledRegion(*s, width, height, static_cast<uint32_t>(x0), static_cast<uint32_t>(y0), static_cast<uint32_t>(x1),
+                                static_cast<uint32_t>(y1));
+    for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+        mesh.texcoords[2 * v] = static_cast<float>((double(mesh.texcoords[2 * v]) * width - x0) / texels.width);
+        mesh.texcoords[2 * v + 1] = static_cast<float>((double(mesh.texcoords[2 * v + 1]) * height - y0) / texels.height);
+    }
+    return texels;
+}
+
+std::vector<TexturedChart> textureCharts(BlockTextures& textures, uint32_t material, double factor, const MeshData& mesh) {
+    if (!textures.source(material) || mesh.vertexCount() == 0) return {};
+    uint32_t count = 0;
+    const std::vector<uint32_t> chart = chartOfVertex(mesh, count);
+    std::vector<TexturedChart> out(count);
+    std::vector<uint32_t> local(mesh.vertexCount(), kNone);
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        MeshData& m = out[chart[mesh.indices[3 * t]]].mesh;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = mesh.indices[3 * t + k];
+            if (local[v] == kNone) {
+                local[v] = static_cast<uint32_t>(m.vertexCount());
+                m.positions.insert(m.positions.end(), &mesh.positions[3 * v], &mesh.positions[3 * v] + 3);
+                m.texcoords.insert(m.texcoords.end(), &mesh.texcoords[2 * v], &mesh.texcoords[2 * v] + 2);
+                if (!mesh.normals.empty()) m.normals.insert(m.normals.end(), &mesh.normals[3 * v], &mesh.normals[3 * v] + 3);
+                if (!mesh.colors.empty()) m.colors.insert(m.colors.end(), &mesh.colors[4 * v], &mesh.colors[4 * v] + 4);
+            }
+            m.indices.push_back(local[v]);
+        }
+    }
+    for (TexturedChart& c : out) c.texels = textures.region(material, factor, c.mesh);
+    return out;
 }
 
 }  // namespace hlod

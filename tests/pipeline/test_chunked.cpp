@@ -15,6 +15,8 @@
 
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 
@@ -142,6 +144,30 @@ TEST(Chunked, BuildOfChunkedFacadeValidates) {
     runBuild(r, progress);
     const Database db = Database::open(dir.file("f.hlod"));
     for (const Violation& v : validate(db, ValidateOptions{})) ADD_FAILURE() << "node " << v.node << ": " << v.message;
+}
+
+// Issue #14: a textured input gives the same bytes for any --memory-limit and -j (the grid and
+// the textures, read by rectangles through the build's texture store, depend on neither).
+TEST(Chunked, TexturedBuildByteIdenticalForAnyMemoryLimitAndJobs) {
+    TempDir dir;
+    ChunkedScanOptions options;
+    options.chartCells = 2, options.textureSize = 128, options.jpeg = true;
+    const ChunkedScan scan = writeChunkedScan(dir.path.string(), "facade", facadeMesh(200), options);
+    std::string first;
+    for (const auto& [limit, jobs] : {std::pair<uint64_t, int>{uint64_t{1} << 30, 1}, {uint64_t{64} << 10, 2}, {uint64_t{4} << 30, 2}}) {
+        std::ostringstream log;
+        Progress progress(log, false);
+        BuildRequest r;
+        r.input = scan.obj, r.output = dir.file("f.hlod");
+        r.options.constants.desiredTris = 600;
+        r.options.blockTriangles = 8000;  // 3 blocks
+        r.options.memoryLimit = limit, r.options.jobs = jobs;
+        EXPECT_GT(runBuild(r, progress).blockCount, 1u);
+        std::ifstream in(r.output, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (first.empty()) first = bytes;
+        else EXPECT_TRUE(bytes == first) << "--memory-limit " << limit << " -j " << jobs;
+    }
 }
 
 // `hlod build` reports what it measured per node (issue #16: texels, the two-sided error and the

@@ -2,7 +2,7 @@
 // chunks, one material and one atlas per chunk): a mesh cut into chunks by a grid of cells over
 // its bounds (by triangle centroid), written as one OBJ in which every chunk has its own copy of
 // its vertices (border vertices duplicated, `jitter` apart), its own material and its
-// own texture file chunk_NNN.png. Within a chunk the UVs are charts: the chunk's triangles are
+// own texture file chunk_NNN.png (or .jpg). Within a chunk the UVs are charts: the chunk's triangles are
 // grouped by a finer grid (chartCells per chunk-cell side), each chart with its own vertices
 // again, projected onto the chunk's two longest axes into its own tile of the atlas; 1 = one
 // chart per chunk, larger = fragmented photogrammetry UVs. Texels are a smooth colour function of
@@ -24,6 +24,10 @@ struct ChunkedScanOptions {
     // Each chunk's copy of a border vertex moves by up to jitter x the mesh's extent per axis (chunks
     // exported apart round apart: the copies of a border vertex are near, not bit-identical).
     double jitter = 1e-6;
+    // The atlases' format: PNG (lossless, the default) or, for inputs like real photogrammetry
+    // deliveries (issue #14: 41-80 x 4K JPEG atlases), chunk_NNN.jpg at jpegQuality.
+    bool jpeg = false;
+    int jpegQuality = 90;
 };
 
 struct ChunkedScan {
