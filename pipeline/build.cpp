@@ -4,6 +4,7 @@
 // file, then merge the records into the database in block order. The result does not depend on
 // -j, and building subsets of blocks as shards and merging them gives the same bytes.
 #include "pipeline/pipeline.h"
+#include "pipeline/texture_store.h"
 #include "pipeline/split_work.h"
 
 #include "formats/temp_files.h"

@@ -12,6 +12,7 @@
 // and is padded to one with copies of its edge texels: no block mixes two charts, and no
 // chart's colour bleeds into another through the compression.
 #include "pipeline/pipeline.h"
+#include "pipeline/texture_store.h"
 
 #include "formats/layout.h"
 #include "pipeline/texture_charts.h"

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "pipeline/pipeline.h"
+#include "pipeline/texture_store.h"
 
 namespace hlod {
 

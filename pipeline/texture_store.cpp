@@ -10,6 +10,7 @@
 // whole atlas, source or downsampled, is held. Without a folder (buildBlock outside runBuild)
 // the decoded sources stay in memory, one block's at a time.
 #include "pipeline/pipeline.h"
+#include "pipeline/texture_store.h"
 
 #include <OpenImageIO/imageio.h>
 

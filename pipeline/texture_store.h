@@ -1,0 +1,68 @@
+// Textures read by rectangles (issue #14, pipeline/MEMORY.md): a build-wide store decodes each
+// texture file once, by strips of scanlines, into a temporary file; a node reads only the
+// rectangles of its UV charts, downsampled by a box filter, so no whole atlas is held.
+#pragma once
+
+#include "pipeline/pipeline.h"
+
+#include <map>
+#include <memory>
+#include <optional>
+
+namespace hlod {
+
+// texture_store.cpp: a texture read by rectangles: an image in memory, or a decoded file's rows.
+struct TextureSource {
+    uint32_t width = 0, height = 0, channels = 0;
+    const Image* image = nullptr;  // in memory, or
+    int file = -1;                 // width x height x channels bytes, row by row
+    void rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out) const;  // [x0, x1) of rows [y0, y1)
+};
+inline TextureSource textureView(const Image& image) { return {image.width, image.height, image.channels, &image, -1}; }
+uint32_t scaledSide(uint32_t side, double factor);  // a side downsampled by factor (sqrt per side; factor <= 1: as is)
+// Texels [x0, x1) x [y0, y1) of the source downsampled to scaledWidth x scaledHeight (box filter:
+// each texel the area-weighted mean of the source texels it covers; equal sizes: a copy).
+Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t scaledHeight, uint32_t x0, uint32_t y0, uint32_t x1,
+                   uint32_t y1);
+Image downsampleTexture(const Image& source, double factor);  // the whole image by scaledRegion
+// The texture files of a build, each decoded once (by strips of scanlines) into a file under
+// `dir` and read back by rectangles; dir "" keeps them decoded in memory. Thread-safe.
+class TextureStore {
+public:
+    explicit TextureStore(const std::string& dir = "");
+    ~TextureStore();
+    TextureStore(const TextureStore&) = delete;
+    TextureStore& operator=(const TextureStore&) = delete;
+    // Decodes `path` on its first call; throws InputError (corrupt, truncated) on every call.
+    TextureSource open(const std::string& path, Progress* progress);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+// The charts of `mesh` (one material's triangles) of `source` downsampled by factor, packed; UVs rewritten.
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh);
+// The textures of one block's materials: a texture file through `store` (nullptr: a store of
+// the block's own, in memory), an embedded image as it is. A texture that fails to decode is a
+// TextureProblem and its material untextured in this block, or, with `strict`, fatal.
+class BlockTextures {
+public:
+    BlockTextures(const std::vector<Material>& materials, TextureStore* store, bool strict, std::vector<TextureProblem>& problems,
+                  Progress* progress);
+    const TextureSource* source(uint32_t material);  // nullptr: untextured
+    Image atlas(uint32_t material, double factor, MeshData& mesh);  // atlasTexture; width 0: untextured
+    // The rectangle of the material's texture downsampled by `factor` that `mesh`'s UVs cover
+    // (+1 texel margin), mesh's UVs rewritten onto it (what bakeTexture samples); width 0 when untextured.
+    Image region(uint32_t material, double factor, MeshData& mesh);
+
+private:
+    const std::vector<Material>& materials_;
+    std::unique_ptr<TextureStore> own_;
+    TextureStore* store_;
+    bool strict_;
+    std::vector<TextureProblem>& problems_;
+    Progress* progress_;
+    std::map<uint32_t, std::optional<TextureSource>> sources_;
+};
+
+}  // namespace hlod
