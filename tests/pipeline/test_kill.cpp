@@ -7,17 +7,11 @@
 
 #include "tests/support/run_hlod.h"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <iostream>
 #include <random>
-#include <thread>
-
-extern char** environ;
 
 namespace hlod::test {
 namespace {
@@ -25,26 +19,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kKills = 30;
-
-// Runs `hlod args` and kills it with SIGKILL after `delay` (if still running).
-void runAndKill(const std::vector<std::string>& args, std::chrono::microseconds delay) {
-    std::vector<std::string> argv = {HLOD_BINARY};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> cargv;
-    for (std::string& a : argv) cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-    pid_t pid = 0;
-    ASSERT_EQ(posix_spawn(&pid, cargv[0], &actions, nullptr, cargv.data(), environ), 0);
-    posix_spawn_file_actions_destroy(&actions);
-    std::this_thread::sleep_for(delay);
-    kill(pid, SIGKILL);
-    int status = 0;
-    waitpid(pid, &status, 0);
-}
 
 // The files under `dir` (recursively) except `keep`.
 std::vector<fs::path> filesUnder(const fs::path& dir, const std::vector<fs::path>& keep) {
@@ -96,7 +70,7 @@ struct KillSweep : ::testing::Test {
         interrupted = 0;
         std::uniform_int_distribution<int64_t> at(span.count() / 4, span.count() * 6 / 5);
         for (int k = 0; k < kKills; ++k) {
-            runAndKill(args, std::chrono::microseconds(at(random)));
+            ASSERT_TRUE(test::runHlodAndKill(args, std::chrono::microseconds(at(random))));
             if (fs::is_regular_file(complete)) {
                 EXPECT_EQ(readFile(complete.string()), reference) << k;
             }

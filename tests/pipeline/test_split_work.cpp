@@ -10,16 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <chrono>
 #include <random>
-#include <thread>
-
-extern char** environ;
 
 namespace hlod::test {
 namespace {
@@ -182,25 +174,6 @@ TEST(SplitWork, SplitOptionsBelongToTheSplitAndForeignFoldersAreNotReplaced) {
     EXPECT_FALSE(fs::exists(dir.file("w2")));
 }
 
-// Runs `hlod args` (output discarded) and kills it with SIGKILL after `delay` if still running.
-void runAndKill(std::vector<std::string> args, std::chrono::microseconds delay) {
-    args.insert(args.begin(), HLOD_BINARY);
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-    pid_t pid = 0;
-    ASSERT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ), 0);
-    posix_spawn_file_actions_destroy(&actions);
-    std::this_thread::sleep_for(delay);
-    kill(pid, SIGKILL);
-    int status = 0;
-    waitpid(pid, &status, 0);
-}
-
 TEST(SplitWork, KilledAnywhereLeavesNoWorkFolderOrACompleteOne) {
     TempDir dir;
     writePly(dir.file("t.ply"), terrain(250).mesh, true);
@@ -213,7 +186,7 @@ TEST(SplitWork, KilledAnywhereLeavesNoWorkFolderOrACompleteOne) {
     int absent = 0;
     for (int k = 0; k < 20; ++k) {
         fs::remove_all(dir.file("work"));
-        runAndKill(split, std::chrono::microseconds(at(random)));
+        ASSERT_TRUE(test::runHlodAndKill(split, std::chrono::microseconds(at(random))));
         if (!fs::exists(dir.file("work"))) {
             ++absent;
             continue;

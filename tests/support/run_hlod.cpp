@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <thread>
 
 extern char** environ;
 
@@ -95,6 +97,27 @@ RunResult runHlod(const std::vector<std::string>& args, const RunOptions& option
     std::vector<std::string> argv{HLOD_BINARY};
     argv.insert(argv.end(), args.begin(), args.end());
     return runProcess(argv, options);
+}
+
+bool runHlodAndKill(const std::vector<std::string>& args, std::chrono::microseconds delay) {
+    std::vector<std::string> argv = {HLOD_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> cargv;
+    for (std::string& a : argv) cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    pid_t pid = 0;
+    const bool started = posix_spawn(&pid, cargv[0], &actions, nullptr, cargv.data(), environ) == 0;
+    posix_spawn_file_actions_destroy(&actions);
+    if (!started) return false;
+    std::this_thread::sleep_for(delay);
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return true;
 }
 
 }  // namespace hlod::test

@@ -3,6 +3,7 @@
 // captures its exit status, standard output and standard error separately.
 #pragma once
 
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -24,5 +25,9 @@ RunResult runProcess(const std::vector<std::string>& argv, const RunOptions& opt
 
 // runProcess of HLOD_BINARY with `args` (the subcommand and its arguments).
 RunResult runHlod(const std::vector<std::string>& args, const RunOptions& options = {});
+
+// Starts HLOD_BINARY with `args` (output discarded) and sends it SIGKILL after `delay` if it is
+// still running (the kill sweeps); false when it could not be started.
+bool runHlodAndKill(const std::vector<std::string>& args, std::chrono::microseconds delay);
 
 }  // namespace hlod::test
