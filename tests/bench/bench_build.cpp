@@ -7,10 +7,7 @@
 //   hlod_bench_build [--dir DIR] [--sizes 1,17] [--simplifier meshopt|openmesh|both]
 //                    [--mode top-down|bottom-up|both] [-j N] [--memory-limit BYTES]
 #include "pipeline/pipeline.h"
-
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include "tests/support/child_usage.h"
 
 #include <algorithm>
 #include <array>
@@ -109,42 +106,28 @@ struct Result {
 
 Result runChild(const std::string& input, const std::string& output, Simplifier simplifier, BuildMode mode, int jobs,
                 uint64_t memoryLimit) {
-    const auto start = std::chrono::steady_clock::now();
-    const pid_t pid = fork();
-    if (pid == 0) {
-        try {
-            std::ostringstream log;
-            Progress progress(log, false);
-            BuildRequest r;
-            r.input = input, r.output = output;
-            r.options.simplifier = simplifier, r.options.jobs = jobs, r.options.mode = mode;
-            if (memoryLimit) r.options.memoryLimit = memoryLimit;
-            const BuildSummary s = runBuild(r, progress);
-            std::ofstream(output + ".tris") << s.inputTriangles;
-            std::vector<double> worst, sum, count;  // per level, non-leaf nodes (leaves measure 0)
-            for (const NodeQuality& n : s.nodes) {
-                if (n.errorMax <= 0) continue;
-                if (worst.size() <= n.level) worst.resize(n.level + 1), sum.resize(n.level + 1), count.resize(n.level + 1);
-                worst[n.level] = std::max(worst[n.level], n.errorMax), sum[n.level] += n.errorMax, ++count[n.level];
-            }
-            std::ofstream errors(output + ".errors");
-            for (size_t l = 0; l < worst.size(); ++l)
-                if (count[l] > 0) errors << "  level " << l << ": error max " << worst[l] << ", mean of nodes " << sum[l] / count[l] << "\n";
-            errors.close();  // _exit runs no destructor
-            _exit(0);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "build failed: %s\n", e.what());
-            _exit(1);
+    const test::ChildUsage child = test::runInChild([&] {
+        std::ostringstream log;
+        Progress progress(log, false);
+        BuildRequest r;
+        r.input = input, r.output = output;
+        r.options.simplifier = simplifier, r.options.jobs = jobs, r.options.mode = mode;
+        if (memoryLimit) r.options.memoryLimit = memoryLimit;
+        const BuildSummary s = runBuild(r, progress);
+        std::ofstream(output + ".tris") << s.inputTriangles;
+        std::vector<double> worst, sum, count;  // per level, non-leaf nodes (leaves measure 0)
+        for (const NodeQuality& n : s.nodes) {
+            if (n.errorMax <= 0) continue;
+            if (worst.size() <= n.level) worst.resize(n.level + 1), sum.resize(n.level + 1), count.resize(n.level + 1);
+            worst[n.level] = std::max(worst[n.level], n.errorMax), sum[n.level] += n.errorMax, ++count[n.level];
         }
-    }
-    int status = 0;
-    rusage usage{};
-    wait4(pid, &status, 0, &usage);
+        std::ofstream errors(output + ".errors");
+        for (size_t l = 0; l < worst.size(); ++l)
+            if (count[l] > 0) errors << "  level " << l << ": error max " << worst[l] << ", mean of nodes " << sum[l] / count[l] << "\n";
+    });
     Result res;
-    res.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    res.cpu = usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
-    res.peakRss = static_cast<uint64_t>(usage.ru_maxrss) * 1024;
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return res;
+    res.wall = child.wall, res.cpu = child.cpu, res.peakRss = child.peakRss;
+    if (!child.ok) return res;
     std::ifstream(output + ".tris") >> res.triangles;
     std::ifstream errors(output + ".errors");
     res.errors.assign(std::istreambuf_iterator<char>(errors), {});

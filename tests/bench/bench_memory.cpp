@@ -9,11 +9,9 @@
 //                [--limits 256M,512M,1G,default] [-j N] [--input FILE]
 // --input builds FILE (any input hlod builds) instead of the generated scan.
 #include "pipeline/pipeline.h"
+#include "tests/support/child_usage.h"
 #include "tests/support/chunked_scan.h"
 
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -27,36 +25,6 @@ namespace fs = std::filesystem;
 using namespace hlod;
 
 namespace {
-
-struct Child {
-    double wall = 0, cpu = 0;
-    uint64_t peakRss = 0;
-    bool ok = false;
-};
-
-// Runs `work` in a child process (so that each build's peak RSS is its own, from a small parent).
-Child inChild(const std::function<void()>& work) {
-    const auto start = std::chrono::steady_clock::now();
-    const pid_t pid = fork();
-    if (pid == 0) {
-        try {
-            work();
-            _exit(0);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "failed: %s\n", e.what());
-            _exit(1);
-        }
-    }
-    int status = 0;
-    rusage usage{};
-    wait4(pid, &status, 0, &usage);
-    Child c;
-    c.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    c.cpu = usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
-    c.peakRss = static_cast<uint64_t>(usage.ru_maxrss) * 1024;
-    c.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-    return c;
-}
 
 uint64_t parseBytes(const std::string& s) {
     if (s == "default") return 0;
@@ -102,7 +70,7 @@ int main(int argc, char** argv) {
         input = (folder / (name + ".obj")).string();
         if (!fs::exists(input)) {
             fs::create_directories(folder);
-            const Child g = inChild([&] { writeChunkedScan(folder.string(), name, facadeMesh(facade), scan); });
+            const test::ChildUsage g = test::runInChild([&] { writeChunkedScan(folder.string(), name, facadeMesh(facade), scan); });
             if (!g.ok) return 1;
             std::printf("wrote %s in %.1f s\n", input.c_str(), g.wall);
         }
@@ -115,7 +83,7 @@ int main(int argc, char** argv) {
     for (std::string item; std::getline(list, item, ',');) {
         const uint64_t limit = parseBytes(item);
         const std::string output = dir + "/out.hlod", figures = dir + "/out.figures";
-        const Child c = inChild([&] {
+        const test::ChildUsage c = test::runInChild([&] {
             std::ostringstream log;
             Progress progress(log, false);
             BuildRequest r;
