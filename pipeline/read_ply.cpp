@@ -5,6 +5,7 @@
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -226,6 +227,7 @@ void readVertices(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::st
             uint8_t rgba[4];
             for (int a = 0; a < 4; ++a) {
                 const double v = col[a] < 0 ? (floatColor ? 1.0 : 255.0) : values[col[a]];
+                if (std::isnan(v)) throw InputError(name + ": corrupt PLY (a vertex colour is not a number)");
                 rgba[a] = static_cast<uint8_t>(std::clamp(floatColor ? v * 255.0 : v, 0.0, 255.0));
             }
             raw.colors.push(rgba, 4);
@@ -248,12 +250,12 @@ void readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
                 continue;
             }
             const double n = r.value(prop.countType);
-            if (n < 0 || n > 1024) throw InputError(name + ": corrupt PLY (face with " + std::to_string(n) + " vertices)");
+            if (!(n >= 0 && n <= 1024)) throw InputError(name + ": corrupt PLY (face with " + std::to_string(n) + " vertices)");
             polygon.clear();
             for (int k = 0; k < static_cast<int>(n); ++k) {
                 const double index = r.value(prop.type);
                 if (static_cast<int>(p) == list) {
-                    if (index < 0 || index >= 4294967295.0)
+                    if (!(index >= 0 && index < 4294967295.0))  // NaN fails too
                         throw InputError(name + ": vertex index " + std::to_string(index) + " out of range");
                     polygon.push_back(static_cast<uint32_t>(index));
                 }

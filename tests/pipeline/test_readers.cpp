@@ -153,6 +153,24 @@ TEST(BadInput, NaNCoordinate) {
     EXPECT_NE(errorOf([&] { readMesh(dir.file("n.ply")); }).find("vertex 1 has a NaN/Inf coordinate"), std::string::npos);
 }
 
+// Found by fuzz_ply (issue #15): a NaN float colour, face count or index was cast to an integer
+// (undefined behaviour) instead of being refused.
+TEST(BadInput, NaNColourFaceCountOrIndex) {
+    TempDir dir;
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                               "property float z\n";
+    std::ofstream(dir.file("c.ply")) << header << "property float red\nproperty float green\nproperty float blue\n"
+                                     << "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                     << "0 0 0 1 1 1\n1 0 0 nan 1 1\n0 1 0 1 1 1\n3 0 1 2\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("c.ply")); }).find("a vertex colour is not a number"), std::string::npos);
+    std::ofstream(dir.file("n.ply")) << header << "element face 1\nproperty list float int vertex_indices\nend_header\n"
+                                     << "0 0 0\n1 0 0\n0 1 0\nnan 0 1 2\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("n.ply")); }).find("corrupt PLY (face with"), std::string::npos);
+    std::ofstream(dir.file("i.ply")) << header << "element face 1\nproperty list uchar float vertex_indices\nend_header\n"
+                                     << "0 0 0\n1 0 0\n0 1 0\n3 0 nan 2\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("i.ply")); }).find("out of range"), std::string::npos);
+}
+
 TEST(BadInput, OutOfRangeIndex) {
     TempDir dir;
     std::ofstream(dir.file("i.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
