@@ -115,6 +115,14 @@ int runBuildCommand(BuildArgs& a) {
 
 }  // namespace
 
+void addProgressOptions(CLI::App* sub, ProgressOptions& progress) {
+    sub->add_flag("--progress-json", progress.json,
+                  "progress as one JSON object per line (stage, done, total, unit, textures, texels, elapsed_s, eta_s; "
+                  "null eta_s until the stage has a rate) instead of the progress line");
+    sub->add_option("--progress-interval", progress.interval, "seconds between progress lines when stdout is not a terminal (default 5)")
+        ->check(CLI::PositiveNumber);
+}
+
 void addBuild(CLI::App& app, int& status) {
     auto a = std::make_shared<BuildArgs>();
     BuildOptions& o = a->request.options;
@@ -158,12 +166,7 @@ void addBuild(CLI::App& app, int& status) {
                   "textures, glTF buffers and images, the meshes of a folder input");
     sub->add_option("--up", o.up, "up axis of the input, recorded in the database (default: y for glTF, z for OBJ/PLY)")
         ->check(CLI::IsMember({"y", "z"}));
-    sub->add_flag("--progress-json", a->progress.json,
-                  "progress as one JSON object per line (stage, done, total, unit, textures, texels, elapsed_s, eta_s; "
-                  "null eta_s until the stage has a rate) instead of the progress line");
-    sub->add_option("--progress-interval", a->progress.interval,
-                    "seconds between progress lines when stdout is not a terminal (default 5)")
-        ->check(CLI::PositiveNumber);
+    addProgressOptions(sub, a->progress);
     sub->add_flag("--strict", o.strict,
                   "an unusable texture (missing, empty, not an image, absurd size, corrupt) is fatal (exit 2) instead "
                   "of a warning that leaves its material untextured");

@@ -44,10 +44,7 @@ void addMerge(CLI::App& app, int& status) {
     CLI::App* merge = app.add_subcommand("merge", "merge shard folders written by `hlod build --shard` into one database");
     merge->add_option("SHARDS", a->shards, "shard folders")->required();
     merge->add_option("-o,--output", a->output, "database to write")->required();
-    merge->add_flag("--progress-json", a->progress.json, "progress as one JSON object per line (as hlod build)");
-    merge->add_option("--progress-interval", a->progress.interval,
-                      "seconds between progress lines when stdout is not a terminal (default 5)")
-        ->check(CLI::PositiveNumber);
+    addProgressOptions(merge, a->progress);
     merge->callback([a, &status] { status = runGuarded("merge", [&] { return runMerge(*a); }); });
 }
 

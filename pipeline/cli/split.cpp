@@ -55,10 +55,7 @@ void addSplit(CLI::App& app, int& status) {
     sub->add_option("--up", o.up, "up axis of the input, recorded in the database (default: y for glTF, z for OBJ/PLY)")
         ->check(CLI::IsMember({"y", "z"}));
     sub->add_flag("--strict", o.strict, "an unusable texture found while reading is fatal (exit 2)");
-    sub->add_flag("--progress-json", a->progress.json, "progress as one JSON object per line (as hlod build)");
-    sub->add_option("--progress-interval", a->progress.interval,
-                    "seconds between progress lines when stdout is not a terminal (default 5)")
-        ->check(CLI::PositiveNumber);
+    addProgressOptions(sub, a->progress);
     sub->callback([a, &status] { status = runGuarded("split", [&] { return runSplit(*a); }); });
 }
 

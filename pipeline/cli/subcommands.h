@@ -3,6 +3,10 @@
 
 #include "formats/cli/command.h"
 
+namespace hlod {
+struct ProgressOptions;
+}
+
 namespace hlod::cli {
 
 // `hlod build INPUT -o DB`: a mesh or a folder of block meshes into a database (thesis §3).
@@ -15,5 +19,8 @@ void addMerge(CLI::App& app, int& status);
 void addStats(CLI::App& app, int& status);
 // `hlod synth city -o DIR`: the synthetic thesis-like city (pipeline/synth/synth.h).
 void addSynth(CLI::App& app, int& status);
+
+// --progress-json and --progress-interval, the same for build, split and merge.
+void addProgressOptions(CLI::App* sub, ProgressOptions& progress);  // defined in build.cpp
 
 }  // namespace hlod::cli
