@@ -80,7 +80,7 @@ uint64_t blockTarget(const BuildOptions& o) { return o.blockTriangles ? o.blockT
 
 bool isStreamable(const std::string& input) {
     const std::string ext = extensionOf(input);
-    return (ext == ".ply" || ext == ".obj") && fs::is_regular_file(input);
+    return (ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb") && fs::is_regular_file(input);
 }
 
 // The textures rule (README "Inputs: textures"): with --strict the first unusable texture ends the
@@ -100,7 +100,8 @@ void reportRead(const std::string& input, const ReadStats& stats, Progress& prog
         progress.message(input + ": dropped " + std::to_string(stats.degenerateDropped) + " degenerate triangles");
 }
 
-// One PLY or OBJ mesh, out of core: parsed once into spill files, then streamed to the grid.
+// One PLY, OBJ or glTF mesh, out of core: parsed once into spill files, then streamed to the
+// grid; a glTF's embedded images wait, still encoded, in TEMP/gltf-images for the texture store.
 SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
     const std::string rawDir = (fs::path(tempDir) / "raw").string();
     fs::create_directories(rawDir);
@@ -110,8 +111,10 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         raw.spillTo(rawDir);
         raw.progress = &progress;
         progress.beginStage("read", fs::file_size(input), "B");
-        if (extensionOf(input) == ".ply") parsePly(input, raw, options.read);
-        else parseObj(input, raw, options.read);
+        const std::string ext = extensionOf(input);
+        if (ext == ".ply") parsePly(input, raw, options.read);
+        else if (ext == ".obj") parseObj(input, raw, options.read);
+        else parseGltf(input, raw, options.read, (fs::path(tempDir) / "gltf-images").string());
         progress.endStage();
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
         enforceTextures(raw.stats.textureProblems, options);

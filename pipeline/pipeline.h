@@ -64,7 +64,7 @@ struct SourceMesh {
 
 class Progress;
 
-// raw_mesh.cpp: a PLY or OBJ mesh as parsed, before welding. The arrays live in memory (a block
+// raw_mesh.cpp: a PLY, OBJ or glTF mesh as parsed, before welding. The arrays live in memory (a block
 // file) or spill to disk (a single large input is never held whole), from
 // where split_stream.cpp routes the triangles to per-block files in one pass. Adding an
 // attribute checks it is finite (InputError naming the vertex).
@@ -98,6 +98,9 @@ struct ReadOptions {
 };
 void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
 void parseObj(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
+// A glTF/GLB into `raw` (read_gltf.cpp): its embedded PNG/JPEG images are written, still
+// encoded, to files in `imageDir` (created) and named as the materials' texture paths.
+void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options, const std::string& imageDir);
 // Welds the corners (OBJ: by position/texcoord/normal index triple, in first-use order) into
 // an indexed SourceMesh and sanitizes it.
 SourceMesh toSourceMesh(const RawMesh& raw, const std::string& name);

@@ -3,26 +3,22 @@
 // flattened into one mesh; TRIANGLES primitives; POSITION, TEXCOORD_0, NORMAL (transformed by
 // the inverse transpose, normalised) and COLOR_0 (RGB or RGBA, float or normalised integers, to
 // 8 bits) as the PLY reader reads them: an attribute is kept when every primitive has it.
-// Mirroring transforms reverse the winding back. Base-colour textures: embedded images
-// decoded by stb_image (one that does not decode or claims too many texels is a TextureProblem,
-// its material untextured),
-// external ones by path (loaded later through OpenImageIO). External
+// Mirroring transforms reverse the winding back. The file is memory-mapped, not copied, and
+// converted into a RawMesh (raw_mesh.cpp), which `hlod build` spills to disk and streams to the
+// block grid as it does a PLY (parseGltf); readGltf welds it into a SourceMesh. Base-colour
+// textures: embedded images checked by stb_image (one that does not decode or claims too many
+// texels is a TextureProblem, its material untextured), then either decoded into memory
+// (readGltf) or written, still encoded, into the build's temporary folder and read later by
+// rectangles like any texture file (parseGltf: never all atlases decoded at once); external
+// ones by path (loaded later through OpenImageIO). External
 // images and buffers are confined to the input's folder (resolveReference). Every accessor is
 // checked against its buffer view and buffer before it is read: corrupt files give
 // InputError("FILE: problem").
-#define TINYGLTF_IMPLEMENTATION
-#include "pipeline/tiny_gltf_config.h"
-
-#include "pipeline/pipeline.h"
+#include "pipeline/read_gltf_load.h"
 
 #include <array>
-#include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <map>
 
 namespace hlod {
 namespace {
@@ -79,11 +75,11 @@ struct Context {
     const tinygltf::Model& model;
     const std::string& path;
     const ReadOptions& options;
-    SourceMesh& out;
-    std::vector<uint32_t> materialOfGltf;  // glTF material -> index in out.materials
-    bool allNormals = true, allColors = true;
+    RawMesh& raw;
+    const EmbeddedImages& images;
+    std::vector<uint32_t> materialOfGltf;  // glTF material -> index in raw.materials
+    bool keepNormals = true, keepColors = true, keepTexcoords = false;  // every primitive has them / textured
     uint32_t skippedPrimitives = 0;
-    const std::map<int, std::string>& unusableImages;  // image index -> why it was not decoded (loadImageChecked)
 };
 
 // Accessor `index` located in its buffer: element i's first byte is data + stride * i, and
@@ -210,7 +206,9 @@ void addNormals(Context& cx, int index, size_t count, const Matrix& m, bool mirr
             length += v[r] * v[r];
         }
         length = std::sqrt(length);
-        for (int r = 0; r < 3; ++r) cx.out.piece.mesh.normals.push_back(static_cast<float>(length > 0 ? v[r] / length : v[r]));
+        float out[3];
+        for (int r = 0; r < 3; ++r) out[r] = static_cast<float>(length > 0 ? v[r] / length : v[r]);
+        cx.raw.addNormal(out, cx.path);
     }
 }
 
@@ -218,61 +216,96 @@ void addColors(Context& cx, int index, size_t count) {
     int width = 0;
     const std::vector<float> c = readFloats(cx, index, 3, 4, "COLOR_0", width);
     if (c.size() != count * static_cast<size_t>(width)) throw InputError(cx.path + ": COLOR_0 count differs from POSITION");
-    for (size_t i = 0; i < count; ++i)
+    for (size_t i = 0; i < count; ++i) {
+        uint8_t rgba[4];
         for (int k = 0; k < 4; ++k) {
             const float v = k < width ? c[i * static_cast<size_t>(width) + static_cast<size_t>(k)] : 1.0f;
             if (!std::isfinite(v)) throw InputError(cx.path + ": COLOR_0 of vertex " + std::to_string(i) + " is NaN/Inf");
-            cx.out.piece.mesh.colors.push_back(static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)));
+            rgba[k] = static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
         }
+        cx.raw.colors.push(rgba, 4);
+    }
+}
+
+bool isTriangles(const tinygltf::Primitive& prim) { return prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1; }
+
+int attributeOf(const tinygltf::Primitive& prim, const char* name) {
+    const auto it = prim.attributes.find(name);
+    return it == prim.attributes.end() ? -1 : it->second;
 }
 
 void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m) {
-    if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) {
+    if (!isTriangles(prim)) {
         ++cx.skippedPrimitives;
         return;
     }
-    const auto attr = [&](const char* name) { auto it = prim.attributes.find(name); return it == prim.attributes.end() ? -1 : it->second; };
+    const auto attr = [&](const char* name) { return attributeOf(prim, name); };
     if (attr("POSITION") < 0) throw InputError(cx.path + ": primitive without POSITION");
     int width = 0;
     const std::vector<float> pos = readFloats(cx, attr("POSITION"), 3, 3, "POSITION", width);
     const size_t count = pos.size() / 3;
-    MeshData& mesh = cx.out.piece.mesh;
-    const uint32_t base = static_cast<uint32_t>(mesh.vertexCount());
-    for (size_t i = 0; i < count; ++i)
+    RawMesh& raw = cx.raw;
+    const uint32_t base = static_cast<uint32_t>(raw.positionCount());
+    for (size_t i = 0; i < count; ++i) {
+        float p[3];
         for (int r = 0; r < 3; ++r)
-            mesh.positions.push_back(static_cast<float>(m[r] * pos[3 * i] + m[4 + r] * pos[3 * i + 1] + m[8 + r] * pos[3 * i + 2] + m[12 + r]));
-    const std::vector<float> uv =
-        attr("TEXCOORD_0") >= 0 ? readAttribute(cx, attr("TEXCOORD_0"), 2, "TEXCOORD_0", count) : std::vector<float>(2 * count, 0.0f);
-    mesh.texcoords.insert(mesh.texcoords.end(), uv.begin(), uv.end());
+            p[r] = static_cast<float>(m[r] * pos[3 * i] + m[4 + r] * pos[3 * i + 1] + m[8 + r] * pos[3 * i + 2] + m[12 + r]);
+        raw.addPosition(p, cx.path);
+    }
+    if (cx.keepTexcoords) {
+        const std::vector<float> uv =
+            attr("TEXCOORD_0") >= 0 ? readAttribute(cx, attr("TEXCOORD_0"), 2, "TEXCOORD_0", count) : std::vector<float>(2 * count, 0.0f);
+        for (size_t i = 0; i < count; ++i) raw.addTexcoord(uv[2 * i], uv[2 * i + 1], cx.path);
+    }
     const bool mirrored = determinant(m) < 0;
-    if (attr("NORMAL") >= 0) addNormals(cx, attr("NORMAL"), count, m, mirrored);
-    else cx.allNormals = false;
-    if (attr("COLOR_0") >= 0) addColors(cx, attr("COLOR_0"), count);
-    else cx.allColors = false;
+    if (cx.keepNormals) addNormals(cx, attr("NORMAL"), count, m, mirrored);
+    if (cx.keepColors) addColors(cx, attr("COLOR_0"), count);
     std::vector<uint32_t> indices = prim.indices >= 0 ? readIndices(cx, prim.indices) : std::vector<uint32_t>(count);
     if (prim.indices < 0)
         for (size_t i = 0; i < count; ++i) indices[i] = static_cast<uint32_t>(i);
     const uint32_t material = prim.material >= 0 && static_cast<size_t>(prim.material) < cx.materialOfGltf.size()
                                   ? cx.materialOfGltf[static_cast<size_t>(prim.material)]
-                                  : static_cast<uint32_t>(cx.out.materials.size() - 1);
+                                  : static_cast<uint32_t>(raw.materials.size() - 1);
     for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+        RawTriangle tri;
         for (int k = 0; k < 3; ++k) {
             const uint32_t i = indices[t + (mirrored && k > 0 ? 3 - k : k)];
             if (i >= count) throw InputError(cx.path + ": index " + std::to_string(i) + " out of range (" + std::to_string(count) + " vertices)");
-            mesh.indices.push_back(base + i);
+            tri.position[k] = tri.texcoord[k] = tri.normal[k] = base + i;
         }
-        cx.out.piece.materials.push_back(material);
+        tri.material = material;
+        raw.triangles.push(&tri, 1);
     }
 }
 
-void addNode(Context& cx, int index, const Matrix& parent, int depth) {
+// Every TRIANGLES-or-not primitive of the default scene's node tree (every root node when there
+// is no scene) with its node's world transform, in document order.
+template <class Visit>
+void visitNode(const Context& cx, int index, const Matrix& parent, int depth, Visit& visit) {
     if (index < 0 || index >= static_cast<int>(cx.model.nodes.size()) || depth > 64)
         throw InputError(cx.path + ": corrupt node tree");
     const tinygltf::Node& node = cx.model.nodes[static_cast<size_t>(index)];
     const Matrix m = multiply(parent, localMatrix(node));
     if (node.mesh >= 0 && node.mesh < static_cast<int>(cx.model.meshes.size()))
-        for (const auto& prim : cx.model.meshes[static_cast<size_t>(node.mesh)].primitives) addPrimitive(cx, prim, m);
-    for (int child : node.children) addNode(cx, child, m, depth + 1);
+        for (const auto& prim : cx.model.meshes[static_cast<size_t>(node.mesh)].primitives) visit(prim, m);
+    for (int child : node.children) visitNode(cx, child, m, depth + 1, visit);
+}
+
+template <class Visit>
+void visitScene(const Context& cx, Visit visit) {
+    const tinygltf::Model& model = cx.model;
+    const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (scene < static_cast<int>(model.scenes.size())) {
+        for (int node : model.scenes[static_cast<size_t>(scene)].nodes) visitNode(cx, node, identity, 0, visit);
+        return;
+    }
+    std::vector<bool> isChild(model.nodes.size());
+    for (const auto& node : model.nodes)
+        for (int c : node.children)
+            if (c >= 0 && static_cast<size_t>(c) < isChild.size()) isChild[static_cast<size_t>(c)] = true;
+    for (size_t n = 0; n < model.nodes.size(); ++n)
+        if (!isChild[n]) visitNode(cx, static_cast<int>(n), identity, 0, visit);
 }
 
 // An image stb_image decoded (8 or 16 bits per channel) as 8-bit grey or RGB.
@@ -299,141 +332,73 @@ void addMaterials(Context& cx) {
             const int source = cx.model.textures[static_cast<size_t>(tex)].source;
             if (source >= 0 && source < static_cast<int>(cx.model.images.size())) {
                 const tinygltf::Image& img = cx.model.images[static_cast<size_t>(source)];
-                if (const auto failed = cx.unusableImages.find(source); failed != cx.unusableImages.end())
-                    cx.out.stats.textureProblems.push_back({cx.path + ": image " + std::to_string(source) + " " + failed->second, out.name});
+                if (const auto failed = cx.images.unusable.find(source); failed != cx.images.unusable.end())
+                    cx.raw.stats.textureProblems.push_back({cx.path + ": image " + std::to_string(source) + " " + failed->second, out.name});
+                else if (const auto file = cx.images.written.find(source); file != cx.images.written.end())
+                    out.texturePath = file->second;
                 else if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0)
                     out.image = decodedImage(cx, img, static_cast<size_t>(source));
                 else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
                     out.texturePath = resolveReference(cx.path, folderOf(cx.path), img.uri, "image", cx.options);
             }
         }
-        cx.materialOfGltf.push_back(static_cast<uint32_t>(cx.out.materials.size()));
-        cx.out.materials.push_back(out);
+        cx.materialOfGltf.push_back(static_cast<uint32_t>(cx.raw.materials.size()));
+        cx.raw.materials.push_back(out);
     }
-    cx.out.materials.push_back({"default", "", nullptr});
+    cx.raw.materials.push_back({"default", "", nullptr});
 }
 
-// tinygltf's file callbacks, confined: an external buffer is looked up as FOLDER/URI (tinygltf
-// then also tries ./URI, which is never accepted) and resolved by resolveReference; a refusal
-// is kept and thrown once tinygltf returns.
-struct BufferFiles {
-    const std::string& path;
-    const std::string folder;
-    const ReadOptions& options;
-    std::string refused;
-};
-
-std::string expandPath(const std::string& file, void*) { return file; }
-
-// The buffer `file` (FOLDER/URI as tinygltf joins them) resolved, or "" (refusal kept).
-std::string bufferPath(const std::string& file, BufferFiles& files) {
-    const std::string prefix = files.folder + "/";
-    if (file.rfind(prefix, 0) != 0) return "";
-    try {
-        return resolveReference(files.path, files.folder, file.substr(prefix.size()), "buffer", files.options);
-    } catch (const InputError& e) {
-        if (files.refused.empty()) files.refused = e.what();
-        return "";
-    }
+// Parses `bytes` (read_gltf_load.cpp) and appends its triangles to `raw` (not sealed).
+void convert(const uint8_t* bytes, size_t size, bool binary, const std::string& path, const ReadOptions& options,
+             RawMesh& raw, EmbeddedImages& images) {
+    const tinygltf::Model model = loadGltfModel(bytes, size, binary, path, options, images);
+    Context cx{model, path, options, raw, images, {}};
+    addMaterials(cx);
+    for (const Material& m : raw.materials) cx.keepTexcoords = cx.keepTexcoords || m.image || !m.texturePath.empty();
+    visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix&) {
+        if (!isTriangles(prim)) return;
+        cx.keepNormals = cx.keepNormals && attributeOf(prim, "NORMAL") >= 0;
+        cx.keepColors = cx.keepColors && attributeOf(prim, "COLOR_0") >= 0;
+    });
+    visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix& m) { addPrimitive(cx, prim, m); });
+    if (cx.skippedPrimitives)
+        raw.stats.warnings.push_back(path + ": " + std::to_string(cx.skippedPrimitives) + " primitives that are not triangles skipped");
+    raw.sharedIndices = true;
+    raw.hasTexcoords = cx.keepTexcoords;
+    raw.hasNormals = cx.keepNormals;
 }
 
-bool bufferExists(const std::string& file, void* user) {
-    const std::string resolved = bufferPath(file, *static_cast<BufferFiles*>(user));
-    return !resolved.empty() && std::filesystem::is_regular_file(resolved);
-}
-
-bool readBuffer(std::vector<unsigned char>* out, std::string* err, const std::string& file, void* user) {
-    std::ifstream in(bufferPath(file, *static_cast<BufferFiles*>(user)), std::ios::binary);
-    if (!in) {
-        *err = "cannot open";
-        return false;
-    }
-    out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in.bad()) return true;
-    *err = "read error";
-    return false;
-}
-
-// Embedded images are decoded by stb_image inside tinygltf; a few hundred bytes of PNG can claim
-// 20000 x 16000 texels (a decompression bomb). The header is read first: an image above
-// kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, is kept in
-// `user` (std::map<int, std::string>*: image index -> why) instead of failing the whole file,
-// and becomes a TextureProblem of each material using it (addMaterials): the one rule for every
-// unusable texture (README "Inputs: textures").
-bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
-                      const unsigned char* bytes, int size, void* user) {
-    auto& unusable = *static_cast<std::map<int, std::string>*>(user);
-    (void)err;
-    int w = 0, h = 0, components = 0;
-    if (!stbi_info_from_memory(bytes, size, &w, &h, &components)) {
-        unusable[index] = std::string("cannot be decoded (") + stbi_failure_reason() + ")";
-        return true;
-    }
-    if (uint64_t(w) * uint64_t(h) > kMaxTextureTexels) {
-        unusable[index] = "claims " + std::to_string(w) + "x" + std::to_string(h) + " texels (more than " +
-                          std::to_string(kMaxTextureTexels) + "): not decoded";
-        return true;
-    }
-    std::string decodeError;
-    if (tinygltf::LoadImageData(image, index, &decodeError, warn, width, height, bytes, size, nullptr)) return true;
-    unusable[index] = "cannot be decoded (" + decodeError.substr(0, decodeError.find('\n')) + ")";
-    *image = tinygltf::Image{};
-    return true;
+SourceMesh welded(RawMesh& raw, const std::string& path) {
+    raw.seal();
+    return toSourceMesh(raw, path);
 }
 
 }  // namespace
 
 SourceMesh readGltf(const std::string& path, const ReadOptions& options) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
-    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw InputError(path + ": read error");
-    std::string extension = std::filesystem::path(path).extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return readGltfBytes(bytes, extension == ".glb", path, options);
+    const MappedFile file(path);
+    RawMesh raw;
+    EmbeddedImages images;
+    convert(file.data, file.size, isGlb(path), path, options, raw, images);
+    return welded(raw, path);
 }
 
 SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const std::string& path, const ReadOptions& options) {
-    if (bytes.size() >= UINT32_MAX) throw InputError(path + ": glTF larger than 4 GiB (not supported)");
-    tinygltf::TinyGLTF loader;
-    tinygltf::Model model;
-    std::string err, warn;
-    BufferFiles files{path, folderOf(path), options, {}};
-    loader.SetFsCallbacks({bufferExists, expandPath, readBuffer, nullptr, &files});
-    std::map<int, std::string> unusableImages;
-    loader.SetImageLoader(loadImageChecked, &unusableImages);
-    const unsigned int length = static_cast<unsigned int>(bytes.size());
-    const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), length, files.folder)
-                           : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                                        length, files.folder);
-    if (!files.refused.empty()) throw InputError(files.refused);
-    if (!ok) throw InputError(path + ": corrupt glTF (" + err.substr(0, err.find('\n')) + ")");
-    SourceMesh out;
-    Context cx{model, path, options, out, {}, true, true, 0, unusableImages};
-    addMaterials(cx);
-    const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-    if (scene < static_cast<int>(model.scenes.size())) {
-        for (int node : model.scenes[static_cast<size_t>(scene)].nodes) addNode(cx, node, identity, 0);
-    } else {
-        std::vector<bool> isChild(model.nodes.size());
-        for (const auto& node : model.nodes)
-            for (int c : node.children)
-                if (c >= 0 && static_cast<size_t>(c) < isChild.size()) isChild[static_cast<size_t>(c)] = true;
-        for (size_t n = 0; n < model.nodes.size(); ++n)
-            if (!isChild[n]) addNode(cx, static_cast<int>(n), identity, 0);
+    RawMesh raw;
+    EmbeddedImages images;
+    convert(bytes.data(), bytes.size(), binary, path, options, raw, images);
+    return welded(raw, path);
+}
+
+void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options, const std::string& imageDir) {
+    std::filesystem::create_directories(imageDir);
+    EmbeddedImages images{imageDir, {}, {}};
+    {
+        const MappedFile file(path);
+        convert(file.data, file.size, isGlb(path), path, options, raw, images);
+        if (raw.progress) raw.progress->advance(file.size);
     }
-    if (cx.skippedPrimitives)
-        out.stats.warnings.push_back(path + ": " + std::to_string(cx.skippedPrimitives) +
-                                     " primitives that are not triangles skipped");
-    MeshData& mesh = out.piece.mesh;
-    if (!cx.allNormals) mesh.normals.clear();
-    if (!cx.allColors) mesh.colors.clear();
-    bool textured = false;
-    for (const Material& m : out.materials) textured = textured || m.image || !m.texturePath.empty();
-    if (!textured) mesh.texcoords.clear();
-    sanitize(out, path);
-    return out;
+    raw.seal();
 }
 
 }  // namespace hlod

@@ -88,6 +88,13 @@ Box3f boxFrom(const json& j) {
 
 std::string absolute(const std::string& path) { return path.empty() ? path : fs::absolute(path).lexically_normal().string(); }
 
+// A texture the split wrote into the work folder (a glTF's embedded image) is named relative to
+// it, so the folder keeps working when renamed or moved; any other texture by its absolute path.
+std::string inWork(const std::string& work, const std::string& texture) {
+    const std::string a = absolute(texture), root = absolute(work) + "/";
+    return a.rfind(root, 0) == 0 ? a.substr(root.size()) : a;
+}
+
 // A staging folder next to WORK, renamed to WORK when complete or removed however the split ends.
 struct Staging {
     std::string path;
@@ -156,7 +163,7 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
             image = "materials/" + std::to_string(m) + ".image";
             writeImage((fs::path(staging.path) / image).string(), *material.image);
         }
-        materials.push_back({{"name", material.name}, {"texture", absolute(material.texturePath)}, {"image", image}});
+        materials.push_back({{"name", material.name}, {"texture", inWork(staging.path, material.texturePath)}, {"image", image}});
     }
     manifest["materials"] = std::move(materials);
     Ordered problems = Ordered::array();
@@ -205,7 +212,9 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
         splitBits = j.at("lattice").at("position_bits");
         w.inputs.positionStep = j.at("lattice").at("position_step");
         for (const json& m : j.at("materials")) {
-            Material material{m.at("name").get<std::string>(), m.at("texture").get<std::string>(), nullptr};
+            const std::string texture = m.at("texture").get<std::string>();
+            Material material{m.at("name").get<std::string>(),
+                              texture.empty() || fs::path(texture).is_absolute() ? texture : (fs::path(work) / texture).string(), nullptr};
             const std::string image = m.at("image").get<std::string>();
             if (!image.empty()) {
                 const std::string path = (fs::path(work) / image).string();

@@ -6,12 +6,14 @@
 // estimate (BuildSummary::gatePeak), CPU time, source texels per CPU-second and input triangles
 // per CPU-second. Figures in pipeline/MEMORY.md.
 //   bench_memory [--dir DIR] [--chunks 40] [--texture 4096] [--facade 1000] [--charts 4]
-//                [--limits 256M,512M,1G,default] [-j N] [--input FILE]
-// --input builds FILE (any input hlod builds) instead of the generated scan.
+//                [--limits 256M,512M,1G,default] [-j N] [--input FILE] [--glb 1]
+// --input builds FILE (any input hlod builds) instead of the generated scan. --glb 1 converts the
+// input once into NAME.glb beside it, every texture embedded as a buffer view (the form
+// photogrammetry tools export), and builds that: the glTF path of issue #14.
 #include "pipeline/pipeline.h"
+#include "pipeline/tiny_gltf_config.h"
 #include "tests/support/child_usage.h"
 #include "tests/support/chunked_scan.h"
-
 
 #include <chrono>
 #include <cstdio>
@@ -19,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -44,6 +47,68 @@ uint64_t sourceTexels(const std::string& input) {
     return texels;
 }
 
+// `input` (read by hlod's own reader) as one GLB: one primitive per material, its texture file's
+// bytes embedded as a buffer view.
+void writeGlb(const std::string& input, const std::string& glb) {
+    const SourceMesh s = readMesh(input);
+    tinygltf::Model model;
+    model.asset.version = "2.0";
+    model.buffers.resize(1);
+    std::vector<unsigned char>& buffer = model.buffers[0].data;
+    const auto view = [&](const void* data, size_t bytes) {
+        while (buffer.size() % 4) buffer.push_back(0);
+        tinygltf::BufferView v;
+        v.buffer = 0, v.byteOffset = buffer.size(), v.byteLength = bytes;
+        buffer.insert(buffer.end(), static_cast<const unsigned char*>(data), static_cast<const unsigned char*>(data) + bytes);
+        model.bufferViews.push_back(v);
+        return static_cast<int>(model.bufferViews.size()) - 1;
+    };
+    const auto accessor = [&](int v, int componentType, int type, size_t count) {
+        tinygltf::Accessor a;
+        a.bufferView = v, a.componentType = componentType, a.type = type, a.count = count;
+        model.accessors.push_back(a);
+        return static_cast<int>(model.accessors.size()) - 1;
+    };
+    const MeshData& m = s.piece.mesh;
+    const int position = accessor(view(m.positions.data(), 4 * m.positions.size()), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, m.vertexCount());
+    const int uv = m.texcoords.empty() ? -1 : accessor(view(m.texcoords.data(), 4 * m.texcoords.size()), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, m.vertexCount());
+    model.meshes.resize(1);
+    for (size_t k = 0; k < s.materials.size(); ++k) {
+        std::vector<uint32_t> indices;
+        for (size_t t = 0; t < s.piece.materials.size(); ++t)
+            if (s.piece.materials[t] == k) indices.insert(indices.end(), &m.indices[3 * t], &m.indices[3 * t] + 3);
+        if (indices.empty()) continue;
+        tinygltf::Material material;
+        material.name = s.materials[k].name;
+        if (!s.materials[k].texturePath.empty()) {
+            std::ifstream in(s.materials[k].texturePath, std::ios::binary);
+            const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            tinygltf::Image image;
+            image.bufferView = view(bytes.data(), bytes.size());
+            image.mimeType = fs::path(s.materials[k].texturePath).extension() == ".png" ? "image/png" : "image/jpeg";
+            model.images.push_back(image);
+            tinygltf::Texture texture;
+            texture.source = static_cast<int>(model.images.size()) - 1;
+            model.textures.push_back(texture);
+            material.pbrMetallicRoughness.baseColorTexture.index = static_cast<int>(model.textures.size()) - 1;
+        }
+        model.materials.push_back(material);
+        tinygltf::Primitive prim;
+        prim.mode = TINYGLTF_MODE_TRIANGLES;
+        prim.attributes["POSITION"] = position;
+        if (uv >= 0) prim.attributes["TEXCOORD_0"] = uv;
+        prim.indices = accessor(view(indices.data(), 4 * indices.size()), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
+        prim.material = static_cast<int>(model.materials.size()) - 1;
+        model.meshes[0].primitives.push_back(prim);
+    }
+    model.nodes.resize(1);
+    model.nodes[0].mesh = 0;
+    model.scenes.resize(1);
+    model.scenes[0].nodes = {0};
+    model.defaultScene = 0;
+    if (!tinygltf::TinyGLTF().WriteGltfSceneToFile(&model, glb, false, true, false, true)) throw std::runtime_error(glb + ": cannot write");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -52,6 +117,7 @@ int main(int argc, char** argv) {
     scan.chunks = 40, scan.textureSize = 4096, scan.chartCells = 4, scan.jpeg = true;
     uint32_t facade = 1000;
     int jobs = 0;
+    bool glb = false;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string a = argv[i], v = argv[i + 1];
         if (a == "--dir") dir = v;
@@ -62,6 +128,7 @@ int main(int argc, char** argv) {
         else if (a == "--limits") limits = v;
         else if (a == "-j") jobs = std::atoi(v.c_str());
         else if (a == "--input") input = v;
+        else if (a == "--glb") glb = v == "1";
     }
     if (input.empty()) {
         const std::string name = "facade_" + std::to_string(scan.chunks) + "x" + std::to_string(scan.textureSize) + "_" +
@@ -74,6 +141,15 @@ int main(int argc, char** argv) {
             if (!g.ok) return 1;
             std::printf("wrote %s in %.1f s\n", input.c_str(), g.wall);
         }
+    }
+    if (glb) {
+        const std::string converted = fs::path(input).replace_extension(".glb").string();
+        if (!fs::exists(converted)) {
+            const test::ChildUsage g = test::runInChild([&] { writeGlb(input, converted); });
+            if (!g.ok) return 1;
+            std::printf("wrote %s in %.1f s\n", converted.c_str(), g.wall);
+        }
+        input = converted;
     }
     const uint64_t texels = sourceTexels(input);
     std::printf("input %s: %.1f Mtexel of source textures\n", input.c_str(), texels / 1e6);

@@ -6,6 +6,7 @@
 
 #include "formats/codec.h"
 #include "pipeline/tiny_gltf_config.h"
+#include "tests/support/run_hlod.h"
 
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
@@ -163,6 +164,42 @@ TEST(Gltf, EmbeddedAndExternalImages) {
     const SourceMesh x = readMesh(dir.file("x.gltf"));
     EXPECT_FALSE(x.materials[0].image);
     EXPECT_EQ(x.materials[0].texturePath, std::filesystem::canonical(dir.file("atlas.png")).string());
+}
+
+// `hlod build` streams a glTF as it does a PLY (parseGltf into a spilled RawMesh): the same mesh
+// readMesh welds, and an embedded image written, still encoded, into the image folder instead
+// of decoded into memory; the build textures its nodes from that file.
+TEST(Gltf, StreamedParseWritesEmbeddedImagesEncoded) {
+    TempDir dir;
+    const std::vector<uint8_t> jpeg = encodeTexture(testImage(64, 32), Codec::Jpeg, 90).bytes;
+    tinygltf::Model model = modelOf(sample());
+    tinygltf::Image image;
+    image.uri = "data:image/jpeg;base64," + base64(jpeg);
+    addTexturedMaterial(model, image);
+    save(model, dir.file("m.glb"), true);
+    RawMesh raw;
+    raw.spillTo(dir.file(""));
+    parseGltf(dir.file("m.glb"), raw, {}, dir.file("images"));
+    ASSERT_EQ(raw.materials.size(), 2u);
+    EXPECT_FALSE(raw.materials[0].image);
+    EXPECT_EQ(raw.materials[0].texturePath, dir.file("images/image_0.jpg"));
+    EXPECT_EQ(readFile(dir.file("images/image_0.jpg")), jpeg);
+    const SourceMesh streamed = toSourceMesh(raw, "m.glb"), read = readMesh(dir.file("m.glb"));
+    ASSERT_TRUE(read.materials[0].image);  // readMesh decodes it
+    EXPECT_EQ(read.materials[0].image->width, 64u);
+    EXPECT_EQ(streamed.piece.mesh.positions, read.piece.mesh.positions);
+    EXPECT_EQ(streamed.piece.mesh.indices, read.piece.mesh.indices);
+    EXPECT_EQ(streamed.piece.mesh.texcoords, read.piece.mesh.texcoords);
+    EXPECT_EQ(streamed.piece.mesh.normals, read.piece.mesh.normals);
+    EXPECT_EQ(streamed.piece.mesh.colors, read.piece.mesh.colors);
+    EXPECT_EQ(streamed.piece.materials, read.piece.materials);
+
+    const RunResult build = runHlod({"build", dir.file("m.glb"), "-o", dir.file("m.hlod")});
+    ASSERT_EQ(build.exitCode, 0) << build.outAndErr();
+    EXPECT_EQ(build.out.find("untextured"), std::string::npos) << build.out;
+    const RunResult stats = runHlod({"stats", dir.file("m.hlod")});
+    EXPECT_EQ(stats.out.find("finest texels                      0 "), std::string::npos) << stats.out;
+    EXPECT_NE(stats.out.find("finest texels"), std::string::npos) << stats.out;
 }
 
 // Embedded images that cannot be used are TextureProblems that leave their material untextured,

@@ -77,6 +77,8 @@ TEST(SplitWork, TexturedObjAndFolderInputsEqualOneBuild) {
     expectSplitShardsMergeEqualOneBuild(folder, folder.file("in"), {}, "1");
 }
 
+// A glTF is split as a PLY is (streamed); its embedded image waits, still encoded, inside the
+// work folder, named relative to it, so a moved work folder still builds the same database.
 TEST(SplitWork, GltfEmbeddedImageTravelsInTheWorkFolder) {
     TempDir dir;
     const float values[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
@@ -91,7 +93,13 @@ TEST(SplitWork, GltfEmbeddedImageTravelsInTheWorkFolder) {
                 {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],
   "textures": [{"source": 0}], "images": [{"uri": "data:image/png;base64,)" + image + R"("}]})";
     expectSplitShardsMergeEqualOneBuild(dir, dir.file("t.gltf"), {}, "");
-    EXPECT_TRUE(fs::exists(dir.file("work/materials/0.image")));
+    std::ifstream in(dir.file("work/manifest.json"));
+    EXPECT_EQ(nlohmann::json::parse(in).at("materials").at(0).at("texture"), "cells/gltf-images/image_0.png");
+    EXPECT_TRUE(fs::exists(dir.file("work/cells/gltf-images/image_0.png")));
+    fs::rename(dir.file("work"), dir.file("moved"));
+    const RunResult moved = runHlod({"build", dir.file("moved"), "-o", dir.file("moved.hlod")});
+    ASSERT_EQ(moved.exitCode, 0) << moved.outAndErr();
+    EXPECT_EQ(readFile(dir.file("moved.hlod")), readFile(dir.file("one.hlod")));
 }
 
 TEST(SplitWork, SplitAndMergeSpeakProgressJson) {

@@ -1,0 +1,148 @@
+// tinygltf's parse of a glTF/GLB input (read_gltf_load.h): the only translation unit that
+// compiles tinygltf (and its stb_image).
+#define TINYGLTF_IMPLEMENTATION
+#include "pipeline/read_gltf_load.h"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+namespace hlod {
+namespace {
+
+// tinygltf's file callbacks, confined: an external buffer is looked up as FOLDER/URI (tinygltf
+// then also tries ./URI, which is never accepted) and resolved by resolveReference; a refusal
+// is kept and thrown once tinygltf returns.
+struct BufferFiles {
+    const std::string& path;
+    const std::string folder;
+    const ReadOptions& options;
+    std::string refused;
+};
+
+std::string expandPath(const std::string& file, void*) { return file; }
+
+// The buffer `file` (FOLDER/URI as tinygltf joins them) resolved, or "" (refusal kept).
+std::string bufferPath(const std::string& file, BufferFiles& files) {
+    const std::string prefix = files.folder + "/";
+    if (file.rfind(prefix, 0) != 0) return "";
+    try {
+        return resolveReference(files.path, files.folder, file.substr(prefix.size()), "buffer", files.options);
+    } catch (const InputError& e) {
+        if (files.refused.empty()) files.refused = e.what();
+        return "";
+    }
+}
+
+bool bufferExists(const std::string& file, void* user) {
+    const std::string resolved = bufferPath(file, *static_cast<BufferFiles*>(user));
+    return !resolved.empty() && std::filesystem::is_regular_file(resolved);
+}
+
+bool readBuffer(std::vector<unsigned char>* out, std::string* err, const std::string& file, void* user) {
+    std::ifstream in(bufferPath(file, *static_cast<BufferFiles*>(user)), std::ios::binary);
+    if (!in) {
+        *err = "cannot open";
+        return false;
+    }
+    out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in.bad()) return true;
+    *err = "read error";
+    return false;
+}
+
+// Embedded images go through stb_image inside tinygltf; a few hundred bytes of PNG can claim
+// 20000 x 16000 texels (a decompression bomb). The header is read first: an image above
+// kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, is kept in
+// `unusable` instead of failing the whole file, and becomes a TextureProblem of each material
+// using it (addMaterials): the one rule for every unusable texture (README "Inputs: textures").
+// With a folder (parseGltf), a PNG or JPEG is decoded once to check it, freed, and written as it
+// is to FOLDER/image_N.png|jpg, so no atlas stays decoded; other formats are decoded into memory.
+bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
+                      const unsigned char* bytes, int size, void* user) {
+    auto& images = *static_cast<EmbeddedImages*>(user);
+    (void)err;
+    int w = 0, h = 0, components = 0;
+    if (!stbi_info_from_memory(bytes, size, &w, &h, &components)) {
+        images.unusable[index] = std::string("cannot be decoded (") + stbi_failure_reason() + ")";
+        return true;
+    }
+    if (uint64_t(w) * uint64_t(h) > kMaxTextureTexels) {
+        images.unusable[index] = "claims " + std::to_string(w) + "x" + std::to_string(h) + " texels (more than " +
+                                 std::to_string(kMaxTextureTexels) + "): not decoded";
+        return true;
+    }
+    const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0;
+    const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
+    if (!images.dir.empty() && (png || jpeg)) {
+        unsigned char* pixels = stbi_load_from_memory(bytes, size, &w, &h, &components, 0);
+        if (!pixels) {
+            images.unusable[index] = std::string("cannot be decoded (") + stbi_failure_reason() + ")";
+            return true;
+        }
+        stbi_image_free(pixels);
+        const std::string file = (std::filesystem::path(images.dir) / ("image_" + std::to_string(index) + (png ? ".png" : ".jpg"))).string();
+        std::ofstream out(file, std::ios::binary | std::ios::trunc);
+        if (!out.write(reinterpret_cast<const char*>(bytes), size).flush())
+            throw std::runtime_error(file + ": cannot write the embedded image (" + std::strerror(errno) + ")");
+        images.written[index] = file;
+        return true;
+    }
+    std::string decodeError;
+    if (tinygltf::LoadImageData(image, index, &decodeError, warn, width, height, bytes, size, nullptr)) return true;
+    images.unusable[index] = "cannot be decoded (" + decodeError.substr(0, decodeError.find('\n')) + ")";
+    *image = tinygltf::Image{};
+    return true;
+}
+
+}  // namespace
+
+tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, const std::string& path,
+                              const ReadOptions& options, EmbeddedImages& images) {
+    if (size >= UINT32_MAX) throw InputError(path + ": glTF larger than 4 GiB (not supported)");
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string err, warn;
+    BufferFiles files{path, folderOf(path), options, {}};
+    loader.SetFsCallbacks({bufferExists, expandPath, readBuffer, nullptr, &files});
+    loader.SetImageLoader(loadImageChecked, &images);
+    const unsigned int length = static_cast<unsigned int>(size);
+    const uint8_t empty = 0;
+    const uint8_t* data = size ? bytes : &empty;
+    const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, length, files.folder)
+                           : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(data), length, files.folder);
+    if (!files.refused.empty()) throw InputError(files.refused);
+    if (!ok) throw InputError(path + ": corrupt glTF (" + err.substr(0, err.find('\n')) + ")");
+    return model;
+}
+
+MappedFile::MappedFile(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    if (fd < 0) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
+    struct stat st {};
+    const bool ok = fstat(fd, &st) == 0;
+    size = ok ? static_cast<size_t>(st.st_size) : 0;
+    void* p = ok && size ? mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0) : nullptr;
+    ::close(fd);
+    if (!ok || p == MAP_FAILED) throw InputError(path + ": read error");
+    data = static_cast<const uint8_t*>(p);
+}
+
+MappedFile::~MappedFile() {
+    if (data) munmap(const_cast<uint8_t*>(data), size);
+}
+
+bool isGlb(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return extension == ".glb";
+}
+
+}  // namespace hlod
