@@ -1,4 +1,4 @@
-// What the node-granular Funkhouser & Séquin policies (`fs-node`, `fs-node-incremental`;
+// What the node-granular Funkhouser & Séquin policies (`fs-node`, `fs-node-inc`;
 // player/SOLVERS.md "fs-node") share: one front node's refinement step, with FS 1993 §4's
 // per-primitive cost change and the common benefit's change (player/benefit.h), and the
 // front as drawn nodes from the set of refined nodes.
