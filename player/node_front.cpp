@@ -3,7 +3,22 @@
 // refined nodes in the thesis's breadth-first order (§4.2).
 #include "player/node_front.h"
 
+#include <algorithm>
+
 namespace hlod {
+
+bool evaluateNode(const PolicyFrame& f, SelectionState& state, uint32_t id, std::vector<uint32_t>& visited) {
+    NodeEval e = f.evaluate(id);
+    state.nodes[id].priority = e.priority;
+    state.nodes[id].frustumVis = e.frustumVis;
+    visited.push_back(id);
+    return e.frustumVis >= 1;
+}
+
+BlockCost rootBlockCost(const PolicyFrame& f, uint32_t root, double pixelMs) {
+    const Node& n = f.skeleton.nodes[root];  // FS §4: Cost = max(C1 Poly + C2 Vert, C3 Pix)
+    return {f.vTime * n.cost, pixelMs * std::max(projectedAreaPx(n, f.projection), 1.0), true};
+}
 
 NodeRefinement evaluateRefinement(const PolicyFrame& f, SelectionState& state, uint32_t id, std::vector<uint32_t>& visited) {
     const Skeleton& s = f.skeleton;
@@ -11,11 +26,7 @@ NodeRefinement evaluateRefinement(const PolicyFrame& f, SelectionState& state, u
     NodeRefinement x{-f.vTime * n.cost, -nodeBenefit(s, n, f.projection), false};
     bool any = false, ready = true;
     for (uint32_t c = n.firstChild; c != kNone && s.nodes[c].parent == id; c = s.nodes[c].nextSibling) {
-        NodeEval e = f.evaluate(c);
-        state.nodes[c].priority = e.priority;
-        state.nodes[c].frustumVis = e.frustumVis;
-        visited.push_back(c);
-        bool v = e.frustumVis >= 1;
+        bool v = evaluateNode(f, state, c, visited);
         ready = ready && (f.resident[c] || (!v && !f.requireLoadedChildren));
         if (!v) continue;
         any = true;

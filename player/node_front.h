@@ -4,6 +4,7 @@
 // front as drawn nodes from the set of refined nodes.
 #pragma once
 
+#include "player/fs_node.h"
 #include "player/policy.h"
 
 #include <cstdint>
@@ -17,6 +18,14 @@ struct NodeRefinement {
     bool possible = false;  // the node has visible children and they are resident (with
                             // requireLoadedChildren: every child is)
 };
+
+// Evaluates node `id` (§4.2 priority and frustumVis into `state`, the id appended to `visited`);
+// true when it is visible (frustumVis = 1).
+bool evaluateNode(const PolicyFrame& frame, SelectionState& state, uint32_t id, std::vector<uint32_t>& visited);
+
+// A drawn block's FS §4 Cost terms for hlod0 node `root` alone: v_time x cost_n and, as the block
+// solvers' (player/choice_map.cpp), pixelMs x the root's projected pixels (at least 1).
+BlockCost rootBlockCost(const PolicyFrame& frame, uint32_t root, double pixelMs);
 
 // Evaluates every child of `id` (§4.2 priority and frustumVis into `state`, ids appended to
 // `visited`, so the loader fetches them by priority) and returns the step that replaces `id` by

@@ -36,13 +36,8 @@ public:
         };
         std::vector<uint32_t> base;
         for (uint32_t r : state.roots) {
-            NodeEval e = f.evaluate(r);
-            state.nodes[r].priority = e.priority;
-            state.nodes[r].frustumVis = e.frustumVis;
-            out.visited.push_back(r);
-            if (e.frustumVis < 1 || !f.resident[r]) continue;  // a non-resident hlod0 node cannot be drawn
-            // FS §4: Cost = max(C1 Poly + C2 Vert, C3 Pix), the per-pixel term of the block's root as in choice_map.cpp
-            BlockCost b{f.vTime * s.nodes[r].cost, pixelMs_ * std::max(projectedAreaPx(s.nodes[r], f.projection), 1.0)};
+            if (!evaluateNode(f, state, r, out.visited) || !f.resident[r]) continue;  // a non-resident hlod0 node cannot be drawn
+            BlockCost b = rootBlockCost(f, r, pixelMs_);
             if (allowSkip_) {  // FS §3: "levels of detail representing no polygons at all"
                 b.drawn = false;
                 p.steps.push_back({r, kNoStep, uint32_t(p.blocks.size()), b.primMs, nodeBenefit(s, s.nodes[r], f.projection), true});

@@ -57,16 +57,12 @@ public:
         // Last frame's front: a refined node stays refined while its refinement is possible.
         std::vector<uint32_t> roots;
         for (uint32_t r : state.roots) {
-            NodeEval e = f.evaluate(r);
-            state.nodes[r].priority = e.priority;
-            state.nodes[r].frustumVis = e.frustumVis;
-            out.visited.push_back(r);
             bool newlyVisible = !wasDrawn_[r];
-            wasDrawn_[r] = e.frustumVis >= 1 && f.resident[r];
+            wasDrawn_[r] = evaluateNode(f, state, r, out.visited) && f.resident[r];
             if (!wasDrawn_[r]) continue;
             if (newlyVisible) skipped_[r] = 0, refined_[r] = 0;  // FS §6: "the lowest LOD if the object is newly visible"
-            // FS §4: Cost = max(C1 Poly + C2 Vert, C3 Pix) per block, as in fs-node
-            blocks_.push_back({0, pixelMs_ * std::max(projectedAreaPx(s.nodes[r], f.projection), 1.0), !skipped_[r]});
+            BlockCost b = rootBlockCost(f, r, pixelMs_);  // FS §4 Cost per block, as in fs-node
+            blocks_.push_back({0, b.pixelMs, !skipped_[r]});
             block_[r] = uint32_t(roots.size());
             roots.push_back(r);
         }
@@ -140,9 +136,7 @@ private:
             if (state_->nodes[c].frustumVis >= 1) fn(c);
     }
     bool isRoot(uint32_t id) const { return f_->skeleton.nodes[id].parent == kNone; }
-    double rootCost(uint32_t id) const {  // FS §4 Cost of drawing a skipped block's root
-        return blockCostMs({f_->vTime * f_->skeleton.nodes[id].cost, blocks_[block_[id]].pixelMs, true});
-    }
+    double rootCost(uint32_t id) const { return blockCostMs(rootBlockCost(*f_, id, pixelMs_)); }  // a skipped root drawn
     double rootBenefit(uint32_t id) const { return nodeBenefit(f_->skeleton, f_->skeleton.nodes[id], f_->projection); }
 
     // A node enters the front: its refinement is evaluated once a frame (its children's priorities set).
