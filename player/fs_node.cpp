@@ -100,8 +100,10 @@ NodeChoice fsNodeGreedy(NodeProblem& p, bool bestSingle) {
         c.benefit += s.benefit;
         c.order.push_back(e.step);
         if (dc < 0) {  // the cost fell: the steps dropped as too dear may fit now
-            for (uint32_t d : dropped) queue.push({valueOf(p.steps[d].benefit, stepCost(p.steps[d], blocks[p.steps[d].block])),
-                                                   p.steps[d].node, d});
+            for (uint32_t d : dropped) {
+                const RefineStep& x = p.steps[d];
+                queue.push({valueOf(x.benefit, stepCost(x, blocks[x.block])), x.node, d});
+            }
             dropped.clear();
         }
         if (p.expand) p.expand(e.step, p);

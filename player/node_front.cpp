@@ -1,6 +1,6 @@
 // The shared steps of the node-granular Funkhouser & Séquin policies (player/node_front.h):
 // FS 1993 §4 per-primitive cost, the common benefit (player/benefit.h), the front from the
-// refined nodes in the thesis's breadth-first order (§4.2).
+// refined nodes in the thesis's breadth-first order (thesis §4.2).
 #include "player/node_front.h"
 
 #include <algorithm>

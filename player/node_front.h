@@ -19,7 +19,7 @@ struct NodeRefinement {
                             // requireLoadedChildren: every child is)
 };
 
-// Evaluates node `id` (§4.2 priority and frustumVis into `state`, the id appended to `visited`);
+// Evaluates node `id` (thesis §4.2 priority and frustumVis into `state`, the id appended to `visited`);
 // true when it is visible (frustumVis = 1).
 bool evaluateNode(const PolicyFrame& frame, SelectionState& state, uint32_t id, std::vector<uint32_t>& visited);
 
@@ -27,7 +27,7 @@ bool evaluateNode(const PolicyFrame& frame, SelectionState& state, uint32_t id, 
 // solvers' (player/choice_map.cpp), pixelMs x the root's projected pixels (at least 1).
 BlockCost rootBlockCost(const PolicyFrame& frame, uint32_t root, double pixelMs);
 
-// Evaluates every child of `id` (§4.2 priority and frustumVis into `state`, ids appended to
+// Evaluates every child of `id` (thesis §4.2 priority and frustumVis into `state`, ids appended to
 // `visited`, so the loader fetches them by priority) and returns the step that replaces `id` by
 // its visible children.
 NodeRefinement evaluateRefinement(const PolicyFrame& frame, SelectionState& state, uint32_t id,

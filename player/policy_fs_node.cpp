@@ -7,7 +7,7 @@
 // (player/choice_map.cpp), benefit the common measure (player/benefit.h), the budget
 // c_targetTime minus the overhead, and a refinement is a candidate only when its visible children
 // are resident (all children with requireLoadedChildren). The children of every front node are
-// evaluated (§4.2 priority and frustumVis), so the loader fetches them by priority as in the
+// evaluated (thesis §4.2 priority and frustumVis), so the loader fetches them by priority as in the
 // thesis; nothing deeper is evaluated. Settings: allow_skip, pixel_ms (as the block solvers'),
 // best_single (default 1).
 #include "player/fs_node.h"
@@ -36,11 +36,13 @@ public:
         };
         std::vector<uint32_t> base;
         for (uint32_t r : state.roots) {
-            if (!evaluateNode(f, state, r, out.visited) || !f.resident[r]) continue;  // a non-resident hlod0 node cannot be drawn
+            // a non-resident hlod0 node cannot be drawn
+            if (!evaluateNode(f, state, r, out.visited) || !f.resident[r]) continue;
             BlockCost b = rootBlockCost(f, r, pixelMs_);
             if (allowSkip_) {  // FS §3: "levels of detail representing no polygons at all"
                 b.drawn = false;
-                p.steps.push_back({r, kNoStep, uint32_t(p.blocks.size()), b.primMs, nodeBenefit(s, s.nodes[r], f.projection), true});
+                double benefit = nodeBenefit(s, s.nodes[r], f.projection);
+                p.steps.push_back({r, kNoStep, uint32_t(p.blocks.size()), b.primMs, benefit, true});
                 b.primMs = 0;
             } else {
                 base.push_back(r);

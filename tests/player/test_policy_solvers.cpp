@@ -214,7 +214,8 @@ TEST(SolverPolicies, FsNodeIncrementalSettlesOnTheGreedyOnAStillView) {
             FrontAccount ai = accountFront(s, a, fi.drawn), ag = accountFront(s, b, fg.drawn);
             EXPECT_LE(0.001 * ai.drawnCost, budget + 1e-9);
             if (frame < 2) continue;
-            double bi = frontBenefit(s, ai.items, fr.projection, visible), bg = frontBenefit(s, ag.items, fr.projection, visible);
+            double bi = frontBenefit(s, ai.items, fr.projection, visible);
+            double bg = frontBenefit(s, ag.items, fr.projection, visible);
             EXPECT_NEAR(bi, bg, 1e-3 * bg) << budget;
             EXPECT_EQ(fi.iterations, 1u) << budget;
             EXPECT_EQ(ai.upToggles + ai.downToggles, 0u) << budget;
