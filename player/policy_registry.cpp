@@ -23,6 +23,8 @@ std::unique_ptr<SelectionPolicy> makeHoldPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeRhPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeGbPolicy(const PolicyOptions& options);
 std::unique_ptr<SelectionPolicy> makeOraclePolicy(const PolicyOptions& options);
+std::unique_ptr<SelectionPolicy> makeFsNodePolicy(const PolicyOptions& options);  // player/policy_fs_node.cpp
+std::unique_ptr<SelectionPolicy> makeFsNodeIncrementalPolicy(const PolicyOptions& options);
 
 
 namespace {
@@ -45,6 +47,10 @@ const PolicyInfo kPolicies[] = {
      "allow_skip pixel_ms fs_benefit focus motion hysteresis literal best_single", makeFsGreedyPolicy},
     {"fs-incremental", "Funkhouser & Sequin 1993 §6 incremental raise/lower from last frame's cuts",
      "allow_skip pixel_ms fs_benefit focus motion hysteresis", makeFsIncrementalPolicy},
+    {"fs-node", "Funkhouser & Sequin 1993 §6 greedy by value over front nodes: refine the node of highest value",
+     "allow_skip pixel_ms best_single", makeFsNodePolicy},
+    {"fs-node-inc", "Funkhouser & Sequin 1993 §6 incremental over front nodes: refine/merge from last frame's front",
+     "allow_skip pixel_ms", makeFsNodeIncrementalPolicy},
     {"fs-hold", "FS 1993 §6 raise/lower from last frame's cuts with a symmetric dead band, + a swap to the greedy's",
      "allow_skip pixel_ms headroom swap_gain", makeHoldPolicy},
     {"rh", "Robin Hood (Hernandez & Benes) §5: time shared by value, remainders passed simple to complex",
