@@ -395,7 +395,9 @@ void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options
     EmbeddedImages images{imageDir, {}, {}};
     {
         const MappedFile file(path);
-        convert(file.data, file.size, isGlb(path), path, options, raw, images);
+        const std::vector<uint8_t> compact = isGlb(path) ? glbWithoutImages(file, images) : std::vector<uint8_t>{};
+        if (compact.empty()) convert(file.data, file.size, isGlb(path), path, options, raw, images);
+        else convert(compact.data(), compact.size(), true, path, options, raw, images);
         if (raw.progress) raw.progress->advance(file.size);
     }
     raw.seal();

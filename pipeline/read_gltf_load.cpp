@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -58,41 +59,31 @@ bool readBuffer(std::vector<unsigned char>* out, std::string* err, const std::st
     return false;
 }
 
+// Why an embedded image's header rules it out ("" when nothing does): no image stb_image knows,
+// or more texels than kMaxTextureTexels.
+std::string headerProblem(const uint8_t* bytes, int size) {
+    int w = 0, h = 0, components = 0;
+    if (!stbi_info_from_memory(bytes, size, &w, &h, &components)) return std::string("cannot be decoded (") + stbi_failure_reason() + ")";
+    if (uint64_t(w) * uint64_t(h) > kMaxTextureTexels)
+        return "claims " + std::to_string(w) + "x" + std::to_string(h) + " texels (more than " + std::to_string(kMaxTextureTexels) +
+               "): not decoded";
+    return "";
+}
+
 // Embedded images go through stb_image inside tinygltf; a few hundred bytes of PNG can claim
 // 20000 x 16000 texels (a decompression bomb). The header is read first: an image above
 // kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, is kept in
 // `unusable` instead of failing the whole file, and becomes a TextureProblem of each material
 // using it (addMaterials): the one rule for every unusable texture (README "Inputs: textures").
-// With a folder (parseGltf), a PNG or JPEG is decoded once to check it, freed, and written as it
-// is to FOLDER/image_N.png|jpg, so no atlas stays decoded; other formats are decoded into memory.
+// With a folder (parseGltf), a PNG or JPEG is kept encoded (keepEncoded), so no atlas stays
+// decoded; other formats are decoded into memory.
 bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
                       const unsigned char* bytes, int size, void* user) {
     auto& images = *static_cast<EmbeddedImages*>(user);
     (void)err;
-    int w = 0, h = 0, components = 0;
-    if (!stbi_info_from_memory(bytes, size, &w, &h, &components)) {
-        images.unusable[index] = std::string("cannot be decoded (") + stbi_failure_reason() + ")";
-        return true;
-    }
-    if (uint64_t(w) * uint64_t(h) > kMaxTextureTexels) {
-        images.unusable[index] = "claims " + std::to_string(w) + "x" + std::to_string(h) + " texels (more than " +
-                                 std::to_string(kMaxTextureTexels) + "): not decoded";
-        return true;
-    }
-    const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0;
-    const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
-    if (!images.dir.empty() && (png || jpeg)) {
-        unsigned char* pixels = stbi_load_from_memory(bytes, size, &w, &h, &components, 0);
-        if (!pixels) {
-            images.unusable[index] = std::string("cannot be decoded (") + stbi_failure_reason() + ")";
-            return true;
-        }
-        stbi_image_free(pixels);
-        const std::string file = (std::filesystem::path(images.dir) / ("image_" + std::to_string(index) + (png ? ".png" : ".jpg"))).string();
-        std::ofstream out(file, std::ios::binary | std::ios::trunc);
-        if (!out.write(reinterpret_cast<const char*>(bytes), size).flush())
-            throw std::runtime_error(file + ": cannot write the embedded image (" + std::strerror(errno) + ")");
-        images.written[index] = file;
+    if (!images.dir.empty() && keepEncoded(index, bytes, static_cast<size_t>(size), images)) return true;
+    if (std::string why = headerProblem(bytes, size); !why.empty()) {
+        images.unusable[index] = why;
         return true;
     }
     std::string decodeError;
@@ -137,6 +128,33 @@ MappedFile::MappedFile(const std::string& path) {
 
 MappedFile::~MappedFile() {
     if (data) munmap(const_cast<uint8_t*>(data), size);
+}
+
+void MappedFile::release(size_t offset, size_t length) const {
+    const size_t page = static_cast<size_t>(sysconf(_SC_PAGESIZE)), from = (offset + page - 1) / page * page;
+    const size_t to = std::min(offset + length, size) / page * page;
+    if (data && to > from) madvise(const_cast<uint8_t*>(data) + from, to - from, MADV_DONTNEED);
+}
+
+bool keepEncoded(int index, const uint8_t* bytes, size_t size, EmbeddedImages& images) {
+    const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0;
+    const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
+    if (!png && !jpeg) return false;
+    int w = 0, h = 0, components = 0;
+    const int length = static_cast<int>(std::min<size_t>(size, INT32_MAX));
+    if (std::string why = headerProblem(bytes, length); !why.empty()) {
+        images.unusable[index] = why;
+    } else if (unsigned char* pixels = stbi_load_from_memory(bytes, length, &w, &h, &components, 0); !pixels) {
+        images.unusable[index] = std::string("cannot be decoded (") + stbi_failure_reason() + ")";
+    } else {
+        stbi_image_free(pixels);
+        const std::string file = (std::filesystem::path(images.dir) / ("image_" + std::to_string(index) + (png ? ".png" : ".jpg"))).string();
+        std::ofstream out(file, std::ios::binary | std::ios::trunc);
+        if (!out.write(reinterpret_cast<const char*>(bytes), static_cast<std::streamsize>(size)).flush())
+            throw std::runtime_error(file + ": cannot write the embedded image (" + std::strerror(errno) + ")");
+        images.written[index] = file;
+    }
+    return true;
 }
 
 bool isGlb(const std::string& path) {

@@ -18,6 +18,11 @@ struct EmbeddedImages {
     std::map<int, std::string> written, unusable;
 };
 
+// Image `index` kept encoded: a PNG or JPEG is checked (header, texel count against
+// kMaxTextureTexels, one full decode, freed) and written as it is to images.dir/image_N.png|jpg,
+// or its problem kept in images.unusable; false (nothing done) for any other format.
+bool keepEncoded(int index, const uint8_t* bytes, size_t size, EmbeddedImages& images);
+
 tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, const std::string& path,
                               const ReadOptions& options, EmbeddedImages& images);
 
@@ -30,8 +35,17 @@ struct MappedFile {
     MappedFile(const MappedFile&) = delete;
     MappedFile& operator=(const MappedFile&) = delete;
     ~MappedFile();
+    void release(size_t offset, size_t length) const;  // done with these bytes: their pages leave the process
 };
 
 bool isGlb(const std::string& path);  // by extension, any case
+
+// read_glb_images.cpp: a GLB whose PNG/JPEG images lie in its BIN chunk, rebuilt for tinygltf
+// without them, so the atlases are never copied into memory: each such image is kept encoded
+// (keepEncoded) straight from `glb`, its bufferView emptied and its reference replaced by a
+// placeholder URI, and the other buffer views moved into a compacted BIN chunk. Empty when there
+// is nothing to take out or the container is not as expected (tinygltf then reads `glb` itself
+// and reports what is wrong).
+std::vector<uint8_t> glbWithoutImages(const MappedFile& glb, EmbeddedImages& images);
 
 }  // namespace hlod

@@ -84,16 +84,33 @@ std::string triangleBuffer() {
     return std::string(reinterpret_cast<const char*>(v), sizeof v);
 }
 
-std::string glb() {
-    std::string json = gltfJson("");
+// A GLB container of `json` and `bin` (glTF 2.0 §4.4).
+std::string glb(std::string json, std::string bin) {
     while (json.size() % 4) json += ' ';
-    const std::string bin = triangleBuffer();
+    while (bin.size() % 4) bin += '\0';
     std::string out = "glTF";
     const auto u32 = [&](uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
     u32(2), u32(uint32_t(12 + 8 + json.size() + 8 + bin.size()));
     u32(uint32_t(json.size())), out += "JSON", out += json;
     u32(uint32_t(bin.size())), out += std::string("BIN\0", 4), out += bin;
     return out;
+}
+
+// The triangle with its texture, a 4 x 4 PNG, in the BIN chunk as buffer view 3 (what
+// glbWithoutImages takes out).
+std::string glbWithImage() {
+    hlod::Image image;
+    image.width = image.height = 4, image.channels = 3;
+    for (int i = 0; i < 48; ++i) image.pixels.push_back(uint8_t(i * 5));
+    const std::vector<uint8_t> png = hlod::encodeTexture(image, hlod::Codec::Png).bytes;
+    std::string json = gltfJson("");
+    const auto replace = [&](const std::string& from, const std::string& to) { json.replace(json.find(from), from.size(), to); };
+    const std::string length = std::to_string(png.size());
+    replace(R"("images":[{"uri":"t.png"}])", R"("images":[{"bufferView":3,"mimeType":"image/png"}])");
+    replace(R"("byteLength":60}])", R"("byteLength":)" + std::to_string(60 + png.size()) + "}]");
+    replace(R"({"buffer":0,"byteOffset":0,"byteLength":6}])",
+            R"({"buffer":0,"byteOffset":0,"byteLength":6},{"buffer":0,"byteOffset":60,"byteLength":)" + length + "}]");
+    return glb(json, triangleBuffer() + std::string(png.begin(), png.end()));
 }
 
 void readerSeeds(const std::filesystem::path& dir) {
@@ -120,7 +137,8 @@ void readerSeeds(const std::filesystem::path& dir) {
     }
     text(dir / "gltf" / "data-uri.gltf", gltfJson("data:application/octet-stream;base64," + base64));
     text(dir / "gltf" / "external.gltf", gltfJson("in.bin"));
-    text(dir / "glb" / "triangle.glb", glb());
+    text(dir / "glb" / "triangle.glb", glb(gltfJson(""), triangleBuffer()));
+    text(dir / "glb" / "textured.glb", glbWithImage());
     for (const char* p : {"walk.path", "drive.path"})
         text(dir / "camera_path" / p, head(samples / "banana" / p, 12));
     text(dir / "camera_path" / "cut.path", "hlod-camera-path 1\n0 0 0 1.7 0 0 0 1 60\n0.001 5 0 1.7 0 1 0 0 60 # cut\n\n2 5 5 1.7 0 0.7071 0 0.7071 90\n");

@@ -1,7 +1,9 @@
 // libFuzzer target for the glTF reader (tinygltf + pipeline/read_gltf.cpp): the input is a
 // glTF JSON document (fuzz_gltf) or a GLB container (fuzz_glb, FUZZ_GLB defined), read from
 // memory through readGltfBytes as readGltf reads a file. External buffers and images resolve
-// in the harness's private folder (the confinement rule).
+// in the harness's private folder (the confinement rule). A GLB also goes through the build's
+// streamed path (parseGltf: the file mapped, its BIN-chunk images taken out by glbWithoutImages
+// and written to a folder).
 #include "fuzz_file.h"
 #include "pipeline/pipeline.h"
 
@@ -14,6 +16,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     try {
         hlod::readGltfBytes(std::vector<uint8_t>(data, data + size), FUZZ_GLB, name);
     } catch (const hlod::InputError&) {
+    }
+    if (FUZZ_GLB) {
+        static const std::string images = (std::filesystem::path(name).parent_path() / "images").string();
+        try {
+            hlod::RawMesh raw;
+            hlod::parseGltf(hlod::fuzz::writeInput("streamed.glb", data, size), raw, {}, images);
+        } catch (const hlod::InputError&) {
+        }
     }
     return 0;
 }

@@ -167,39 +167,70 @@ TEST(Gltf, EmbeddedAndExternalImages) {
 }
 
 // `hlod build` streams a glTF as it does a PLY (parseGltf into a spilled RawMesh): the same mesh
-// readMesh welds, and an embedded image written, still encoded, into the image folder instead
-// of decoded into memory; the build textures its nodes from that file.
+// readMesh welds, and an embedded image (a data: URI, or a buffer view of a GLB's BIN chunk,
+// which glbWithoutImages takes out before tinygltf copies the chunk) written, still encoded, into
+// the image folder instead of decoded into memory; the build textures its nodes from that file.
 TEST(Gltf, StreamedParseWritesEmbeddedImagesEncoded) {
     TempDir dir;
     const std::vector<uint8_t> jpeg = encodeTexture(testImage(64, 32), Codec::Jpeg, 90).bytes;
-    tinygltf::Model model = modelOf(sample());
-    tinygltf::Image image;
-    image.uri = "data:image/jpeg;base64," + base64(jpeg);
-    addTexturedMaterial(model, image);
-    save(model, dir.file("m.glb"), true);
-    RawMesh raw;
-    raw.spillTo(dir.file(""));
-    parseGltf(dir.file("m.glb"), raw, {}, dir.file("images"));
-    ASSERT_EQ(raw.materials.size(), 2u);
-    EXPECT_FALSE(raw.materials[0].image);
-    EXPECT_EQ(raw.materials[0].texturePath, dir.file("images/image_0.jpg"));
-    EXPECT_EQ(readFile(dir.file("images/image_0.jpg")), jpeg);
-    const SourceMesh streamed = toSourceMesh(raw, "m.glb"), read = readMesh(dir.file("m.glb"));
-    ASSERT_TRUE(read.materials[0].image);  // readMesh decodes it
-    EXPECT_EQ(read.materials[0].image->width, 64u);
-    EXPECT_EQ(streamed.piece.mesh.positions, read.piece.mesh.positions);
-    EXPECT_EQ(streamed.piece.mesh.indices, read.piece.mesh.indices);
-    EXPECT_EQ(streamed.piece.mesh.texcoords, read.piece.mesh.texcoords);
-    EXPECT_EQ(streamed.piece.mesh.normals, read.piece.mesh.normals);
-    EXPECT_EQ(streamed.piece.mesh.colors, read.piece.mesh.colors);
-    EXPECT_EQ(streamed.piece.materials, read.piece.materials);
+    for (const bool inBin : {false, true}) {
+        tinygltf::Model model = modelOf(sample());
+        tinygltf::Image image;
+        if (inBin) image.bufferView = addView(model, jpeg.data(), jpeg.size()), image.mimeType = "image/jpeg";
+        else image.uri = "data:image/jpeg;base64," + base64(jpeg);
+        addTexturedMaterial(model, image);
+        save(model, dir.file("m.glb"), true);
+        RawMesh raw;
+        raw.spillTo(dir.file(""));
+        parseGltf(dir.file("m.glb"), raw, {}, dir.file("images"));
+        ASSERT_EQ(raw.materials.size(), 2u);
+        EXPECT_FALSE(raw.materials[0].image);
+        EXPECT_EQ(raw.materials[0].texturePath, dir.file("images/image_0.jpg"));
+        EXPECT_EQ(readFile(dir.file("images/image_0.jpg")), jpeg);
+        const SourceMesh streamed = toSourceMesh(raw, "m.glb"), read = readMesh(dir.file("m.glb"));
+        ASSERT_TRUE(read.materials[0].image);  // readMesh decodes it
+        EXPECT_EQ(read.materials[0].image->width, 64u);
+        EXPECT_EQ(streamed.piece.mesh.positions, read.piece.mesh.positions);
+        EXPECT_EQ(streamed.piece.mesh.indices, read.piece.mesh.indices);
+        EXPECT_EQ(streamed.piece.mesh.texcoords, read.piece.mesh.texcoords);
+        EXPECT_EQ(streamed.piece.mesh.normals, read.piece.mesh.normals);
+        EXPECT_EQ(streamed.piece.mesh.colors, read.piece.mesh.colors);
+        EXPECT_EQ(streamed.piece.materials, read.piece.materials);
 
-    const RunResult build = runHlod({"build", dir.file("m.glb"), "-o", dir.file("m.hlod")});
-    ASSERT_EQ(build.exitCode, 0) << build.outAndErr();
-    EXPECT_EQ(build.out.find("untextured"), std::string::npos) << build.out;
-    const RunResult stats = runHlod({"stats", dir.file("m.hlod")});
-    EXPECT_EQ(stats.out.find("finest texels                      0 "), std::string::npos) << stats.out;
-    EXPECT_NE(stats.out.find("finest texels"), std::string::npos) << stats.out;
+        const RunResult build = runHlod({"build", dir.file("m.glb"), "-o", dir.file("m.hlod")});
+        ASSERT_EQ(build.exitCode, 0) << build.outAndErr();
+        EXPECT_EQ(build.out.find("untextured"), std::string::npos) << build.out;
+        const RunResult stats = runHlod({"stats", dir.file("m.hlod")});
+        EXPECT_EQ(stats.out.find("finest texels                      0 "), std::string::npos) << stats.out;
+        EXPECT_NE(stats.out.find("finest texels"), std::string::npos) << stats.out;
+    }
+}
+
+// A GLB's BIN-chunk image that is a decompression bomb or not an image is taken out and reported
+// like a data: URI one; the geometry around it still reads.
+TEST(GltfBadInput, UnusableImagesInAGlbBinChunkAreTextureProblems) {
+    TempDir dir;
+    std::vector<uint8_t> bomb = encodeTexture(testImage(16, 8), Codec::Png).bytes;
+    const uint32_t claimed[2] = {20000, 16385};  // IHDR width and height, big-endian
+    for (int k = 0; k < 2; ++k)
+        for (int b = 0; b < 4; ++b) bomb[16 + 4 * k + b] = uint8_t(claimed[k] >> (24 - 8 * b));
+    std::vector<uint8_t> truncatedJpeg = encodeTexture(testImage(64, 64), Codec::Jpeg, 90).bytes;
+    truncatedJpeg.resize(truncatedJpeg.size() / 3);
+    for (const auto& [bytes, expected] : {std::pair{bomb, std::string("20000x16385")}, std::pair{truncatedJpeg, std::string("cannot be decoded")}}) {
+        tinygltf::Model model = modelOf(terrain(4).mesh);
+        tinygltf::Image image;
+        image.bufferView = addView(model, bytes.data(), bytes.size());
+        image.mimeType = "image/png";
+        addTexturedMaterial(model, image);
+        save(model, dir.file("bad.glb"), true);
+        RawMesh raw;
+        parseGltf(dir.file("bad.glb"), raw, {}, dir.file("images"));
+        raw.seal();
+        EXPECT_TRUE(raw.materials[0].texturePath.empty());
+        EXPECT_EQ(raw.triangles.size(), terrain(4).mesh.triangleCount());
+        ASSERT_EQ(raw.stats.textureProblems.size(), 1u);
+        EXPECT_NE(raw.stats.textureProblems[0].what.find(expected), std::string::npos) << raw.stats.textureProblems[0].what;
+    }
 }
 
 // Embedded images that cannot be used are TextureProblems that leave their material untextured,

@@ -1,0 +1,115 @@
+// A GLB's embedded atlases taken out before tinygltf copies its BIN chunk (read_gltf_load.h,
+// glbWithoutImages). Photogrammetry tools export one GLB whose BIN chunk is mostly JPEG atlases;
+// tinygltf copies a GLB's whole BIN chunk into its buffer, so without this the encoded atlases
+// would sit in memory beside the mapped file. Container layout: glTF 2.0 §4.4 (GLB: 12-byte
+// header, a JSON chunk, an optional BIN chunk, each chunk 4-byte aligned).
+#include "pipeline/read_gltf_load.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+#include <set>
+
+namespace hlod {
+namespace {
+
+using nlohmann::json;
+
+constexpr uint32_t kMagic = 0x46546C67, kJson = 0x4E4F534A, kBin = 0x004E4942;  // "glTF", "JSON", "BIN\0"
+
+uint32_t word(const uint8_t* p) {
+    uint32_t v;
+    std::memcpy(&v, p, 4);
+    return v;
+}
+
+void putWord(std::vector<uint8_t>& out, uint32_t v) {
+    const auto* p = reinterpret_cast<const uint8_t*>(&v);
+    out.insert(out.end(), p, p + 4);
+}
+
+// The buffer views some accessor or Draco-compressed primitive reads: never taken out.
+std::set<size_t> viewsReadAsData(const json& doc) {
+    std::set<size_t> used;
+    for (const json& a : doc.value("accessors", json::array()))
+        if (a.contains("bufferView") && a["bufferView"].is_number_unsigned()) used.insert(a["bufferView"].get<size_t>());
+    for (const json& mesh : doc.value("meshes", json::array()))
+        for (const json& prim : mesh.value("primitives", json::array())) {
+            const json draco = prim.value("extensions", json::object()).value("KHR_draco_mesh_compression", json::object());
+            if (draco.contains("bufferView") && draco["bufferView"].is_number_unsigned()) used.insert(draco["bufferView"].get<size_t>());
+        }
+    return used;
+}
+
+std::vector<uint8_t> rebuilt(const MappedFile& file, EmbeddedImages& images) {
+    const uint8_t* glb = file.data;
+    const size_t size = file.size;
+    if (size < 28 || word(glb) != kMagic || word(glb + 4) != 2 || word(glb + 8) > size) return {};
+    const size_t jsonLength = word(glb + 12);
+    if (word(glb + 16) != kJson || jsonLength > size - 20 || size - 20 - jsonLength < 8) return {};
+    const uint8_t* chunk = glb + 20 + jsonLength;
+    const size_t binLength = word(chunk);
+    if (word(chunk + 4) != kBin || binLength > size - 28 - jsonLength) return {};
+    const uint8_t* bin = chunk + 8;
+    json doc = json::parse(glb + 20, glb + 20 + jsonLength, nullptr, false);
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains("bufferViews") || !doc["bufferViews"].is_array()) return {};
+    json& views = doc["bufferViews"];
+    const std::set<size_t> data = viewsReadAsData(doc);
+    // A view of the BIN chunk (buffer 0, which has no uri in a GLB) and its bytes [offset, offset + length).
+    const auto inBin = [&](size_t v) { return views[v].is_object() && views[v].value("buffer", -1) == 0; };
+    const auto range = [&](size_t v, size_t& offset, size_t& length) {
+        const json& view = views[v];
+        if (!inBin(v) || !view.contains("byteLength") || !view["byteLength"].is_number_unsigned()) return false;
+        offset = view.value("byteOffset", size_t{0}), length = view["byteLength"].get<size_t>();
+        return offset <= binLength && length <= binLength - offset;
+    };
+    std::set<size_t> taken;
+    json imagesJson = doc.value("images", json::array());
+    for (size_t i = 0; i < imagesJson.size(); ++i) {
+        json& image = imagesJson[i];
+        if (!image.contains("bufferView") || !image["bufferView"].is_number_unsigned()) continue;
+        const size_t v = image["bufferView"].get<size_t>();
+        size_t offset = 0, length = 0;
+        if (v >= views.size() || data.count(v) || !range(v, offset, length) || !keepEncoded(static_cast<int>(i), bin + offset, length, images))
+            continue;
+        file.release(static_cast<size_t>(bin - glb) + offset, length);
+        image.erase("bufferView"), image.erase("mimeType");
+        image["uri"] = "hlod-glb-image-" + std::to_string(i);  // a placeholder tinygltf keeps (no external images)
+        taken.insert(v);
+    }
+    if (taken.empty()) return {};
+    doc["images"] = std::move(imagesJson);
+    std::vector<uint8_t> compact;
+    for (size_t v = 0; v < views.size(); ++v) {
+        size_t offset = 0, length = 0;
+        if (taken.count(v) || !inBin(v)) continue;
+        if (!range(v, offset, length)) return {};  // tinygltf reports it
+        while (compact.size() % 4) compact.push_back(0);
+        views[v]["byteOffset"] = compact.size();
+        compact.insert(compact.end(), bin + offset, bin + offset + length);
+    }
+    while (compact.size() % 4 || compact.empty()) compact.push_back(0);
+    for (size_t v : taken) views[v]["byteOffset"] = 0, views[v]["byteLength"] = 1;  // unread now
+    if (doc.contains("buffers") && doc["buffers"].is_array() && !doc["buffers"].empty()) doc["buffers"][0]["byteLength"] = compact.size();
+    std::string text = doc.dump();
+    while (text.size() % 4) text.push_back(' ');
+    std::vector<uint8_t> out;
+    putWord(out, kMagic), putWord(out, 2), putWord(out, static_cast<uint32_t>(28 + text.size() + compact.size()));
+    putWord(out, static_cast<uint32_t>(text.size())), putWord(out, kJson);
+    out.insert(out.end(), text.begin(), text.end());
+    putWord(out, static_cast<uint32_t>(compact.size())), putWord(out, kBin);
+    out.insert(out.end(), compact.begin(), compact.end());
+    return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> glbWithoutImages(const MappedFile& file, EmbeddedImages& images) {
+    try {
+        return rebuilt(file, images);
+    } catch (const json::exception&) {  // a member of an unexpected type: tinygltf reports it
+        return {};
+    }
+}
+
+}  // namespace hlod
