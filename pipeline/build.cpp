@@ -112,9 +112,11 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         raw.progress = &progress;
         progress.beginStage("read", fs::file_size(input), "B");
         const std::string ext = extensionOf(input);
+        ReadOptions readOptions = options.read;
+        readOptions.imageDir = (fs::path(tempDir) / "gltf-images").string();
         if (ext == ".ply") parsePly(input, raw, options.read);
         else if (ext == ".obj") parseObj(input, raw, options.read);
-        else parseGltf(input, raw, options.read, (fs::path(tempDir) / "gltf-images").string());
+        else parseGltf(input, raw, readOptions);
         progress.endStage();
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
         enforceTextures(raw.stats.textureProblems, options);
@@ -206,8 +208,10 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
     if (source.isPiece) {
         mesh.piece = loadPiece(source.file);
         mesh.materials = materials;
-    } else {
-        mesh = readMesh(source.file, options.read);
+    } else {  // a folder's mesh file; a glTF's embedded images wait, encoded, in TEMP/gltf-images/N
+        ReadOptions read = options.read;
+        if (!read.imageDir.empty()) read.imageDir = (fs::path(read.imageDir) / std::to_string(index)).string();
+        mesh = readMesh(source.file, read);
         enforceTextures(mesh.stats.textureProblems, options);
     }
     const GateTicket ticket(gate, blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh)));
@@ -347,6 +351,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     blockOptions.textures = &textures;
     if (blockOptions.draco.positionStep <= 0) blockOptions.draco.positionStep = inputs.positionStep;
     blockOptions.up = up.axis;
+    blockOptions.read.imageDir = (fs::path(temp.path) / "gltf-images").string();
     progress.beginStage("build", expectedWork(inputs.blocks, first, last, options.constants));
     tbb::task_arena arena(std::max(1, cores));
     arena.execute([&] {

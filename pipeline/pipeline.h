@@ -95,12 +95,14 @@ struct RawMesh {
 // --allow-outside-input) is set.
 struct ReadOptions {
     bool allowOutsideInput = false;
+    // glTF: embedded PNG/JPEG images are checked and written here, still encoded, and become the
+    // materials' texture paths (a GLB's are taken out of its BIN chunk first); empty: decoded into
+    // Material::image. `hlod build` sets it to a folder in its temporary folder.
+    std::string imageDir;
 };
 void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
 void parseObj(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
-// A glTF/GLB into `raw` (read_gltf.cpp): its embedded PNG/JPEG images are written, still
-// encoded, to files in `imageDir` (created) and named as the materials' texture paths.
-void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options, const std::string& imageDir);
+void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options = {});  // read_gltf.cpp
 // Welds the corners (OBJ: by position/texcoord/normal index triple, in first-use order) into
 // an indexed SourceMesh and sanitizes it.
 SourceMesh toSourceMesh(const RawMesh& raw, const std::string& name);

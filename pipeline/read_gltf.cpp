@@ -7,9 +7,9 @@
 // converted into a RawMesh (raw_mesh.cpp), which `hlod build` spills to disk and streams to the
 // block grid as it does a PLY (parseGltf); readGltf welds it into a SourceMesh. Base-colour
 // textures: embedded images checked by stb_image (one that does not decode or claims too many
-// texels is a TextureProblem, its material untextured), then either decoded into memory
-// (readGltf) or written, still encoded, into the build's temporary folder and read later by
-// rectangles like any texture file (parseGltf: never all atlases decoded at once); external
+// texels is a TextureProblem, its material untextured), then either decoded into memory or,
+// given ReadOptions::imageDir (as `hlod build` does), written still encoded to that folder and
+// read later by rectangles like any texture file (never all atlases decoded at once); external
 // ones by path (loaded later through OpenImageIO). External
 // images and buffers are confined to the input's folder (resolveReference). Every accessor is
 // checked against its buffer view and buffer before it is read: corrupt files give
@@ -368,35 +368,31 @@ void convert(const uint8_t* bytes, size_t size, bool binary, const std::string& 
     raw.hasNormals = cx.keepNormals;
 }
 
-SourceMesh welded(RawMesh& raw, const std::string& path) {
-    raw.seal();
-    return toSourceMesh(raw, path);
-}
-
 }  // namespace
 
 SourceMesh readGltf(const std::string& path, const ReadOptions& options) {
-    const MappedFile file(path);
     RawMesh raw;
-    EmbeddedImages images;
-    convert(file.data, file.size, isGlb(path), path, options, raw, images);
-    return welded(raw, path);
+    parseGltf(path, raw, options);
+    return toSourceMesh(raw, path);
 }
 
 SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const std::string& path, const ReadOptions& options) {
     RawMesh raw;
-    EmbeddedImages images;
+    EmbeddedImages images{options.imageDir, {}, {}};
+    if (!images.dir.empty()) std::filesystem::create_directories(images.dir);
     convert(bytes.data(), bytes.size(), binary, path, options, raw, images);
-    return welded(raw, path);
+    raw.seal();
+    return toSourceMesh(raw, path);
 }
 
-void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options, const std::string& imageDir) {
-    std::filesystem::create_directories(imageDir);
-    EmbeddedImages images{imageDir, {}, {}};
+void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options) {
+    EmbeddedImages images{options.imageDir, {}, {}};
+    if (!images.dir.empty()) std::filesystem::create_directories(images.dir);
     {
         const MappedFile file(path);
-        const std::vector<uint8_t> compact = isGlb(path) ? glbWithoutImages(file, images) : std::vector<uint8_t>{};
-        if (compact.empty()) convert(file.data, file.size, isGlb(path), path, options, raw, images);
+        const bool glb = isGlb(path);
+        const std::vector<uint8_t> compact = glb && !images.dir.empty() ? glbWithoutImages(file, images) : std::vector<uint8_t>{};
+        if (compact.empty()) convert(file.data, file.size, glb, path, options, raw, images);
         else convert(compact.data(), compact.size(), true, path, options, raw, images);
         if (raw.progress) raw.progress->advance(file.size);
     }

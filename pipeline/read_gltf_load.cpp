@@ -75,7 +75,7 @@ std::string headerProblem(const uint8_t* bytes, int size) {
 // kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, is kept in
 // `unusable` instead of failing the whole file, and becomes a TextureProblem of each material
 // using it (addMaterials): the one rule for every unusable texture (README "Inputs: textures").
-// With a folder (parseGltf), a PNG or JPEG is kept encoded (keepEncoded), so no atlas stays
+// With a folder (ReadOptions::imageDir), a PNG or JPEG is kept encoded (keepEncoded), so no atlas stays
 // decoded; other formats are decoded into memory.
 bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
                       const unsigned char* bytes, int size, void* user) {

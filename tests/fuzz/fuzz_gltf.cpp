@@ -2,8 +2,8 @@
 // glTF JSON document (fuzz_gltf) or a GLB container (fuzz_glb, FUZZ_GLB defined), read from
 // memory through readGltfBytes as readGltf reads a file. External buffers and images resolve
 // in the harness's private folder (the confinement rule). A GLB also goes through the build's
-// streamed path (parseGltf: the file mapped, its BIN-chunk images taken out by glbWithoutImages
-// and written to a folder).
+// path (parseGltf with an image folder: the file mapped, its BIN-chunk images taken out by
+// glbWithoutImages and written to the folder).
 #include "fuzz_file.h"
 #include "pipeline/pipeline.h"
 
@@ -18,10 +18,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     } catch (const hlod::InputError&) {
     }
     if (FUZZ_GLB) {
-        static const std::string images = (std::filesystem::path(name).parent_path() / "images").string();
+        static const hlod::ReadOptions options{false, (std::filesystem::path(name).parent_path() / "images").string()};
         try {
             hlod::RawMesh raw;
-            hlod::parseGltf(hlod::fuzz::writeInput("streamed.glb", data, size), raw, {}, images);
+            hlod::parseGltf(hlod::fuzz::writeInput("streamed.glb", data, size), raw, options);
         } catch (const hlod::InputError&) {
         }
     }

@@ -13,7 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const ReadOptions kAllow{true};
+const ReadOptions kAllow{true, ""};
 
 // One triangle as glTF 2.0 JSON: its 36-byte POSITION buffer at `bufferUri`, and when `imageUri`
 // is given a base-colour texture (with TEXCOORD_0 from the same buffer's second half).

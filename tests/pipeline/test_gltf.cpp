@@ -166,8 +166,8 @@ TEST(Gltf, EmbeddedAndExternalImages) {
     EXPECT_EQ(x.materials[0].texturePath, std::filesystem::canonical(dir.file("atlas.png")).string());
 }
 
-// `hlod build` streams a glTF as it does a PLY (parseGltf into a spilled RawMesh): the same mesh
-// readMesh welds, and an embedded image (a data: URI, or a buffer view of a GLB's BIN chunk,
+// `hlod build` streams a glTF as it does a PLY (parseGltf into a spilled RawMesh, given an image
+// folder): the same mesh readMesh welds, and an embedded image (a data: URI, or a buffer view of a GLB's BIN chunk,
 // which glbWithoutImages takes out before tinygltf copies the chunk) written, still encoded, into
 // the image folder instead of decoded into memory; the build textures its nodes from that file.
 TEST(Gltf, StreamedParseWritesEmbeddedImagesEncoded) {
@@ -182,7 +182,9 @@ TEST(Gltf, StreamedParseWritesEmbeddedImagesEncoded) {
         save(model, dir.file("m.glb"), true);
         RawMesh raw;
         raw.spillTo(dir.file(""));
-        parseGltf(dir.file("m.glb"), raw, {}, dir.file("images"));
+        ReadOptions options;
+        options.imageDir = dir.file("images");
+        parseGltf(dir.file("m.glb"), raw, options);
         ASSERT_EQ(raw.materials.size(), 2u);
         EXPECT_FALSE(raw.materials[0].image);
         EXPECT_EQ(raw.materials[0].texturePath, dir.file("images/image_0.jpg"));
@@ -224,8 +226,9 @@ TEST(GltfBadInput, UnusableImagesInAGlbBinChunkAreTextureProblems) {
         addTexturedMaterial(model, image);
         save(model, dir.file("bad.glb"), true);
         RawMesh raw;
-        parseGltf(dir.file("bad.glb"), raw, {}, dir.file("images"));
-        raw.seal();
+        ReadOptions options;
+        options.imageDir = dir.file("images");
+        parseGltf(dir.file("bad.glb"), raw, options);
         EXPECT_TRUE(raw.materials[0].texturePath.empty());
         EXPECT_EQ(raw.triangles.size(), terrain(4).mesh.triangleCount());
         ASSERT_EQ(raw.stats.textureProblems.size(), 1u);
