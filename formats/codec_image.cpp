@@ -16,7 +16,7 @@ const char* memoryName(Codec codec) { return codec == Codec::Png ? "texture.png"
 
 }  // namespace
 
-EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality) {
+EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality, bool chroma420) {
     if (codec != Codec::Jpeg && codec != Codec::Png) throw std::runtime_error("encodeTexture: not an image codec");
     bool channelsOk = codec == Codec::Jpeg ? (image.channels == 1 || image.channels == 3)
                                            : (image.channels >= 1 && image.channels <= 4);
@@ -32,7 +32,8 @@ EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality) {
     OIIO::ImageSpec spec(int(image.width), int(image.height), int(image.channels), OIIO::TypeDesc::UINT8);
     if (codec == Codec::Jpeg) {
         spec.attribute("Compression", "jpeg:" + std::to_string(jpegQuality));
-        spec.attribute("jpeg:subsampling", "4:4:4");  // 8 x 8 chroma blocks: node atlases align charts to them
+        // 4:4:4 (default): 8 x 8 chroma blocks, which node atlases align their charts to
+        spec.attribute("jpeg:subsampling", chroma420 ? "4:2:0" : "4:4:4");
     }
     spec.attribute("oiio:UnassociatedAlpha", 1);  // store alpha as given, never premultiplied
     bool ok = out->set_ioproxy(&proxy) && out->open(memoryName(codec), spec) &&

@@ -34,7 +34,7 @@ NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>&
         uint32_t slot = kNone;
         if (textures[i].width > 0) {
             slot = static_cast<uint32_t>(node.blobs.size());
-            node.blobs.push_back(encodeTexture(textures[i], Codec::Jpeg, options.jpegQuality));
+            node.blobs.push_back(encodeTexture(textures[i], Codec::Jpeg, options.jpegQuality, options.jpegChroma420));
         } else {
             mesh.texcoords.clear();
         }

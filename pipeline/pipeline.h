@@ -279,6 +279,8 @@ struct BuildOptions {
     Planes planes = Planes::Balanced;
     DracoOptions draco;
     int jpegQuality = 85;
+    bool jpegChroma420 = false;    // --jpeg-chroma 4:2:0 (default 4:4:4: charts align to 8 x 8 blocks)
+    bool leafPsnr = false;         // --leaf-psnr: measure each leaf's stored textures against the source
     uint64_t blockTriangles = 0;   // target triangles per block of a single-mesh input; 0 = auto (671,088)
     double blockSize = 0;          // block side in input units; overrides blockTriangles when > 0
     uint64_t memoryLimit = 1ull << 30;
@@ -359,6 +361,13 @@ struct NodeRecord {
     NodeInput node;
 };
 
+// A stored texture against its source over the texels triangles use (texture_fidelity.cpp):
+// PSNR = psnrDb(squaredError, samples) (formats/metrics.h), samples = texels x channels.
+struct TextureFidelity {
+    uint64_t texels = 0, samples = 0;
+    double squaredError = 0;
+};
+
 struct BlockStats {
     uint64_t inputTriangles = 0;
     std::vector<float> geometricErrors;  // per local node: max of its own measure and its children's
@@ -367,6 +376,7 @@ struct BlockStats {
     std::vector<float> bakePsnr;         // per local node: the baked texture's PSNR (dB), 0 when none
     std::vector<uint32_t> levels;        // per local node
     std::vector<uint64_t> triangles, texels;  // per local node, as stored
+    std::vector<TextureFidelity> fidelity;    // per local node: its leaf textures (--leaf-psnr), else none
     uint64_t degenerateDropped = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<std::string> warnings;

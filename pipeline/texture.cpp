@@ -92,26 +92,6 @@ struct Chart {
     int height() const { return padded(y1 - y0); }
 };
 
-// Charts = triangles connected through shared (welded, so same-UV) vertices; returns the
-// chart of every vertex.
-std::vector<uint32_t> chartOfVertex(const MeshData& mesh, uint32_t& count) {
-    std::vector<uint32_t> parent(mesh.vertexCount());
-    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-    for (size_t t = 0; t < mesh.triangleCount(); ++t)
-        for (int k = 1; k < 3; ++k) {
-            const uint32_t a = findRoot(parent, mesh.indices[3 * t]), b = findRoot(parent, mesh.indices[3 * t + k]);
-            parent[std::max(a, b)] = std::min(a, b);
-        }
-    std::vector<uint32_t> chart(parent.size(), kNone), id(parent.size(), kNone);
-    count = 0;
-    for (uint32_t i = 0; i < parent.size(); ++i) {
-        const uint32_t r = findRoot(parent, i);
-        if (id[r] == kNone) id[r] = count++;
-        chart[i] = id[r];
-    }
-    return chart;
-}
-
 // Shelf packing of the padded rectangles, tallest first (ties by chart order, so
 // deterministic); returns the atlas size, a multiple of kBlock.
 std::pair<int, int> packCharts(std::vector<Chart>& charts) {
@@ -157,9 +137,27 @@ void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
 
 }  // namespace
 
+std::vector<uint32_t> uvCharts(const MeshData& mesh, uint32_t& count) {
+    std::vector<uint32_t> parent(mesh.vertexCount());
+    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    for (size_t t = 0; t < mesh.triangleCount(); ++t)
+        for (int k = 1; k < 3; ++k) {
+            const uint32_t a = findRoot(parent, mesh.indices[3 * t]), b = findRoot(parent, mesh.indices[3 * t + k]);
+            parent[std::max(a, b)] = std::min(a, b);
+        }
+    std::vector<uint32_t> chart(parent.size(), kNone), id(parent.size(), kNone);
+    count = 0;
+    for (uint32_t i = 0; i < parent.size(); ++i) {
+        const uint32_t r = findRoot(parent, i);
+        if (id[r] == kNone) id[r] = count++;
+        chart[i] = id[r];
+    }
+    return chart;
+}
+
 Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
     uint32_t count = 0;
-    const std::vector<uint32_t> chart = chartOfVertex(mesh, count);
+    const std::vector<uint32_t> chart = uvCharts(mesh, count);
     const uint32_t scaledWidth = scaledSide(source.width, factor), scaledHeight = scaledSide(source.height, factor);
     const double size[2] = {static_cast<double>(scaledWidth), static_cast<double>(scaledHeight)};
     std::vector<float> lo(2 * count, 1), hi(2 * count, 0);
@@ -244,7 +242,7 @@ Image BlockTextures::region(uint32_t material, double factor, MeshData& mesh) {
 std::vector<TexturedChart> textureCharts(BlockTextures& textures, uint32_t material, double factor, const MeshData& mesh) {
     if (!textures.source(material) || mesh.vertexCount() == 0) return {};
     uint32_t count = 0;
-    const std::vector<uint32_t> chart = chartOfVertex(mesh, count);
+    const std::vector<uint32_t> chart = uvCharts(mesh, count);
     std::vector<TexturedChart> out(count);
     std::vector<uint32_t> local(mesh.vertexCount(), kNone);
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
