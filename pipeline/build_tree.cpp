@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <set>
 
 namespace hlod {
 namespace {
@@ -129,9 +130,16 @@ NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, doub
         }
     }
     const std::vector<SubMesh> sourceParts = leaf && options.leafPsnr ? parts : std::vector<SubMesh>{};
-    if (!simplified.geometryOnly)
-        for (size_t i = 0; i < parts.size(); ++i) images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh);
-    out.record = packNode(parts, images, bounds, kNone, level, blockIndex, out.error.max, options);
+    std::vector<int> qualities(parts.size(), options.jpegQuality);
+    if (simplified.geometryOnly)  // a baked atlas: the lowest of its sources'
+        for (uint32_t material : std::set<uint32_t>(original.materials.begin(), original.materials.end()))
+            qualities[0] = std::min(qualities[0], textures.jpegQuality(material, options.jpegQuality));
+    else
+        for (size_t i = 0; i < parts.size(); ++i) {
+            images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh);
+            qualities[i] = textures.jpegQuality(parts[i].material, options.jpegQuality);
+        }
+    out.record = packNode(parts, images, qualities, bounds, kNone, level, blockIndex, out.error.max, options);
     if (!sourceParts.empty()) out.fidelity = leafFidelity(sourceParts, parts, images, out.record, textures);
     out.baked = simplified.geometryOnly;
     for (const SubMesh& part : parts) out.triangles += part.mesh.triangleCount();

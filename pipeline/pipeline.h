@@ -32,6 +32,7 @@ struct Material {
     std::string name;
     std::string texturePath;             // texture file, empty = none
     std::shared_ptr<const Image> image;  // an embedded texture (glTF), used instead of a file
+    int jpegQuality = 0;                 // an embedded JPEG's own quality (jpegQuality, texture_store.h); 0: unknown
 };
 
 // Triangles with welded vertices and one material index per triangle. Texture coordinates use
@@ -396,8 +397,9 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
 // one cell, sizeU x sizeV x the third axis), for BuildOptions::draco.positionStep: one lattice
 // for the whole database, so that neighbouring blocks share their borders exactly.
 double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits);
-NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const Box3f& bounds,
-                    uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
+// `jpegQualities`: per part, the JPEG quality of its texture (nodeJpegQuality, texture.cpp).
+NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const std::vector<int>& jpegQualities,
+                    const Box3f& bounds, uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
                     const BuildOptions& options);
 
 // merge.cpp: block record files and shards.

@@ -8,13 +8,17 @@
 // bounding rectangle of its texels plus one texel of margin (so bilinear filtering at a chart
 // border reads the source's own neighbours, never another chart), and the rectangles are
 // shelf-packed into one atlas. UVs move by one affine map per chart: exact. JPEG codes 8 x 8
-// blocks (chroma too at 4:4:4, formats/codec_image.cpp), so each chart starts on a multiple of 8
-// and is padded to one with copies of its edge texels: no block mixes two charts, and no
-// chart's colour bleeds into another through the compression.
+// blocks (chroma too at 4:4:4, formats/codec_image.cpp), so each rectangle is widened to the
+// source's 8 x 8 grid (at a leaf the atlas's blocks are the source's own: a JPEG source is
+// re-coded on its own grid), placed on a multiple of 8 and padded to one with copies of its edge
+// texels: no block mixes two charts, and no chart's colour bleeds into another through the
+// compression. Blocks no triangle reaches are flattened to their mean (flattenUnusedBlocks).
+// pipeline/TEXTURE_SIZE.md has the measurements (issue #14).
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 
 #include "formats/layout.h"
+#include "pipeline/chart.h"
 #include "pipeline/texture_charts.h"
 
 #include <OpenImageIO/imageio.h>
@@ -128,11 +132,59 @@ void copyChart(const Image& texels, const Chart& c, Image& atlas) {
     }
 }
 
+// Texels beyond a triangle that a block must still hold: a bilinear tap at a point of the
+// triangle reads texel centres within 1 texel of it (texels within 1.5), plus half a texel.
+constexpr double kReach = 2;
+
+// Sets every kBlock x kBlock block of `atlas` that no triangle of `mesh` (atlas UVs) comes within
+// kReach texels of to the block's mean colour: texels no triangle shows cost JPEG one DC
+// coefficient per channel (a few bits) instead of their detail, and the mean keeps the block's
+// mip level (issue #14: "charts store only what triangles use"; pipeline/TEXTURE_SIZE.md).
+void flattenUnusedBlocks(const MeshData& mesh, Image& atlas) {
+    const int wb = static_cast<int>(atlas.width) / kBlock, hb = static_cast<int>(atlas.height) / kBlock;
+    std::vector<uint8_t> used(size_t(wb) * hb, 0);
+    const auto blockOf = [](double v, int count) { return std::clamp(static_cast<int>(std::floor(v / kBlock)), 0, count - 1); };
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        double x[3], y[3];
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = mesh.indices[3 * t + k];
+            x[k] = double(mesh.texcoords[2 * v]) * atlas.width, y[k] = double(mesh.texcoords[2 * v + 1]) * atlas.height;
+        }
+        const int i0 = blockOf(std::min({x[0], x[1], x[2]}) - kReach, wb), i1 = blockOf(std::max({x[0], x[1], x[2]}) + kReach, wb);
+        const int j0 = blockOf(std::min({y[0], y[1], y[2]}) - kReach, hb), j1 = blockOf(std::max({y[0], y[1], y[2]}) + kReach, hb);
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i)
+                if (!used[size_t(j) * wb + i])
+                    used[size_t(j) * wb + i] = triangleMeetsBox(x, y, i * kBlock - kReach, j * kBlock - kReach, (i + 1) * kBlock + kReach,
+                                                                (j + 1) * kBlock + kReach);
+    }
+    const size_t nc = atlas.channels;
+    for (int j = 0; j < hb; ++j)
+        for (int i = 0; i < wb; ++i) {
+            if (used[size_t(j) * wb + i]) continue;
+            uint32_t sum[4] = {0, 0, 0, 0};
+            const auto at = [&](int x, int y) { return &atlas.pixels[(size_t(j * kBlock + y) * atlas.width + i * kBlock + x) * nc]; };
+            for (int y = 0; y < kBlock; ++y)
+                for (int x = 0; x < kBlock; ++x)
+                    for (size_t c = 0; c < nc; ++c) sum[c] += at(x, y)[c];
+            for (int y = 0; y < kBlock; ++y)
+                for (int x = 0; x < kBlock; ++x)
+                    for (size_t c = 0; c < nc; ++c) at(x, y)[c] = static_cast<uint8_t>((sum[c] + kBlock * kBlock / 2) / (kBlock * kBlock));
+        }
+}
+
 // The texel rectangle [lo, hi) of UVs in [uvLo, uvHi] (clamped to [0, 1]) plus one texel of margin.
 void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
     lo = std::max(0, static_cast<int>(std::floor(std::clamp(uvLo, 0.0f, 1.0f) * size)) - 1);
     hi = std::min(static_cast<int>(size), static_cast<int>(std::ceil(std::clamp(uvHi, 0.0f, 1.0f) * size)) + 1);
     hi = std::max(hi, lo + 1);
+}
+
+// [lo, hi) widened to the source's kBlock grid (hi clamped to the source): at a leaf, whose
+// texels are the source's, the atlas's JPEG blocks are then the source's own blocks.
+void alignToBlocks(int& lo, int& hi, uint32_t size) {
+    lo = lo / kBlock * kBlock;
+    hi = std::min(static_cast<int>(size), padded(hi));
 }
 
 }  // namespace
@@ -170,6 +222,8 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
     for (uint32_t c = 0; c < count; ++c) {
         texelRange(lo[2 * c], hi[2 * c], size[0], charts[c].x0, charts[c].x1);
         texelRange(lo[2 * c + 1], hi[2 * c + 1], size[1], charts[c].y0, charts[c].y1);
+        alignToBlocks(charts[c].x0, charts[c].x1, scaledWidth);
+        alignToBlocks(charts[c].y0, charts[c].y1, scaledHeight);
     }
     const auto [width, height] = packCharts(charts);
     const uint32_t nc = source.channels;
@@ -184,6 +238,7 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
         mesh.texcoords[2 * v] = static_cast<float>((mesh.texcoords[2 * v] * size[0] - c.x0 + c.ox) / width);
         mesh.texcoords[2 * v + 1] = static_cast<float>((mesh.texcoords[2 * v + 1] * size[1] - c.y0 + c.oy) / height);
     }
+    flattenUnusedBlocks(mesh, atlas);
     return atlas;
 }
 
@@ -203,7 +258,7 @@ const TextureSource* BlockTextures::source(uint32_t material) {
     auto it = sources_.find(material);
     if (it == sources_.end()) {
         std::optional<TextureSource> source;
-        if (m.image) source = textureView(*m.image);
+        if (m.image) source = textureView(*m.image), source->jpegQuality = m.jpegQuality;
         else try {
                 source = store_->open(m.texturePath, progress_);
             } catch (const InputError& e) {
@@ -213,6 +268,11 @@ const TextureSource* BlockTextures::source(uint32_t material) {
         it = sources_.emplace(material, source).first;
     }
     return it->second ? &*it->second : nullptr;
+}
+
+int BlockTextures::jpegQuality(uint32_t material, int quality) {
+    const TextureSource* s = source(material);
+    return s && s->jpegQuality > 0 ? std::min(quality, s->jpegQuality) : quality;
 }
 
 Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh) {

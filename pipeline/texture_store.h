@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 
 namespace hlod {
 
@@ -16,9 +17,14 @@ struct TextureSource {
     uint32_t width = 0, height = 0, channels = 0;
     const Image* image = nullptr;  // in memory, or
     int file = -1;                 // width x height x channels bytes, row by row
+    int jpegQuality = 0;           // the quality a JPEG source was written with (jpegQuality); 0: unknown
     void rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out) const;  // [x0, x1) of rows [y0, y1)
 };
 inline TextureSource textureView(const Image& image) { return {image.width, image.height, image.channels, &image, -1}; }
+// jpeg_quality.cpp: the libjpeg quality whose scaled standard luminance table is the JPEG's own
+// (the file's, or the encoded bytes'); 0 when it is not a JPEG or its table is not such a one.
+int jpegQuality(std::span<const uint8_t> bytes);
+int jpegFileQuality(const std::string& path);
 uint32_t scaledSide(uint32_t side, double factor);  // a side downsampled by factor (sqrt per side; factor <= 1: as is)
 // Texels [x0, x1) x [y0, y1) of the source downsampled to scaledWidth x scaledHeight (box filter:
 // each texel the area-weighted mean of the source texels it covers; equal sizes: a copy).
@@ -51,6 +57,10 @@ public:
                   Progress* progress);
     const TextureSource* source(uint32_t material);  // nullptr: untextured
     Image atlas(uint32_t material, double factor, MeshData& mesh);  // atlasTexture; width 0: untextured
+    // The JPEG quality of the material's node textures: `quality` (--jpeg-quality), or the source's
+    // own when it is a JPEG of a lower quality (re-coded on its own 8 x 8 grid at its own quality it
+    // loses almost nothing; pipeline/TEXTURE_SIZE.md).
+    int jpegQuality(uint32_t material, int quality);
     // The rectangle of the material's texture downsampled by `factor` that `mesh`'s UVs cover
     // (+1 texel margin), mesh's UVs rewritten onto it (what bakeTexture samples); width 0 when untextured.
     Image region(uint32_t material, double factor, MeshData& mesh);

@@ -1,7 +1,10 @@
-// Texture fidelity (texture_fidelity.cpp, pipeline/TEXTURE_SIZE.md): a leaf's stored texture
-// against the source texels its triangles use. A lossless copy reads 100 dB, JPEG a finite PSNR
-// that rises with the quality, a copy off by one texel far less; `hlod build --leaf-psnr` writes
-// it per leaf in the build report and `hlod stats` prints it per level.
+// Texture fidelity and size (issue #14, pipeline/TEXTURE_SIZE.md): a leaf's stored texture
+// against the source texels its triangles use (texture_fidelity.cpp) - a lossless copy reads
+// 100 dB, JPEG a finite PSNR that rises with the quality, a copy off by one texel far less;
+// `hlod build --leaf-psnr` writes it per leaf in the build report and `hlod stats` prints it per
+// level. What makes the textures smaller (texture.cpp): charts on the source's 8 x 8 grid, blocks
+// no triangle reaches flattened, a JPEG source's own quality read back (jpeg_quality.cpp) and
+// never exceeded.
 #include "helpers.h"
 
 #include "formats/build_report.h"
@@ -118,6 +121,69 @@ TEST(TextureFidelity, BuildReportsLeavesAndStatsPrintsThem) {
     const RunResult plain = runHlod({"build", scan.obj, "-o", dir.file("g.hlod"), "-j", "1"});
     ASSERT_EQ(plain.exitCode, 0) << plain.outAndErr();
     EXPECT_EQ(readFile(db), readFile(dir.file("g.hlod")));  // the measure changes no byte of the database
+}
+
+TEST(TextureSize, ChartsSitOnTheSourcesBlockGridAndUnreachedBlocksAreFlat) {
+    const Image source = noisyImage(256);
+    const MeshData before = charts();
+    MeshData after = before;
+    const Image atlas = atlasTexture(textureView(source), 1, after);
+    for (size_t v = 0; v < before.vertexCount(); ++v)
+        for (int a = 0; a < 2; ++a) {  // the same place within an 8 x 8 block in the source and the atlas
+            const double s = before.texcoords[2 * v + a] * 256.0, t = after.texcoords[2 * v + a] * double(a ? atlas.height : atlas.width);
+            EXPECT_NEAR(std::fmod(s, 8.0), std::fmod(t, 8.0), 1e-3) << v;
+        }
+    // The second chart's triangle (0.60, 0.55) (0.95, 0.60) (0.65, 0.90) leaves its rectangle's
+    // corner near (0.95, 0.90) unreached: some block there is one colour, the noisy source never is.
+    uint64_t flat = 0, blocks = 0;
+    for (uint32_t by = 0; by < atlas.height / 8; ++by)
+        for (uint32_t bx = 0; bx < atlas.width / 8; ++bx) {
+            bool same = true;
+            const uint8_t* first = &atlas.pixels[(size_t(by * 8) * atlas.width + bx * 8) * 3];
+            for (uint32_t y = 0; y < 8; ++y)
+                for (uint32_t x = 0; x < 8; ++x)
+                    same = same && std::equal(first, first + 3, &atlas.pixels[(size_t(by * 8 + y) * atlas.width + bx * 8 + x) * 3]);
+            flat += same, ++blocks;
+        }
+    EXPECT_GT(flat, 0u);
+    EXPECT_LT(flat, blocks);
+    const TextureFidelity f = textureFidelity(before, textureView(source), after, atlas);
+    EXPECT_EQ(f.squaredError, 0);  // every texel a triangle uses is the source's
+}
+
+TEST(TextureSize, JpegQualityIsReadBackFromTheTables) {
+    const Image image = noisyImage(64);
+    for (int q : {30, 75, 85, 90, 100}) EXPECT_EQ(jpegQuality(encodeTexture(image, Codec::Jpeg, q).bytes), q);
+    EXPECT_EQ(jpegQuality(encodeTexture(image, Codec::Png).bytes), 0);
+    std::vector<uint8_t> cut = encodeTexture(image, Codec::Jpeg, 75).bytes;
+    cut.resize(40);  // the table cut short
+    EXPECT_EQ(jpegQuality(cut), 0);
+    EXPECT_EQ(jpegQuality(std::vector<uint8_t>{}), 0);
+}
+
+// A JPEG source below --jpeg-quality is re-coded at its own quality, one above it at --jpeg-quality.
+TEST(TextureSize, NodeTexturesNeverExceedTheSourcesQuality) {
+    for (int sourceQuality : {60, 95}) {
+        TempDir dir;
+        ChunkedScanOptions options;
+        options.jpeg = true;
+        options.jpegQuality = sourceQuality;
+        options.textureSize = 128;
+        const ChunkedScan scan = writeChunkedScan(dir.path.string(), "facade", facadeMesh(40), options);
+        const std::string db = dir.file("f.hlod");
+        const RunResult build = runHlod({"build", scan.obj, "-o", db, "-j", "1"});
+        ASSERT_EQ(build.exitCode, 0) << build.outAndErr();
+        const Database database = Database::open(db);
+        uint64_t textures = 0;
+        for (const Node& n : database.skeleton().nodes)
+            for (uint32_t b = 0; b < n.blobCount; ++b) {
+                const BlobRef& ref = database.skeleton().blobs[n.firstBlob + b];
+                if (ref.kind != BlobKind::Texture) continue;
+                ++textures;
+                EXPECT_EQ(jpegQuality(database.readBlob(n.firstBlob + b)), std::min(sourceQuality, 85)) << sourceQuality;
+            }
+        EXPECT_GT(textures, 0u);
+    }
 }
 
 }  // namespace
