@@ -8,10 +8,10 @@
 // bounding rectangle of its texels plus one texel of margin (so bilinear filtering at a chart
 // border reads the source's own neighbours, never another chart), and the rectangles are
 // shelf-packed into one atlas. UVs move by one affine map per chart: exact. JPEG codes 8 x 8
-// blocks (chroma too at 4:4:4, formats/codec_image.cpp), so each rectangle is widened to the
-// source's 8 x 8 grid (at a leaf the atlas's blocks are the source's own: a JPEG source is
-// re-coded on its own grid), placed on a multiple of 8 and padded to one with copies of its edge
-// texels: no block mixes two charts, and no chart's colour bleeds into another through the
+// blocks (chroma too at 4:4:4, formats/codec_image.cpp), so each chart is placed on a multiple
+// of 8 (at a leaf of a JPEG source re-coded at its own quality, its rectangle widened to the
+// source's 8 x 8 grid: the atlas's blocks are then the source's own) and padded to one with
+// copies of its edge texels: no block mixes two charts, and no chart's colour bleeds into another through the
 // compression. Blocks no triangle reaches are flattened to their mean (flattenUnusedBlocks).
 // pipeline/TEXTURE_SIZE.md has the measurements (issue #14).
 #include "pipeline/pipeline.h"
@@ -207,7 +207,7 @@ std::vector<uint32_t> uvCharts(const MeshData& mesh, uint32_t& count) {
     return chart;
 }
 
-Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, bool onSourceGrid) {
     uint32_t count = 0;
     const std::vector<uint32_t> chart = uvCharts(mesh, count);
     const uint32_t scaledWidth = scaledSide(source.width, factor), scaledHeight = scaledSide(source.height, factor);
@@ -222,6 +222,7 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
     for (uint32_t c = 0; c < count; ++c) {
         texelRange(lo[2 * c], hi[2 * c], size[0], charts[c].x0, charts[c].x1);
         texelRange(lo[2 * c + 1], hi[2 * c + 1], size[1], charts[c].y0, charts[c].y1);
+        if (!onSourceGrid || factor > 1) continue;
         alignToBlocks(charts[c].x0, charts[c].x1, scaledWidth);
         alignToBlocks(charts[c].y0, charts[c].y1, scaledHeight);
     }
@@ -275,9 +276,9 @@ int BlockTextures::jpegQuality(uint32_t material, int quality) {
     return s && s->jpegQuality > 0 ? std::min(quality, s->jpegQuality) : quality;
 }
 
-Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh) {
+Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh, int quality) {
     const TextureSource* s = source(material);
-    return s ? atlasTexture(*s, factor, mesh) : Image{};
+    return s ? atlasTexture(*s, factor, mesh, s->jpegQuality > 0 && s->jpegQuality <= quality) : Image{};
 }
 
 Image BlockTextures::region(uint32_t material, double factor, MeshData& mesh) {

@@ -47,7 +47,8 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 // The charts of `mesh` (one material's triangles) of `source` downsampled by factor, packed; UVs rewritten.
-Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh);
+// onSourceGrid: each chart's rectangle widened to the source's 8 x 8 grid (factor <= 1 only).
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, bool onSourceGrid = false);
 // The textures of one block's materials: a texture file through `store` (nullptr: a store of
 // the block's own, in memory), an embedded image as it is. A texture that fails to decode is a
 // TextureProblem and its material untextured in this block, or, with `strict`, fatal.
@@ -56,11 +57,12 @@ public:
     BlockTextures(const std::vector<Material>& materials, TextureStore* store, bool strict, std::vector<TextureProblem>& problems,
                   Progress* progress);
     const TextureSource* source(uint32_t material);  // nullptr: untextured
-    Image atlas(uint32_t material, double factor, MeshData& mesh);  // atlasTexture; width 0: untextured
     // The JPEG quality of the material's node textures: `quality` (--jpeg-quality), or the source's
-    // own when it is a JPEG of a lower quality (re-coded on its own 8 x 8 grid at its own quality it
-    // loses almost nothing; pipeline/TEXTURE_SIZE.md).
+    // own when it is a JPEG of a lower or equal quality; then a leaf's charts are on the source's
+    // 8 x 8 grid, where the source re-codes at its own quality almost losslessly (pipeline/TEXTURE_SIZE.md).
     int jpegQuality(uint32_t material, int quality);
+    // atlasTexture; width 0: untextured. `quality`: --jpeg-quality, for the rule above.
+    Image atlas(uint32_t material, double factor, MeshData& mesh, int quality);
     // The rectangle of the material's texture downsampled by `factor` that `mesh`'s UVs cover
     // (+1 texel margin), mesh's UVs rewritten onto it (what bakeTexture samples); width 0 when untextured.
     Image region(uint32_t material, double factor, MeshData& mesh);

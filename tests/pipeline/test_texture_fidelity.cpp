@@ -127,7 +127,7 @@ TEST(TextureSize, ChartsSitOnTheSourcesBlockGridAndUnreachedBlocksAreFlat) {
     const Image source = noisyImage(256);
     const MeshData before = charts();
     MeshData after = before;
-    const Image atlas = atlasTexture(textureView(source), 1, after);
+    const Image atlas = atlasTexture(textureView(source), 1, after, true);
     for (size_t v = 0; v < before.vertexCount(); ++v)
         for (int a = 0; a < 2; ++a) {  // the same place within an 8 x 8 block in the source and the atlas
             const double s = before.texcoords[2 * v + a] * 256.0, t = after.texcoords[2 * v + a] * double(a ? atlas.height : atlas.width);
