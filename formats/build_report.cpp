@@ -39,10 +39,15 @@ void writeBuildReport(const std::string& path, const BuildReport& r) {
     j["nodes_per_level"] = r.nodesPerLevel;
     j["texture_problems"] = r.textureProblems;
     j["nodes"] = nlohmann::json::array();
-    for (const NodeQuality& n : r.nodes)
-        j["nodes"].push_back({{"block", n.block}, {"node", n.node}, {"level", n.level}, {"triangles", n.triangles},
-                              {"texels", n.texels}, {"error_one_sided", n.errorOneSided}, {"error_mean", n.errorMean},
-                              {"error_max", n.errorMax}, {"baked", n.baked}, {"bake_psnr_db", n.bakePsnrDb}});
+    for (const NodeQuality& n : r.nodes) {
+        nlohmann::json node = {{"block", n.block}, {"node", n.node}, {"level", n.level}, {"triangles", n.triangles},
+                               {"texels", n.texels}, {"error_one_sided", n.errorOneSided}, {"error_mean", n.errorMean},
+                               {"error_max", n.errorMax}, {"baked", n.baked}, {"bake_psnr_db", n.bakePsnrDb}};
+        if (n.fidelitySamples)
+            node["texture_fidelity"] = {{"texels", n.fidelityTexels}, {"samples", n.fidelitySamples},
+                                        {"squared_error", n.fidelitySquaredError}};
+        j["nodes"].push_back(node);
+    }
     std::ofstream out(path);
     if (!(out << j.dump(2) << "\n")) throw std::runtime_error(path + ": cannot write build report");
 }
@@ -76,12 +81,18 @@ std::optional<BuildReport> readBuildReport(const std::string& path) {
     if (j.contains("nodes")) {
         const auto nodes = field<nlohmann::json>(j, "nodes", path);
         if (!nodes.is_array()) throw InputError(path + ": \"nodes\" is not an array");
-        for (const auto& n : nodes)
+        for (const auto& n : nodes) {
             r.nodes.push_back({field<uint32_t>(n, "block", path), field<uint32_t>(n, "node", path), field<uint32_t>(n, "level", path),
                                field<uint64_t>(n, "triangles", path), field<uint64_t>(n, "texels", path),
                                field<double>(n, "error_one_sided", path), field<double>(n, "error_mean", path),
                                field<double>(n, "error_max", path), field<bool>(n, "baked", path),
                                field<double>(n, "bake_psnr_db", path)});
+            if (!n.contains("texture_fidelity")) continue;
+            const auto f = field<nlohmann::json>(n, "texture_fidelity", path);
+            r.nodes.back().fidelityTexels = field<uint64_t>(f, "texels", path);
+            r.nodes.back().fidelitySamples = field<uint64_t>(f, "samples", path);
+            r.nodes.back().fidelitySquaredError = field<double>(f, "squared_error", path);
+        }
     }
     return r;
 }

@@ -18,7 +18,9 @@ struct BuildStage {
 
 // What the build measured of one node (issue #16): its error against the original surface it
 // stands for (pipeline/error.cpp) and, for a node whose texture was baked (pipeline/bake.cpp),
-// the baked texture's PSNR against the source over the texels its triangles cover.
+// the baked texture's PSNR against the source over the texels its triangles cover; for a leaf
+// built with --leaf-psnr, its stored (decoded) textures against the source texels they copy
+// (pipeline/TEXTURE_SIZE.md).
 struct NodeQuality {
     uint32_t block = 0, node = 0, level = 0;  // node: index within its block, breadth-first (hlod0 = 0)
     uint64_t triangles = 0, texels = 0;
@@ -26,6 +28,8 @@ struct NodeQuality {
     double errorMean = 0, errorMax = 0;       // two-sided; errorMax is the node's stored geometric error before the subtree max
     bool baked = false;
     double bakePsnrDb = 0;                    // 0 when not baked
+    uint64_t fidelityTexels = 0, fidelitySamples = 0;  // texels compared (x channels), 0 when not measured
+    double fidelitySquaredError = 0;                   // summed over the samples
 };
 
 struct BuildReport {

@@ -50,7 +50,9 @@ double positionLatticeStep(const Box3f& bounds, int positionBits);
 
 // Encode; the returned blob has kind, codec and counts filled in. Throw std::runtime_error.
 EncodedBlob encodeGeometry(const MeshData& mesh, const DracoOptions& options);
-EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality = 90);
+// JPEG chroma at full resolution (4:4:4, 8 x 8 blocks in every channel) or, with chroma420, halved
+// per axis (4:2:0, 16 x 16 blocks of colour).
+EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality = 90, bool chroma420 = false);
 
 // Decode; throw FormatError("NAME: problem") on malformed input. `name` names the source.
 MeshData decodeGeometry(std::span<const uint8_t> bytes, const std::string& name);

@@ -3,6 +3,7 @@
 // normalised average normal, computed over all the node's sub-meshes.
 #include "formats/metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -38,6 +39,12 @@ SurfaceMetrics surfaceMetrics(std::span<const MeshData> meshes) {
     if (len > 0) out.avgNormal = {float(nx / len), float(ny / len), float(nz / len)};
     out.staticBenefit = float(std::sqrt(double(out.triangles) * out.area));
     return out;
+}
+
+double psnrDb(double squaredError, uint64_t samples) {
+    if (samples == 0) return 0;  // nothing measured
+    const double mse = squaredError / double(samples);
+    return 10 * std::log10(255.0 * 255.0 / std::max(mse, 255.0 * 255.0 * 1e-10));
 }
 
 }  // namespace hlod

@@ -25,6 +25,8 @@
 #include "pipeline/chart.h"
 #include "pipeline/pipeline.h"
 
+#include "formats/metrics.h"
+
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
@@ -327,9 +329,7 @@ BakedTexture bakeTexture(const MeshData& input, const std::vector<BakeSource>& o
         const Rgb baked = bilinear(out.image, s.x, s.y);
         for (int k = 0; k < 3; ++k) squared += double(baked.c[k] - s.colour.c[k]) * (baked.c[k] - s.colour.c[k]);
     }
-    if (samples.empty()) return out;  // psnr 0: nothing measured
-    const double mse = squared / (3.0 * double(samples.size()));
-    out.psnr = 10 * std::log10(255.0 * 255.0 / std::max(mse, 255.0 * 255.0 * 1e-10));
+    out.psnr = psnrDb(squared, 3 * samples.size());
     return out;
 }
 

@@ -303,6 +303,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
                " --jpeg-quality " + std::to_string(o.jpegQuality);
     if (o.draco.positionStep > 0) command += " --draco-position-step " + std::to_string(o.draco.positionStep);
     if (!o.up.empty()) command += " --up " + o.up;
+    if (o.jpegChroma420) command += " --jpeg-chroma 4:2:0";  // absent: 4:4:4, as before the option
     if (o.mode == BuildMode::BottomUp) command += " --mode bottom-up";  // absent: top-down, as before the option
     for (const auto& [name, value] : constantsAsPairs(o.constants, kUsedByBuild)) command += " --set " + name + "=" + value;
     meta.emplace_back("command", command);
@@ -319,6 +320,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     meta.emplace_back("draco.compressionLevel", std::to_string(o.draco.compressionLevel));
     meta.emplace_back("draco.positionStep", o.draco.positionStep > 0 ? std::to_string(o.draco.positionStep) : "auto");
     meta.emplace_back("jpeg.quality", std::to_string(o.jpegQuality));
+    if (o.jpegChroma420) meta.emplace_back("jpeg.chroma", "4:2:0");
     if (!o.up.empty()) meta.emplace_back("up", o.up);
     return meta;
 }
@@ -378,7 +380,8 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
         const BlockStats& st = stats[b];
         for (uint32_t i = 0; i < st.measured.size(); ++i)
             summary.nodes.push_back({b, i, st.levels[i], st.triangles[i], st.texels[i], st.measured[i].oneSided, st.measured[i].mean,
-                                     st.measured[i].max, st.baked[i] != 0, st.bakePsnr[i]});
+                                     st.measured[i].max, st.baked[i] != 0, st.bakePsnr[i], st.fidelity[i].texels,
+                                     st.fidelity[i].samples, st.fidelity[i].squaredError});
     }
     summary.textureProblems.assign(problems.begin(), problems.end());
     ShardInfo shard{blockCount, {}, buildMeta(input, blockOptions)};

@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <set>
 
 namespace hlod {
 namespace {
@@ -89,7 +90,26 @@ struct NodeOut {
     float psnr = 0;
     uint32_t level = 0;
     uint64_t triangles = 0, texels = 0;
+    TextureFidelity fidelity;  // a leaf's, with options.leafPsnr
 };
+
+// A leaf's stored textures (its record's texture blobs, decoded: packNode writes one, before its
+// geometry, for each part with an image) against the source texels its triangles cover;
+// `sourceParts` are its sub-meshes with the source UVs (texture_fidelity.cpp).
+TextureFidelity leafFidelity(const std::vector<SubMesh>& sourceParts, const std::vector<SubMesh>& parts, const std::vector<Image>& images,
+                             const NodeRecord& record, BlockTextures& textures) {
+    TextureFidelity sum;
+    size_t blob = 0;
+    for (size_t i = 0; i < parts.size(); ++i) {
+        if (images[i].width == 0) continue;
+        while (record.node.blobs.at(blob).info.kind != BlobKind::Texture) ++blob;
+        const EncodedBlob& encoded = record.node.blobs[blob++];
+        const Image stored = decodeTexture(encoded.bytes, encoded.info.codec, "leaf texture");
+        const TextureFidelity f = textureFidelity(sourceParts[i].mesh, *textures.source(parts[i].material), parts[i].mesh, stored);
+        sum.texels += f.texels, sum.samples += f.samples, sum.squaredError += f.squaredError;
+    }
+    return sum;
+}
 
 // Textures, geometric error (against the node's ORIGINAL piece, error.cpp) and packing of a
 // simplified node; the same in both modes.
@@ -108,10 +128,19 @@ NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, doub
         if (BakedTexture baked = bakeNode(parts.at(0).mesh, original, factor, textures); baked.image.width > 0) {
             parts[0].mesh = std::move(baked.mesh), images[0] = std::move(baked.image), out.psnr = static_cast<float>(baked.psnr);
         }
-    } else {
-        for (size_t i = 0; i < parts.size(); ++i) images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh);
     }
-    out.record = packNode(parts, images, bounds, kNone, level, blockIndex, out.error.max, options);
+    const std::vector<SubMesh> sourceParts = leaf && options.leafPsnr ? parts : std::vector<SubMesh>{};
+    std::vector<int> qualities(parts.size(), options.jpegQuality);
+    if (simplified.geometryOnly)  // a baked atlas: the lowest of its sources'
+        for (uint32_t material : std::set<uint32_t>(original.materials.begin(), original.materials.end()))
+            qualities[0] = std::min(qualities[0], textures.jpegQuality(material, options.jpegQuality));
+    else
+        for (size_t i = 0; i < parts.size(); ++i) {
+            images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh, options.jpegQuality);
+            qualities[i] = textures.jpegQuality(parts[i].material, options.jpegQuality);
+        }
+    out.record = packNode(parts, images, qualities, bounds, kNone, level, blockIndex, out.error.max, options);
+    if (!sourceParts.empty()) out.fidelity = leafFidelity(sourceParts, parts, images, out.record, textures);
     out.baked = simplified.geometryOnly;
     for (const SubMesh& part : parts) out.triangles += part.mesh.triangleCount();
     for (const Image& image : images) out.texels += uint64_t(image.width) * image.height;
@@ -130,6 +159,7 @@ uint32_t recordNode(BlockStats& stats, std::vector<uint32_t>& parentOf, const No
     stats.levels.push_back(out.level);
     stats.triangles.push_back(out.triangles);
     stats.texels.push_back(out.texels);
+    stats.fidelity.push_back(out.fidelity);
     return static_cast<uint32_t>(parentOf.size() - 1);
 }
 

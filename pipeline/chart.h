@@ -45,6 +45,9 @@ struct AtlasLayout {
 };
 AtlasLayout packCharts(const std::vector<FlatChart>& charts, uint64_t texelBudget);
 
+// Whether triangle (x[3], y[3]) meets the box [x0, x1] x [y0, y1] (separating axes).
+bool triangleMeetsBox(const double x[3], const double y[3], double x0, double y0, double x1, double y1);
+
 // True when the interiors of two of the triangles (6 doubles each) overlap (separating axes, with
 // a tolerance of 1e-6 x the extent so that triangles sharing an edge or a corner do not count).
 bool trianglesOverlap(const std::vector<double>& uv);

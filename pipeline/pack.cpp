@@ -19,8 +19,9 @@ double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionB
     return positionLatticeStep(cell, positionBits);
 }
 
-NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const Box3f& bounds,
-                    uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError, const BuildOptions& options) {
+NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const std::vector<int>& jpegQualities,
+                    const Box3f& bounds, uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
+                    const BuildOptions& options) {
     NodeRecord record;
     record.parentLocal = parentLocal;
     NodeInput& node = record.node;
@@ -34,7 +35,7 @@ NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>&
         uint32_t slot = kNone;
         if (textures[i].width > 0) {
             slot = static_cast<uint32_t>(node.blobs.size());
-            node.blobs.push_back(encodeTexture(textures[i], Codec::Jpeg, options.jpegQuality));
+            node.blobs.push_back(encodeTexture(textures[i], Codec::Jpeg, jpegQualities[i], options.jpegChroma420));
         } else {
             mesh.texcoords.clear();
         }

@@ -20,18 +20,7 @@
 #include <cmath>
 
 namespace hlod {
-namespace {
 
-// The blocks of one chart at a scale: wb x hb, row-major, and per column its lowest and highest
-// occupied row.
-struct Mask {
-    int wb = 0, hb = 0;
-    std::vector<uint8_t> blocks;
-    std::vector<int> bottom, top;
-    int count = 0;
-};
-
-// Whether triangle (x[3], y[3]) meets the box [x0, x1] x [y0, y1] (separating axes).
 bool triangleMeetsBox(const double x[3], const double y[3], double x0, double y0, double x1, double y1) {
     if (std::max({x[0], x[1], x[2]}) < x0 || std::min({x[0], x[1], x[2]}) > x1) return false;
     if (std::max({y[0], y[1], y[2]}) < y0 || std::min({y[0], y[1], y[2]}) > y1) return false;
@@ -49,6 +38,17 @@ bool triangleMeetsBox(const double x[3], const double y[3], double x0, double y0
     }
     return true;
 }
+
+namespace {
+
+// The blocks of one chart at a scale: wb x hb, row-major, and per column its lowest and highest
+// occupied row.
+struct Mask {
+    int wb = 0, hb = 0;
+    std::vector<uint8_t> blocks;
+    std::vector<int> bottom, top;
+    int count = 0;
+};
 
 Mask maskOf(const FlatChart& chart, double scale) {
     Mask m;

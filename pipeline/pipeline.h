@@ -32,6 +32,7 @@ struct Material {
     std::string name;
     std::string texturePath;             // texture file, empty = none
     std::shared_ptr<const Image> image;  // an embedded texture (glTF), used instead of a file
+    int jpegQuality = 0;                 // an embedded JPEG's own quality (jpegQuality, texture_store.h); 0: unknown
 };
 
 // Triangles with welded vertices and one material index per triangle. Texture coordinates use
@@ -284,6 +285,8 @@ struct BuildOptions {
     Planes planes = Planes::Balanced;
     DracoOptions draco;
     int jpegQuality = 85;
+    bool jpegChroma420 = false;    // --jpeg-chroma 4:2:0 (default 4:4:4: charts align to 8 x 8 blocks)
+    bool leafPsnr = false;         // --leaf-psnr: measure each leaf's stored textures against the source
     uint64_t blockTriangles = 0;   // target triangles per block of a single-mesh input; 0 = auto (671,088)
     double blockSize = 0;          // block side in input units; overrides blockTriangles when > 0
     uint64_t memoryLimit = 1ull << 30;
@@ -364,6 +367,13 @@ struct NodeRecord {
     NodeInput node;
 };
 
+// A stored texture against its source over the texels triangles use (texture_fidelity.cpp):
+// PSNR = psnrDb(squaredError, samples) (formats/metrics.h), samples = texels x channels.
+struct TextureFidelity {
+    uint64_t texels = 0, samples = 0;
+    double squaredError = 0;
+};
+
 struct BlockStats {
     uint64_t inputTriangles = 0;
     std::vector<float> geometricErrors;  // per local node: max of its own measure and its children's
@@ -372,6 +382,7 @@ struct BlockStats {
     std::vector<float> bakePsnr;         // per local node: the baked texture's PSNR (dB), 0 when none
     std::vector<uint32_t> levels;        // per local node
     std::vector<uint64_t> triangles, texels;  // per local node, as stored
+    std::vector<TextureFidelity> fidelity;    // per local node: its leaf textures (--leaf-psnr), else none
     uint64_t degenerateDropped = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<std::string> warnings;
@@ -391,8 +402,9 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
 // one cell, sizeU x sizeV x the third axis), for BuildOptions::draco.positionStep: one lattice
 // for the whole database, so that neighbouring blocks share their borders exactly.
 double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits);
-NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const Box3f& bounds,
-                    uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
+// `jpegQualities`: per part, the JPEG quality of its texture (nodeJpegQuality, texture.cpp).
+NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const std::vector<int>& jpegQualities,
+                    const Box3f& bounds, uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
                     const BuildOptions& options);
 
 // merge.cpp: block record files and shards.

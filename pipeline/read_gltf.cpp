@@ -15,6 +15,7 @@
 // checked against its buffer view and buffer before it is read: corrupt files give
 // InputError("FILE: problem").
 #include "pipeline/read_gltf_load.h"
+#include "pipeline/texture_store.h"
 
 #include <array>
 #include <cmath>
@@ -324,6 +325,16 @@ std::shared_ptr<Image> decodedImage(const Context& cx, const tinygltf::Image& im
     return image;
 }
 
+// The quality of an image embedded through a buffer view, when it is a JPEG (jpegQuality).
+int embeddedJpegQuality(const tinygltf::Model& model, const tinygltf::Image& img) {
+    if (img.bufferView < 0 || img.bufferView >= static_cast<int>(model.bufferViews.size())) return 0;
+    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(img.bufferView)];
+    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size())) return 0;
+    const std::vector<unsigned char>& data = model.buffers[static_cast<size_t>(view.buffer)].data;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) return 0;
+    return jpegQuality(std::span<const uint8_t>(data.data() + view.byteOffset, view.byteLength));
+}
+
 void addMaterials(Context& cx) {
     for (const tinygltf::Material& mat : cx.model.materials) {
         Material out{mat.name, "", nullptr};
@@ -336,8 +347,10 @@ void addMaterials(Context& cx) {
                     cx.raw.stats.textureProblems.push_back({cx.path + ": image " + std::to_string(source) + " " + failed->second, out.name});
                 else if (const auto file = cx.images.written.find(source); file != cx.images.written.end())
                     out.texturePath = file->second;
-                else if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0)
+                else if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0) {
                     out.image = decodedImage(cx, img, static_cast<size_t>(source));
+                    out.jpegQuality = embeddedJpegQuality(cx.model, img);
+                }
                 else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
                     out.texturePath = resolveReference(cx.path, folderOf(cx.path), img.uri, "image", cx.options);
             }

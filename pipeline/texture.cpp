@@ -8,13 +8,17 @@
 // bounding rectangle of its texels plus one texel of margin (so bilinear filtering at a chart
 // border reads the source's own neighbours, never another chart), and the rectangles are
 // shelf-packed into one atlas. UVs move by one affine map per chart: exact. JPEG codes 8 x 8
-// blocks (chroma too at 4:4:4, formats/codec_image.cpp), so each chart starts on a multiple of 8
-// and is padded to one with copies of its edge texels: no block mixes two charts, and no
-// chart's colour bleeds into another through the compression.
+// blocks (chroma too at 4:4:4, formats/codec_image.cpp), so each chart is placed on a multiple
+// of 8 (at a leaf of a JPEG source re-coded at its own quality, its rectangle widened to the
+// source's 8 x 8 grid: the atlas's blocks are then the source's own) and padded to one with
+// copies of its edge texels: no block mixes two charts, and no chart's colour bleeds into another through the
+// compression. Blocks no triangle reaches are flattened to their mean (flattenUnusedBlocks).
+// pipeline/TEXTURE_SIZE.md has the measurements (issue #14).
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 
 #include "formats/layout.h"
+#include "pipeline/chart.h"
 #include "pipeline/texture_charts.h"
 
 #include <OpenImageIO/imageio.h>
@@ -92,26 +96,6 @@ struct Chart {
     int height() const { return padded(y1 - y0); }
 };
 
-// Charts = triangles connected through shared (welded, so same-UV) vertices; returns the
-// chart of every vertex.
-std::vector<uint32_t> chartOfVertex(const MeshData& mesh, uint32_t& count) {
-    std::vector<uint32_t> parent(mesh.vertexCount());
-    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-    for (size_t t = 0; t < mesh.triangleCount(); ++t)
-        for (int k = 1; k < 3; ++k) {
-            const uint32_t a = findRoot(parent, mesh.indices[3 * t]), b = findRoot(parent, mesh.indices[3 * t + k]);
-            parent[std::max(a, b)] = std::min(a, b);
-        }
-    std::vector<uint32_t> chart(parent.size(), kNone), id(parent.size(), kNone);
-    count = 0;
-    for (uint32_t i = 0; i < parent.size(); ++i) {
-        const uint32_t r = findRoot(parent, i);
-        if (id[r] == kNone) id[r] = count++;
-        chart[i] = id[r];
-    }
-    return chart;
-}
-
 // Shelf packing of the padded rectangles, tallest first (ties by chart order, so
 // deterministic); returns the atlas size, a multiple of kBlock.
 std::pair<int, int> packCharts(std::vector<Chart>& charts) {
@@ -148,6 +132,47 @@ void copyChart(const Image& texels, const Chart& c, Image& atlas) {
     }
 }
 
+// Texels beyond a triangle that a block must still hold: a bilinear tap at a point of the
+// triangle reads texel centres within 1 texel of it (texels within 1.5), plus half a texel.
+constexpr double kReach = 2;
+
+// Sets every kBlock x kBlock block of `atlas` that no triangle of `mesh` (atlas UVs) comes within
+// kReach texels of to the block's mean colour: texels no triangle shows cost JPEG one DC
+// coefficient per channel (a few bits) instead of their detail, and the mean keeps the block's
+// mip level (issue #14: "charts store only what triangles use"; pipeline/TEXTURE_SIZE.md).
+void flattenUnusedBlocks(const MeshData& mesh, Image& atlas) {
+    const int wb = static_cast<int>(atlas.width) / kBlock, hb = static_cast<int>(atlas.height) / kBlock;
+    std::vector<uint8_t> used(size_t(wb) * hb, 0);
+    const auto blockOf = [](double v, int count) { return std::clamp(static_cast<int>(std::floor(v / kBlock)), 0, count - 1); };
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        double x[3], y[3];
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = mesh.indices[3 * t + k];
+            x[k] = double(mesh.texcoords[2 * v]) * atlas.width, y[k] = double(mesh.texcoords[2 * v + 1]) * atlas.height;
+        }
+        const int i0 = blockOf(std::min({x[0], x[1], x[2]}) - kReach, wb), i1 = blockOf(std::max({x[0], x[1], x[2]}) + kReach, wb);
+        const int j0 = blockOf(std::min({y[0], y[1], y[2]}) - kReach, hb), j1 = blockOf(std::max({y[0], y[1], y[2]}) + kReach, hb);
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i)
+                if (!used[size_t(j) * wb + i])
+                    used[size_t(j) * wb + i] = triangleMeetsBox(x, y, i * kBlock - kReach, j * kBlock - kReach, (i + 1) * kBlock + kReach,
+                                                                (j + 1) * kBlock + kReach);
+    }
+    const size_t nc = atlas.channels;
+    for (int j = 0; j < hb; ++j)
+        for (int i = 0; i < wb; ++i) {
+            if (used[size_t(j) * wb + i]) continue;
+            uint32_t sum[4] = {0, 0, 0, 0};
+            const auto at = [&](int x, int y) { return &atlas.pixels[(size_t(j * kBlock + y) * atlas.width + i * kBlock + x) * nc]; };
+            for (int y = 0; y < kBlock; ++y)
+                for (int x = 0; x < kBlock; ++x)
+                    for (size_t c = 0; c < nc; ++c) sum[c] += at(x, y)[c];
+            for (int y = 0; y < kBlock; ++y)
+                for (int x = 0; x < kBlock; ++x)
+                    for (size_t c = 0; c < nc; ++c) at(x, y)[c] = static_cast<uint8_t>((sum[c] + kBlock * kBlock / 2) / (kBlock * kBlock));
+        }
+}
+
 // The texel rectangle [lo, hi) of UVs in [uvLo, uvHi] (clamped to [0, 1]) plus one texel of margin.
 void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
     lo = std::max(0, static_cast<int>(std::floor(std::clamp(uvLo, 0.0f, 1.0f) * size)) - 1);
@@ -155,11 +180,36 @@ void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
     hi = std::max(hi, lo + 1);
 }
 
+// [lo, hi) widened to the source's kBlock grid (hi clamped to the source): at a leaf, whose
+// texels are the source's, the atlas's JPEG blocks are then the source's own blocks.
+void alignToBlocks(int& lo, int& hi, uint32_t size) {
+    lo = lo / kBlock * kBlock;
+    hi = std::min(static_cast<int>(size), padded(hi));
+}
+
 }  // namespace
 
-Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
+std::vector<uint32_t> uvCharts(const MeshData& mesh, uint32_t& count) {
+    std::vector<uint32_t> parent(mesh.vertexCount());
+    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    for (size_t t = 0; t < mesh.triangleCount(); ++t)
+        for (int k = 1; k < 3; ++k) {
+            const uint32_t a = findRoot(parent, mesh.indices[3 * t]), b = findRoot(parent, mesh.indices[3 * t + k]);
+            parent[std::max(a, b)] = std::min(a, b);
+        }
+    std::vector<uint32_t> chart(parent.size(), kNone), id(parent.size(), kNone);
+    count = 0;
+    for (uint32_t i = 0; i < parent.size(); ++i) {
+        const uint32_t r = findRoot(parent, i);
+        if (id[r] == kNone) id[r] = count++;
+        chart[i] = id[r];
+    }
+    return chart;
+}
+
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, bool onSourceGrid) {
     uint32_t count = 0;
-    const std::vector<uint32_t> chart = chartOfVertex(mesh, count);
+    const std::vector<uint32_t> chart = uvCharts(mesh, count);
     const uint32_t scaledWidth = scaledSide(source.width, factor), scaledHeight = scaledSide(source.height, factor);
     const double size[2] = {static_cast<double>(scaledWidth), static_cast<double>(scaledHeight)};
     std::vector<float> lo(2 * count, 1), hi(2 * count, 0);
@@ -172,6 +222,9 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
     for (uint32_t c = 0; c < count; ++c) {
         texelRange(lo[2 * c], hi[2 * c], size[0], charts[c].x0, charts[c].x1);
         texelRange(lo[2 * c + 1], hi[2 * c + 1], size[1], charts[c].y0, charts[c].y1);
+        if (!onSourceGrid || factor > 1) continue;
+        alignToBlocks(charts[c].x0, charts[c].x1, scaledWidth);
+        alignToBlocks(charts[c].y0, charts[c].y1, scaledHeight);
     }
     const auto [width, height] = packCharts(charts);
     const uint32_t nc = source.channels;
@@ -186,6 +239,7 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
         mesh.texcoords[2 * v] = static_cast<float>((mesh.texcoords[2 * v] * size[0] - c.x0 + c.ox) / width);
         mesh.texcoords[2 * v + 1] = static_cast<float>((mesh.texcoords[2 * v + 1] * size[1] - c.y0 + c.oy) / height);
     }
+    flattenUnusedBlocks(mesh, atlas);
     return atlas;
 }
 
@@ -205,7 +259,7 @@ const TextureSource* BlockTextures::source(uint32_t material) {
     auto it = sources_.find(material);
     if (it == sources_.end()) {
         std::optional<TextureSource> source;
-        if (m.image) source = textureView(*m.image);
+        if (m.image) source = textureView(*m.image), source->jpegQuality = m.jpegQuality;
         else try {
                 source = store_->open(m.texturePath, progress_);
             } catch (const InputError& e) {
@@ -217,9 +271,14 @@ const TextureSource* BlockTextures::source(uint32_t material) {
     return it->second ? &*it->second : nullptr;
 }
 
-Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh) {
+int BlockTextures::jpegQuality(uint32_t material, int quality) {
     const TextureSource* s = source(material);
-    return s ? atlasTexture(*s, factor, mesh) : Image{};
+    return s && s->jpegQuality > 0 ? std::min(quality, s->jpegQuality) : quality;
+}
+
+Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh, int quality) {
+    const TextureSource* s = source(material);
+    return s ? atlasTexture(*s, factor, mesh, s->jpegQuality > 0 && s->jpegQuality <= quality) : Image{};
 }
 
 Image BlockTextures::region(uint32_t material, double factor, MeshData& mesh) {
@@ -244,7 +303,7 @@ Image BlockTextures::region(uint32_t material, double factor, MeshData& mesh) {
 std::vector<TexturedChart> textureCharts(BlockTextures& textures, uint32_t material, double factor, const MeshData& mesh) {
     if (!textures.source(material) || mesh.vertexCount() == 0) return {};
     uint32_t count = 0;
-    const std::vector<uint32_t> chart = chartOfVertex(mesh, count);
+    const std::vector<uint32_t> chart = uvCharts(mesh, count);
     std::vector<TexturedChart> out(count);
     std::vector<uint32_t> local(mesh.vertexCount(), kNone);
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {

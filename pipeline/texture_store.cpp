@@ -191,6 +191,7 @@ TextureSource TextureStore::open(const std::string& path, Progress* progress) {
     if (first) {
         try {
             TextureSource source = impl_->decode(path, index);
+            source.jpegQuality = jpegFileQuality(path);
             if (progress) progress->textureLoaded(uint64_t{source.width} * source.height);
             promise.set_value(source);
         } catch (...) {

@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 
 namespace hlod {
 
@@ -16,9 +17,14 @@ struct TextureSource {
     uint32_t width = 0, height = 0, channels = 0;
     const Image* image = nullptr;  // in memory, or
     int file = -1;                 // width x height x channels bytes, row by row
+    int jpegQuality = 0;           // the quality a JPEG source was written with (jpegQuality); 0: unknown
     void rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out) const;  // [x0, x1) of rows [y0, y1)
 };
 inline TextureSource textureView(const Image& image) { return {image.width, image.height, image.channels, &image, -1}; }
+// jpeg_quality.cpp: the libjpeg quality whose scaled standard luminance table is the JPEG's own
+// (the file's, or the encoded bytes'); 0 when it is not a JPEG or its table is not such a one.
+int jpegQuality(std::span<const uint8_t> bytes);
+int jpegFileQuality(const std::string& path);
 uint32_t scaledSide(uint32_t side, double factor);  // a side downsampled by factor (sqrt per side; factor <= 1: as is)
 // Texels [x0, x1) x [y0, y1) of the source downsampled to scaledWidth x scaledHeight (box filter:
 // each texel the area-weighted mean of the source texels it covers; equal sizes: a copy).
@@ -41,7 +47,8 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 // The charts of `mesh` (one material's triangles) of `source` downsampled by factor, packed; UVs rewritten.
-Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh);
+// onSourceGrid: each chart's rectangle widened to the source's 8 x 8 grid (factor <= 1 only).
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, bool onSourceGrid = false);
 // The textures of one block's materials: a texture file through `store` (nullptr: a store of
 // the block's own, in memory), an embedded image as it is. A texture that fails to decode is a
 // TextureProblem and its material untextured in this block, or, with `strict`, fatal.
@@ -50,7 +57,12 @@ public:
     BlockTextures(const std::vector<Material>& materials, TextureStore* store, bool strict, std::vector<TextureProblem>& problems,
                   Progress* progress);
     const TextureSource* source(uint32_t material);  // nullptr: untextured
-    Image atlas(uint32_t material, double factor, MeshData& mesh);  // atlasTexture; width 0: untextured
+    // The JPEG quality of the material's node textures: `quality` (--jpeg-quality), or the source's
+    // own when it is a JPEG of a lower or equal quality; then a leaf's charts are on the source's
+    // 8 x 8 grid, where the source re-codes at its own quality almost losslessly (pipeline/TEXTURE_SIZE.md).
+    int jpegQuality(uint32_t material, int quality);
+    // atlasTexture; width 0: untextured. `quality`: --jpeg-quality, for the rule above.
+    Image atlas(uint32_t material, double factor, MeshData& mesh, int quality);
     // The rectangle of the material's texture downsampled by `factor` that `mesh`'s UVs cover
     // (+1 texel margin), mesh's UVs rewritten onto it (what bakeTexture samples); width 0 when untextured.
     Image region(uint32_t material, double factor, MeshData& mesh);

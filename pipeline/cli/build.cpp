@@ -157,7 +157,16 @@ void addBuild(CLI::App& app, int& status) {
                     "a folder input gets one per block unless this is given)")
         ->check(CLI::NonNegativeNumber);
     sub->add_option("--draco-level", o.draco.compressionLevel, "Draco compression level 0..10")->check(CLI::Range(0, 10));
-    sub->add_option("--jpeg-quality", o.jpegQuality, "JPEG quality of node textures")->check(CLI::Range(1, 100));
+    sub->add_option("--jpeg-quality", o.jpegQuality,
+                    "JPEG quality of node textures (at most a JPEG source's own; pipeline/TEXTURE_SIZE.md)")
+        ->check(CLI::Range(1, 100));
+    sub->add_option_function<std::string>(
+           "--jpeg-chroma", [options = &o](const std::string& v) { options->jpegChroma420 = v == "4:2:0"; },
+           "JPEG chroma of node textures: 4:4:4 (default) or 4:2:0 (pipeline/TEXTURE_SIZE.md)")
+        ->check(CLI::IsMember({"4:4:4", "4:2:0"}));
+    sub->add_flag("--leaf-psnr", o.leafPsnr,
+                  "measure each leaf's stored textures against the source texels they copy (PSNR per level in the "
+                  "build report; `hlod stats` shows it)");
     sub->add_option("--blocks", a->blocks, "build only blocks FIRST:LAST (LAST excluded), for sharding");
     sub->add_flag("--shard", a->request.shard, "write a shard folder (merge shards with `hlod merge`)");
     sub->add_option("--temp-dir", o.tempDir, "folder for temporary files (default: next to the output)");

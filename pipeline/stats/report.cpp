@@ -5,6 +5,7 @@
 
 #include "formats/constants.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <ostream>
 #include <string>
@@ -125,10 +126,14 @@ nlohmann::json toJson(const Stats& s) {
         j["build"] = {{"sidecar", buildReportPath(s.summary.path)}, {"stages", stages}, {"wall_seconds", s.build->wallSeconds},
                       {"cpu_seconds", s.build->cpuSeconds}, {"peak_rss_bytes", s.build->peakRssBytes}};
         nlohmann::json quality = nlohmann::json::array();
-        for (const LevelQuality& q : levelQuality(s.build->nodes))
+        for (const LevelQuality& q : levelQuality(s.build->nodes)) {
             quality.push_back({{"nodes", q.nodes}, {"error_mean", q.errorMean}, {"error_max", q.errorMax},
                                {"error_one_sided_max", q.oneSidedMax}, {"baked_nodes", q.baked}, {"bake_psnr_min_db", q.psnrMin},
                                {"bake_psnr_mean_db", q.psnrMean}, {"texels", q.texels}});
+            if (q.fidelitySamples)
+                quality.back()["texture_fidelity"] = {{"psnr_db", q.fidelityPsnr()}, {"texels_used", q.fidelityTexels},
+                                                      {"texels_stored", q.fidelityStoredTexels}};
+        }
         j["build"]["measured_per_level"] = quality;
     }
     if (s.city)
@@ -203,6 +208,11 @@ void printStats(std::ostream& os, const Stats& s) {
             os << fmt("  level %zu: two-sided mean %.3g max %.3g (one-sided max %.3g)", l, q.errorMean, q.errorMax, q.oneSidedMax);
             if (q.baked) os << fmt(", %llu of %llu nodes baked, PSNR min %.1f mean %.1f dB", (unsigned long long)q.baked,
                                    (unsigned long long)q.nodes, q.psnrMin, q.psnrMean);
+            if (q.fidelitySamples)
+                os << fmt(", stored textures vs source PSNR %.2f dB over the %s texels triangles use (%.1f %% of %s stored)",
+                          q.fidelityPsnr(), count(q.fidelityTexels).c_str(),
+                          100.0 * double(q.fidelityTexels) / double(std::max<uint64_t>(1, q.fidelityStoredTexels)),
+                          count(q.fidelityStoredTexels).c_str());
             os << "\n";
         }
     }

@@ -6,6 +6,7 @@
 #include "pipeline/stats/stats.h"
 
 #include "formats/constants.h"
+#include "formats/metrics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -97,6 +98,8 @@ uint64_t inputTriangles(const Stats& s) {
     return s.build && s.build->inputTriangles ? s.build->inputTriangles : s.leafTriangles;
 }
 
+double LevelQuality::fidelityPsnr() const { return psnrDb(fidelitySquaredError, fidelitySamples); }
+
 std::vector<LevelQuality> levelQuality(const std::vector<NodeQuality>& nodes) {
     std::vector<LevelQuality> levels;
     for (const NodeQuality& n : nodes) {
@@ -107,6 +110,10 @@ std::vector<LevelQuality> levelQuality(const std::vector<NodeQuality>& nodes) {
         q.errorMean += n.errorMean;  // summed here, divided below
         q.errorMax = std::max(q.errorMax, n.errorMax);
         q.oneSidedMax = std::max(q.oneSidedMax, n.errorOneSided);
+        if (n.fidelitySamples) {
+            q.fidelityTexels += n.fidelityTexels, q.fidelitySamples += n.fidelitySamples;
+            q.fidelityStoredTexels += n.texels, q.fidelitySquaredError += n.fidelitySquaredError;
+        }
         if (!n.baked) continue;
         q.psnrMin = q.baked ? std::min(q.psnrMin, n.bakePsnrDb) : n.bakePsnrDb;
         q.psnrMean += n.bakePsnrDb;

@@ -70,11 +70,16 @@ TreeArithmetic thesisArithmetic(const Constants& c);
 
 // What the build measured per level (the build report's "nodes", issue #16): the two-sided error
 // against the original surface (mean of the nodes' means, largest max), the one-sided error it
-// replaced (largest), the nodes whose texture was baked and their PSNR against the source.
+// replaced (largest), the nodes whose texture was baked and their PSNR against the source, and
+// (leaves built with --leaf-psnr) the stored textures against the source over the texels
+// triangles use, pooled over the level (pipeline/TEXTURE_SIZE.md).
 struct LevelQuality {
     uint64_t nodes = 0, baked = 0, texels = 0;
     double errorMean = 0, errorMax = 0, oneSidedMax = 0;
     double psnrMin = 0, psnrMean = 0;  // over the baked nodes (0 when none)
+    uint64_t fidelityTexels = 0, fidelityStoredTexels = 0, fidelitySamples = 0;  // used, stored (of the measured nodes)
+    double fidelitySquaredError = 0;
+    double fidelityPsnr() const;  // psnrDb (formats/metrics.h); 0 when not measured
 };
 std::vector<LevelQuality> levelQuality(const std::vector<NodeQuality>& nodes);
 

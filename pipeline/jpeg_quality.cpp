@@ -1,0 +1,75 @@
+// The quality a JPEG source was written with (issue #14, pipeline/TEXTURE_SIZE.md): its luminance
+// quantisation table (the DQT segment, ITU-T T.81 §B.2.4.1, stored in zig-zag order, Figure A.6)
+// against the standard luminance table of T.81 Annex K (Table K.1) scaled as libjpeg (jcparam.c,
+// jpeg_quality_scaling) scales it for quality q: 5000 / q below 50, 200 - 2q from 50, each entry
+// (entry x scale + 50) / 100 clamped to 1..255. Only an exact match counts: a table of another
+// encoder reads 0 (unknown), never a guess.
+#include "pipeline/texture_store.h"
+
+#include <algorithm>
+#include <array>
+#include <fstream>
+
+namespace hlod {
+
+namespace {
+
+// Bytes read from the start of a file: the tables precede the scan, after the APPn segments (EXIF,
+// ICC: at most 64 KiB each).
+constexpr size_t kHeadBytes = 1 << 20;
+
+constexpr std::array<int, 64> kLuminance = {16, 11, 10, 16, 24,  40,  51,  61,  12, 12, 14, 19, 26,  58,  60,  55,
+                                            14, 13, 16, 24, 40,  57,  69,  56,  14, 17, 22, 29, 51,  87,  80,  62,
+                                            18, 22, 37, 56, 68,  109, 103, 77,  24, 35, 55, 64, 81,  104, 113, 92,
+                                            49, 64, 78, 87, 103, 121, 120, 101, 72, 92, 95, 98, 112, 100, 103, 99};
+// Natural (row-major) index of the k-th coefficient in zig-zag order.
+constexpr std::array<int, 64> kZigZag = {0,  1,  8,  16, 9,  2,  3,  10, 17, 24, 32, 25, 18, 11, 4,  5,  12, 19, 26, 33, 40, 48,
+                                         41, 34, 27, 20, 13, 6,  7,  14, 21, 28, 35, 42, 49, 56, 57, 50, 43, 36, 29, 22, 15, 23,
+                                         30, 37, 44, 51, 58, 59, 52, 45, 38, 31, 39, 46, 53, 60, 61, 54, 47, 55, 62, 63};
+
+int qualityOf(const std::array<int, 64>& zigzagTable) {
+    for (int q = 1; q <= 100; ++q) {
+        const int scale = q < 50 ? 5000 / q : 200 - 2 * q;
+        bool same = true;
+        for (int k = 0; k < 64 && same; ++k)
+            same = zigzagTable[k] == std::clamp((kLuminance[kZigZag[k]] * scale + 50) / 100, 1, 255);
+        if (same) return q;
+    }
+    return 0;
+}
+
+}  // namespace
+
+int jpegQuality(std::span<const uint8_t> bytes) {
+    size_t at = 0;
+    const auto byte = [&] { return at < bytes.size() ? int(bytes[at++]) : -1; };
+    if (byte() != 0xFF || byte() != 0xD8) return 0;  // SOI
+    while (at < bytes.size()) {
+        if (byte() != 0xFF) return 0;
+        int marker = byte();
+        while (marker == 0xFF) marker = byte();  // fill bytes
+        if (marker == 0xDA || marker == 0xD9 || marker < 0) return 0;  // scan or end before a luminance table
+        const int length = (byte() << 8) | byte();
+        if (length < 2) return 0;
+        const size_t end = at + size_t(length) - 2;
+        while (marker == 0xDB && at < end) {  // one or more tables: Pq/Tq, then 64 entries of 8 or 16 bits
+            const int pqtq = byte();
+            std::array<int, 64> table{};
+            for (int& v : table) v = pqtq >> 4 ? (byte() << 8) | byte() : byte();
+            if (at > bytes.size() || pqtq < 0) return 0;
+            if ((pqtq & 15) == 0) return qualityOf(table);
+        }
+        at = end;
+    }
+    return 0;
+}
+
+int jpegFileQuality(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<uint8_t> head(kHeadBytes);
+    in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<size_t>(in.gcount()));
+    return jpegQuality(head);
+}
+
+}  // namespace hlod

@@ -1,0 +1,190 @@
+// Texture fidelity and size (issue #14, pipeline/TEXTURE_SIZE.md): a leaf's stored texture
+// against the source texels its triangles use (texture_fidelity.cpp) - a lossless copy reads
+// 100 dB, JPEG a finite PSNR that rises with the quality, a copy off by one texel far less;
+// `hlod build --leaf-psnr` writes it per leaf in the build report and `hlod stats` prints it per
+// level. What makes the textures smaller (texture.cpp): charts on the source's 8 x 8 grid, blocks
+// no triangle reaches flattened, a JPEG source's own quality read back (jpeg_quality.cpp) and
+// never exceeded.
+#include "helpers.h"
+
+#include "formats/build_report.h"
+#include "formats/metrics.h"
+#include "pipeline/texture_charts.h"
+#include "tests/support/chunked_scan.h"
+#include "tests/support/run_hlod.h"
+
+namespace hlod::test {
+namespace {
+
+// Two charts (one of two triangles) over a 256 x 256 source.
+MeshData charts() {
+    MeshData m;
+    m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 5, 5, 0, 6, 5, 0, 5, 6, 0};
+    m.texcoords = {0.05f, 0.05f, 0.40f, 0.07f, 0.06f, 0.35f, 0.42f, 0.38f, 0.60f, 0.55f, 0.95f, 0.60f, 0.65f, 0.90f};
+    m.indices = {0, 1, 2, 1, 3, 2, 4, 5, 6};
+    return m;
+}
+
+// A gradient with texel noise: each texel distinct, and JPEG cannot code it exactly.
+Image noisyImage(uint32_t side) {
+    Image img = testImage(side, side);
+    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = static_cast<uint8_t>(img.pixels[i] / 2 + (i * 2654435761u >> 13) % 96);
+    return img;
+}
+
+double jpegPsnr(const MeshData& before, const Image& source, int quality, bool chroma420 = false) {
+    MeshData after = before;
+    const Image atlas = atlasTexture(textureView(source), 1, after);
+    const EncodedBlob blob = encodeTexture(atlas, Codec::Jpeg, quality, chroma420);
+    const TextureFidelity f = textureFidelity(before, textureView(source), after, decodeTexture(blob.bytes, Codec::Jpeg, "test"));
+    return psnrDb(f.squaredError, f.samples);
+}
+
+TEST(TextureFidelity, LosslessCopyReads100AndEveryUsedTexelOnce) {
+    const Image source = noisyImage(256);
+    const MeshData before = charts();
+    MeshData after = before;
+    const Image atlas = atlasTexture(textureView(source), 1, after);
+    const TextureFidelity f = textureFidelity(before, textureView(source), after, atlas);
+    EXPECT_EQ(f.squaredError, 0);
+    EXPECT_EQ(f.samples, 3 * f.texels);
+    EXPECT_NEAR(psnrDb(f.squaredError, f.samples), 100, 1e-9);
+    // The UV area of the triangles in texels: the texels whose centres they cover, each once.
+    double area = 0;
+    for (size_t t = 0; t < before.triangleCount(); ++t) {
+        const float* a = &before.texcoords[2 * before.indices[3 * t]];
+        const float* b = &before.texcoords[2 * before.indices[3 * t + 1]];
+        const float* c = &before.texcoords[2 * before.indices[3 * t + 2]];
+        area += 0.5 * std::abs(double(b[0] - a[0]) * (c[1] - a[1]) - double(c[0] - a[0]) * (b[1] - a[1])) * 256 * 256;
+    }
+    EXPECT_NEAR(double(f.texels), area, 0.05 * area);
+    EXPECT_LT(f.texels, uint64_t(atlas.width) * atlas.height);
+}
+
+TEST(TextureFidelity, JpegIsFiniteAndRisesWithQuality) {
+    const Image source = noisyImage(256);
+    const double q50 = jpegPsnr(charts(), source, 50), q85 = jpegPsnr(charts(), source, 85), q95 = jpegPsnr(charts(), source, 95);
+    EXPECT_GT(q50, 20);
+    EXPECT_LT(q50, q85);
+    EXPECT_LT(q85, q95);
+    EXPECT_LT(q95, 60);
+    EXPECT_LT(jpegPsnr(charts(), source, 85, true), q85);  // 4:2:0 drops chroma detail
+}
+
+TEST(TextureFidelity, AStoredTextureOffByOneTexelIsSeen) {
+    const Image source = noisyImage(256);
+    const MeshData before = charts();
+    MeshData after = before;
+    Image atlas = atlasTexture(textureView(source), 1, after);
+    Image shifted = atlas;  // the same UVs over the atlas moved one texel right
+    for (uint32_t y = 0; y < atlas.height; ++y)
+        for (uint32_t x = 1; x < atlas.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                shifted.pixels[(size_t(y) * atlas.width + x) * 3 + c] = atlas.pixels[(size_t(y) * atlas.width + x - 1) * 3 + c];
+    const TextureFidelity f = textureFidelity(before, textureView(source), after, shifted);
+    EXPECT_LT(psnrDb(f.squaredError, f.samples), jpegPsnr(before, source, 50));
+}
+
+// `hlod build --leaf-psnr`: every textured leaf has a measure, no other node; stats prints it.
+TEST(TextureFidelity, BuildReportsLeavesAndStatsPrintsThem) {
+    TempDir dir;
+    ChunkedScanOptions options;
+    options.chartCells = 2;
+    options.jpeg = true;
+    options.textureSize = 128;
+    const ChunkedScan scan = writeChunkedScan(dir.path.string(), "facade", facadeMesh(60), options);
+    const std::string db = dir.file("f.hlod");
+    const RunResult build = runHlod({"build", scan.obj, "-o", db, "-j", "1", "--leaf-psnr"});
+    ASSERT_EQ(build.exitCode, 0) << build.outAndErr();
+    const std::optional<BuildReport> report = readBuildReport(buildReportPath(db));
+    ASSERT_TRUE(report);
+    const Database database = Database::open(db);
+    ASSERT_EQ(report->nodes.size(), database.skeleton().nodes.size());
+    uint64_t leaves = 0;
+    for (size_t i = 0; i < report->nodes.size(); ++i) {
+        const NodeQuality& n = report->nodes[i];
+        const bool leaf = database.skeleton().nodes[i].firstChild == kNone;
+        if (!leaf) {
+            EXPECT_EQ(n.fidelitySamples, 0u) << i;
+            continue;
+        }
+        ++leaves;
+        EXPECT_GT(n.fidelityTexels, 0u) << i;
+        EXPECT_LE(n.fidelityTexels, n.texels) << i;
+        EXPECT_GE(psnrDb(n.fidelitySquaredError, n.fidelitySamples), 35) << i;  // smooth source, JPEG 85 4:4:4
+        EXPECT_LT(psnrDb(n.fidelitySquaredError, n.fidelitySamples), 100) << i;
+    }
+    EXPECT_GT(leaves, 1u);
+    const RunResult stats = runHlod({"stats", db});
+    ASSERT_EQ(stats.exitCode, 0) << stats.outAndErr();
+    EXPECT_NE(stats.out.find("stored textures vs source PSNR"), std::string::npos) << stats.out;
+    const RunResult plain = runHlod({"build", scan.obj, "-o", dir.file("g.hlod"), "-j", "1"});
+    ASSERT_EQ(plain.exitCode, 0) << plain.outAndErr();
+    EXPECT_EQ(readFile(db), readFile(dir.file("g.hlod")));  // the measure changes no byte of the database
+}
+
+TEST(TextureSize, ChartsSitOnTheSourcesBlockGridAndUnreachedBlocksAreFlat) {
+    const Image source = noisyImage(256);
+    const MeshData before = charts();
+    MeshData after = before;
+    const Image atlas = atlasTexture(textureView(source), 1, after, true);
+    for (size_t v = 0; v < before.vertexCount(); ++v)
+        for (int a = 0; a < 2; ++a) {  // the same place within an 8 x 8 block in the source and the atlas
+            const double s = before.texcoords[2 * v + a] * 256.0, t = after.texcoords[2 * v + a] * double(a ? atlas.height : atlas.width);
+            EXPECT_NEAR(std::fmod(s, 8.0), std::fmod(t, 8.0), 1e-3) << v;
+        }
+    // The second chart's triangle (0.60, 0.55) (0.95, 0.60) (0.65, 0.90) leaves its rectangle's
+    // corner near (0.95, 0.90) unreached: some block there is one colour, the noisy source never is.
+    uint64_t flat = 0, blocks = 0;
+    for (uint32_t by = 0; by < atlas.height / 8; ++by)
+        for (uint32_t bx = 0; bx < atlas.width / 8; ++bx) {
+            bool same = true;
+            const uint8_t* first = &atlas.pixels[(size_t(by * 8) * atlas.width + bx * 8) * 3];
+            for (uint32_t y = 0; y < 8; ++y)
+                for (uint32_t x = 0; x < 8; ++x)
+                    same = same && std::equal(first, first + 3, &atlas.pixels[(size_t(by * 8 + y) * atlas.width + bx * 8 + x) * 3]);
+            flat += same, ++blocks;
+        }
+    EXPECT_GT(flat, 0u);
+    EXPECT_LT(flat, blocks);
+    const TextureFidelity f = textureFidelity(before, textureView(source), after, atlas);
+    EXPECT_EQ(f.squaredError, 0);  // every texel a triangle uses is the source's
+}
+
+TEST(TextureSize, JpegQualityIsReadBackFromTheTables) {
+    const Image image = noisyImage(64);
+    for (int q : {30, 75, 85, 90, 100}) EXPECT_EQ(jpegQuality(encodeTexture(image, Codec::Jpeg, q).bytes), q);
+    EXPECT_EQ(jpegQuality(encodeTexture(image, Codec::Png).bytes), 0);
+    std::vector<uint8_t> cut = encodeTexture(image, Codec::Jpeg, 75).bytes;
+    cut.resize(40);  // the table cut short
+    EXPECT_EQ(jpegQuality(cut), 0);
+    EXPECT_EQ(jpegQuality(std::vector<uint8_t>{}), 0);
+}
+
+// A JPEG source below --jpeg-quality is re-coded at its own quality, one above it at --jpeg-quality.
+TEST(TextureSize, NodeTexturesNeverExceedTheSourcesQuality) {
+    for (int sourceQuality : {60, 95}) {
+        TempDir dir;
+        ChunkedScanOptions options;
+        options.jpeg = true;
+        options.jpegQuality = sourceQuality;
+        options.textureSize = 128;
+        const ChunkedScan scan = writeChunkedScan(dir.path.string(), "facade", facadeMesh(40), options);
+        const std::string db = dir.file("f.hlod");
+        const RunResult build = runHlod({"build", scan.obj, "-o", db, "-j", "1"});
+        ASSERT_EQ(build.exitCode, 0) << build.outAndErr();
+        const Database database = Database::open(db);
+        uint64_t textures = 0;
+        for (const Node& n : database.skeleton().nodes)
+            for (uint32_t b = 0; b < n.blobCount; ++b) {
+                const BlobRef& ref = database.skeleton().blobs[n.firstBlob + b];
+                if (ref.kind != BlobKind::Texture) continue;
+                ++textures;
+                EXPECT_EQ(jpegQuality(database.readBlob(n.firstBlob + b)), std::min(sourceQuality, 85)) << sourceQuality;
+            }
+        EXPECT_GT(textures, 0u);
+    }
+}
+
+}  // namespace
+}  // namespace hlod::test
