@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cmath>
+#include <map>
 #include <cstring>
 
 namespace hlod {
@@ -81,6 +82,10 @@ struct Context {
     std::vector<uint32_t> materialOfGltf;  // glTF material -> index in raw.materials
     bool keepNormals = true, keepColors = true, keepTexcoords = false;  // every primitive has them / textured
     uint32_t skippedPrimitives = 0;
+    // Vertices already added, by (POSITION, TEXCOORD_0, NORMAL, COLOR_0 accessors, node instance):
+    // primitives that share one vertex buffer (one primitive per material over common accessors)
+    // share its vertices instead of adding a copy each. Value: first index, vertex count.
+    std::map<std::array<int, 5>, std::pair<uint32_t, size_t>> added;
 };
 
 // Accessor `index` located in its buffer: element i's first byte is data + stride * i, and
@@ -235,13 +240,12 @@ int attributeOf(const tinygltf::Primitive& prim, const char* name) {
     return it == prim.attributes.end() ? -1 : it->second;
 }
 
-void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m) {
-    if (!isTriangles(prim)) {
-        ++cx.skippedPrimitives;
-        return;
-    }
+// The primitive's vertices in raw (added unless an earlier primitive of the same node instance
+// added the same accessors): its first index and count.
+std::pair<uint32_t, size_t> addVertices(Context& cx, const tinygltf::Primitive& prim, const Matrix& m, int instance) {
     const auto attr = [&](const char* name) { return attributeOf(prim, name); };
-    if (attr("POSITION") < 0) throw InputError(cx.path + ": primitive without POSITION");
+    const std::array<int, 5> key{attr("POSITION"), attr("TEXCOORD_0"), attr("NORMAL"), attr("COLOR_0"), instance};
+    if (const auto it = cx.added.find(key); it != cx.added.end()) return it->second;
     int width = 0;
     const std::vector<float> pos = readFloats(cx, attr("POSITION"), 3, 3, "POSITION", width);
     const size_t count = pos.size() / 3;
@@ -258,9 +262,21 @@ void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m)
             attr("TEXCOORD_0") >= 0 ? readAttribute(cx, attr("TEXCOORD_0"), 2, "TEXCOORD_0", count) : std::vector<float>(2 * count, 0.0f);
         for (size_t i = 0; i < count; ++i) raw.addTexcoord(uv[2 * i], uv[2 * i + 1], cx.path);
     }
-    const bool mirrored = determinant(m) < 0;
-    if (cx.keepNormals) addNormals(cx, attr("NORMAL"), count, m, mirrored);
+    if (cx.keepNormals) addNormals(cx, attr("NORMAL"), count, m, determinant(m) < 0);
     if (cx.keepColors) addColors(cx, attr("COLOR_0"), count);
+    return cx.added[key] = {base, count};
+}
+
+void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m, int instance) {
+    if (!isTriangles(prim)) {
+        ++cx.skippedPrimitives;
+        return;
+    }
+    const auto attr = [&](const char* name) { return attributeOf(prim, name); };
+    if (attr("POSITION") < 0) throw InputError(cx.path + ": primitive without POSITION");
+    const auto [base, count] = addVertices(cx, prim, m, instance);
+    RawMesh& raw = cx.raw;
+    const bool mirrored = determinant(m) < 0;
     std::vector<uint32_t> indices = prim.indices >= 0 ? readIndices(cx, prim.indices) : std::vector<uint32_t>(count);
     if (prim.indices < 0)
         for (size_t i = 0; i < count; ++i) indices[i] = static_cast<uint32_t>(i);
@@ -280,16 +296,17 @@ void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m)
 }
 
 // Every TRIANGLES-or-not primitive of the default scene's node tree (every root node when there
-// is no scene) with its node's world transform, in document order.
+// is no scene) with its node's world transform and the node visit's number, in document order.
 template <class Visit>
-void visitNode(const Context& cx, int index, const Matrix& parent, int depth, Visit& visit) {
+void visitNode(const Context& cx, int index, const Matrix& parent, int depth, Visit& visit, int& visits) {
     if (index < 0 || index >= static_cast<int>(cx.model.nodes.size()) || depth > 64)
         throw InputError(cx.path + ": corrupt node tree");
     const tinygltf::Node& node = cx.model.nodes[static_cast<size_t>(index)];
     const Matrix m = multiply(parent, localMatrix(node));
+    const int instance = visits++;
     if (node.mesh >= 0 && node.mesh < static_cast<int>(cx.model.meshes.size()))
-        for (const auto& prim : cx.model.meshes[static_cast<size_t>(node.mesh)].primitives) visit(prim, m);
-    for (int child : node.children) visitNode(cx, child, m, depth + 1, visit);
+        for (const auto& prim : cx.model.meshes[static_cast<size_t>(node.mesh)].primitives) visit(prim, m, instance);
+    for (int child : node.children) visitNode(cx, child, m, depth + 1, visit, visits);
 }
 
 template <class Visit>
@@ -297,8 +314,9 @@ void visitScene(const Context& cx, Visit visit) {
     const tinygltf::Model& model = cx.model;
     const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    int visits = 0;
     if (scene < static_cast<int>(model.scenes.size())) {
-        for (int node : model.scenes[static_cast<size_t>(scene)].nodes) visitNode(cx, node, identity, 0, visit);
+        for (int node : model.scenes[static_cast<size_t>(scene)].nodes) visitNode(cx, node, identity, 0, visit, visits);
         return;
     }
     std::vector<bool> isChild(model.nodes.size());
@@ -306,7 +324,7 @@ void visitScene(const Context& cx, Visit visit) {
         for (int c : node.children)
             if (c >= 0 && static_cast<size_t>(c) < isChild.size()) isChild[static_cast<size_t>(c)] = true;
     for (size_t n = 0; n < model.nodes.size(); ++n)
-        if (!isChild[n]) visitNode(cx, static_cast<int>(n), identity, 0, visit);
+        if (!isChild[n]) visitNode(cx, static_cast<int>(n), identity, 0, visit, visits);
 }
 
 // An image stb_image decoded (8 or 16 bits per channel) as 8-bit grey or RGB.
@@ -365,15 +383,15 @@ void addMaterials(Context& cx) {
 void convert(const uint8_t* bytes, size_t size, bool binary, const std::string& path, const ReadOptions& options,
              RawMesh& raw, EmbeddedImages& images) {
     const tinygltf::Model model = loadGltfModel(bytes, size, binary, path, options, images);
-    Context cx{model, path, options, raw, images, {}};
+    Context cx{model, path, options, raw, images, {}, true, true, false, 0, {}};
     addMaterials(cx);
     for (const Material& m : raw.materials) cx.keepTexcoords = cx.keepTexcoords || m.image || !m.texturePath.empty();
-    visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix&) {
+    visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix&, int) {
         if (!isTriangles(prim)) return;
         cx.keepNormals = cx.keepNormals && attributeOf(prim, "NORMAL") >= 0;
         cx.keepColors = cx.keepColors && attributeOf(prim, "COLOR_0") >= 0;
     });
-    visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix& m) { addPrimitive(cx, prim, m); });
+    visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix& m, int instance) { addPrimitive(cx, prim, m, instance); });
     if (cx.skippedPrimitives)
         raw.stats.warnings.push_back(path + ": " + std::to_string(cx.skippedPrimitives) + " primitives that are not triangles skipped");
     raw.sharedIndices = true;

@@ -166,6 +166,31 @@ TEST(Gltf, EmbeddedAndExternalImages) {
     EXPECT_EQ(x.materials[0].texturePath, std::filesystem::canonical(dir.file("atlas.png")).string());
 }
 
+// Primitives over one vertex buffer (one primitive per material, common accessors) share its
+// vertices instead of adding a copy each; a second node instancing the mesh adds its own.
+TEST(Gltf, PrimitivesSharingAVertexBufferShareItsVertices) {
+    TempDir dir;
+    const MeshData m = terrain(4).mesh;
+    tinygltf::Model model = modelOf(m);
+    const size_t half = m.indices.size() / 6 * 3;
+    tinygltf::Primitive second = primitive(model);
+    const std::vector<uint32_t> first(m.indices.begin(), m.indices.begin() + half), rest(m.indices.begin() + half, m.indices.end());
+    primitive(model).indices = addData(model, first, kUint, TINYGLTF_TYPE_SCALAR, 1);
+    second.indices = addData(model, rest, kUint, TINYGLTF_TYPE_SCALAR, 1);
+    model.meshes[0].primitives.push_back(second);
+    save(model, dir.file("shared.gltf"));
+    const SourceMesh s = readMesh(dir.file("shared.gltf"));
+    EXPECT_EQ(s.piece.mesh.positions, m.positions);
+    EXPECT_EQ(s.piece.mesh.indices, m.indices);
+    model.nodes.push_back(model.nodes[0]);  // the mesh again, by a second node
+    model.nodes[1].translation = {0, 0, 5};
+    model.scenes[0].nodes = {0, 1};
+    save(model, dir.file("twice.gltf"));
+    const SourceMesh twice = readMesh(dir.file("twice.gltf"));
+    EXPECT_EQ(twice.piece.mesh.vertexCount(), 2 * m.vertexCount());
+    EXPECT_EQ(twice.piece.mesh.triangleCount(), 2 * m.triangleCount());
+}
+
 // `hlod build` streams a glTF as it does a PLY (parseGltf into a spilled RawMesh, given an image
 // folder): the same mesh readMesh welds, and an embedded image (a data: URI, or a buffer view of a GLB's BIN chunk,
 // which glbWithoutImages takes out before tinygltf copies the chunk) written, still encoded, into
