@@ -11,9 +11,9 @@
 // input once into NAME.glb beside it, every texture embedded as a buffer view (the form
 // photogrammetry tools export), and builds that: the glTF path of issue #14.
 #include "pipeline/pipeline.h"
-#include "pipeline/tiny_gltf_config.h"
 #include "tests/support/child_usage.h"
 #include "tests/support/chunked_scan.h"
+#include "tests/support/gltf_model.h"
 
 #include <chrono>
 #include <cstdio>
@@ -54,21 +54,8 @@ void writeGlb(const std::string& input, const std::string& glb) {
     tinygltf::Model model;
     model.asset.version = "2.0";
     model.buffers.resize(1);
-    std::vector<unsigned char>& buffer = model.buffers[0].data;
-    const auto view = [&](const void* data, size_t bytes) {
-        while (buffer.size() % 4) buffer.push_back(0);
-        tinygltf::BufferView v;
-        v.buffer = 0, v.byteOffset = buffer.size(), v.byteLength = bytes;
-        buffer.insert(buffer.end(), static_cast<const unsigned char*>(data), static_cast<const unsigned char*>(data) + bytes);
-        model.bufferViews.push_back(v);
-        return static_cast<int>(model.bufferViews.size()) - 1;
-    };
-    const auto accessor = [&](int v, int componentType, int type, size_t count) {
-        tinygltf::Accessor a;
-        a.bufferView = v, a.componentType = componentType, a.type = type, a.count = count;
-        model.accessors.push_back(a);
-        return static_cast<int>(model.accessors.size()) - 1;
-    };
+    const auto view = [&](const void* data, size_t bytes) { return test::addView(model, data, bytes); };
+    const auto accessor = [&](int v, int componentType, int type, size_t count) { return test::addAccessor(model, v, componentType, type, count); };
     const MeshData& m = s.piece.mesh;
     const int position = accessor(view(m.positions.data(), 4 * m.positions.size()), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, m.vertexCount());
     const int uv = m.texcoords.empty() ? -1 : accessor(view(m.texcoords.data(), 4 * m.texcoords.size()), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, m.vertexCount());

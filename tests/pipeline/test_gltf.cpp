@@ -6,6 +6,7 @@
 
 #include "formats/codec.h"
 #include "pipeline/tiny_gltf_config.h"
+#include "tests/support/gltf_model.h"
 #include "tests/support/run_hlod.h"
 
 #include <draco/compression/encode.h>
@@ -24,24 +25,6 @@ std::string errorOf(const std::function<void()>& f) {
         return e.what();
     }
     return "";
-}
-
-// Appends `bytes` to buffer 0 as a new buffer view; returns its index.
-int addView(tinygltf::Model& model, const void* data, size_t bytes) {
-    std::vector<unsigned char>& buffer = model.buffers[0].data;
-    while (buffer.size() % 4) buffer.push_back(0);
-    tinygltf::BufferView view;
-    view.buffer = 0, view.byteOffset = buffer.size(), view.byteLength = bytes;
-    buffer.insert(buffer.end(), static_cast<const unsigned char*>(data), static_cast<const unsigned char*>(data) + bytes);
-    model.bufferViews.push_back(view);
-    return static_cast<int>(model.bufferViews.size()) - 1;
-}
-
-int addAccessor(tinygltf::Model& model, int view, int componentType, int type, size_t count, bool normalized = false) {
-    tinygltf::Accessor a;
-    a.bufferView = view, a.componentType = componentType, a.type = type, a.count = count, a.normalized = normalized;
-    model.accessors.push_back(a);
-    return static_cast<int>(model.accessors.size()) - 1;
 }
 
 template <class T>
