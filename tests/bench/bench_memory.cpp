@@ -88,11 +88,7 @@ void writeGlb(const std::string& input, const std::string& glb) {
         prim.material = static_cast<int>(model.materials.size()) - 1;
         model.meshes[0].primitives.push_back(prim);
     }
-    model.nodes.resize(1);
-    model.nodes[0].mesh = 0;
-    model.scenes.resize(1);
-    model.scenes[0].nodes = {0};
-    model.defaultScene = 0;
+    test::singleNodeScene(model);
     if (!tinygltf::TinyGLTF().WriteGltfSceneToFile(&model, glb, false, true, false, true)) throw std::runtime_error(glb + ": cannot write");
 }
 

@@ -51,11 +51,7 @@ MeshData sample() {
 void singleMeshScene(tinygltf::Model& model, const tinygltf::Primitive& prim) {
     model.meshes.resize(1);
     model.meshes[0].primitives.push_back(prim);
-    model.nodes.resize(1);
-    model.nodes[0].mesh = 0;
-    model.scenes.resize(1);
-    model.scenes[0].nodes = {0};
-    model.defaultScene = 0;
+    singleNodeScene(model);
 }
 
 tinygltf::Model modelOf(const MeshData& m) {

@@ -26,4 +26,13 @@ inline int addAccessor(tinygltf::Model& model, int view, int componentType, int 
     return static_cast<int>(model.accessors.size()) - 1;
 }
 
+// The default scene: one node instancing mesh 0.
+inline void singleNodeScene(tinygltf::Model& model) {
+    model.nodes.resize(1);
+    model.nodes[0].mesh = 0;
+    model.scenes.resize(1);
+    model.scenes[0].nodes = {0};
+    model.defaultScene = 0;
+}
+
 }  // namespace hlod::test
