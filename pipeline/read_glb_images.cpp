@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <set>
 
@@ -102,7 +103,37 @@ std::vector<uint8_t> rebuilt(const MappedFile& file, EmbeddedImages& images) {
     return out;
 }
 
+// A JSON number member as a double (-1 when absent or not a number).
+double number(const json& object, const char* key) {
+    const auto it = object.find(key);
+    return it != object.end() && it->is_number() ? it->get<double>() : -1;
+}
+
 }  // namespace
+
+void checkImageViews(const uint8_t* bytes, size_t size, bool binary, const std::string& path) {
+    const uint8_t* text = bytes;
+    size_t length = size;
+    if (binary) {
+        if (size < 20 || word(bytes + 16) != kJson || word(bytes + 12) > size - 20) return;  // tinygltf reports it
+        text = bytes + 20, length = word(bytes + 12);
+    }
+    const json doc = json::parse(text, text + length, nullptr, false);
+    if (doc.is_discarded() || !doc.is_object()) return;
+    const auto array = [&](const char* key) { const auto it = doc.find(key); return it != doc.end() && it->is_array() ? *it : json::array(); };
+    const json images = array("images"), views = array("bufferViews"), buffers = array("buffers");
+    for (size_t i = 0; i < images.size(); ++i) {
+        const double v = images[i].is_object() ? number(images[i], "bufferView") : -1;
+        if (v < 0 || v >= double(views.size()) || !views[size_t(v)].is_object()) continue;
+        const json& view = views[size_t(v)];
+        const double b = number(view, "buffer");
+        if (b < 0 || b >= double(buffers.size()) || !buffers[size_t(b)].is_object()) continue;
+        const double end = std::max(0.0, number(view, "byteOffset")) + number(view, "byteLength");
+        if (end > number(buffers[size_t(b)], "byteLength"))
+            throw InputError(path + ": image " + std::to_string(i) + ": buffer view " + std::to_string(size_t(v)) +
+                             " runs past its buffer's byteLength (truncated or corrupt file)");
+    }
+}
 
 std::vector<uint8_t> glbWithoutImages(const MappedFile& file, EmbeddedImages& images) {
     try {

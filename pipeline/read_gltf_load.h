@@ -23,6 +23,12 @@ struct EmbeddedImages {
 // or its problem kept in images.unusable; false (nothing done) for any other format.
 bool keepEncoded(int index, const uint8_t* bytes, size_t size, EmbeddedImages& images);
 
+// tinygltf hands an image's buffer view to the image loader without checking it against its
+// buffer: a view past the buffer's declared byteLength would be read past the end of tinygltf's
+// copy (found by fuzz_glb). Checked here first, on glTF JSON or a GLB's JSON chunk; throws
+// InputError naming the image (read_glb_images.cpp). Anything else malformed is left to tinygltf.
+void checkImageViews(const uint8_t* bytes, size_t size, bool binary, const std::string& path);
+
 tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, const std::string& path,
                               const ReadOptions& options, EmbeddedImages& images);
 

@@ -240,6 +240,26 @@ TEST(GltfBadInput, UnusableImagesInAGlbBinChunkAreTextureProblems) {
     }
 }
 
+// An image's buffer view running past its buffer's declared byteLength (tinygltf would hand the
+// image loader bytes past the end of its copy: fuzz_glb's finding) is an InputError naming the
+// image, on both paths.
+TEST(GltfBadInput, ImageBufferViewPastItsBuffer) {
+    TempDir dir;
+    const std::vector<uint8_t> png = encodeTexture(testImage(8, 8), Codec::Png).bytes;
+    tinygltf::Model model = modelOf(terrain(4).mesh);
+    tinygltf::Image image;
+    image.bufferView = addView(model, png.data(), png.size());
+    image.mimeType = "image/png";
+    model.bufferViews.back().byteLength += 64;  // past the buffer, which ends with the PNG
+    addTexturedMaterial(model, image);
+    save(model, dir.file("past.glb"), true);
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("past.glb")); }).find("past.glb: image 0: buffer view"), std::string::npos);
+    ReadOptions options;
+    options.imageDir = dir.file("images");
+    RawMesh raw;
+    EXPECT_NE(errorOf([&] { parseGltf(dir.file("past.glb"), raw, options); }).find("runs past its buffer"), std::string::npos);
+}
+
 // Embedded images that cannot be used are TextureProblems that leave their material untextured,
 // as a missing texture file does: a PNG whose header claims 20000 x 16385 texels (more than
 // kMaxTextureTexels: a decompression bomb of a few hundred bytes) is never decoded, and bytes
