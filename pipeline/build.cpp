@@ -1,6 +1,7 @@
 // The whole build (thesis §3.2): find the blocks (a folder: one block per mesh file, by name; one
-// mesh: read, split on a grid into per-block temporary files), build the selected blocks in
-// parallel (TBB, at most as many at once as --memory-limit allows), each into its own record
+// mesh: read, split on a grid into per-block temporary files), build the selected blocks with TBB
+// (a block's nodes in parallel; more blocks at once only with more cores than one keeps busy, and
+// at most as many as --memory-limit allows), each into its own record
 // file, then merge the records into the database in block order. The result does not depend on
 // -j, and building subsets of blocks as shards and merging them gives the same bytes.
 #include "pipeline/pipeline.h"
@@ -10,7 +11,7 @@
 #include "formats/temp_files.h"
 #include "formats/up_axis.h"
 
-#include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
 #include <malloc.h>
@@ -226,6 +227,12 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
     stats.textureProblems.insert(stats.textureProblems.begin(), mesh.stats.textureProblems.begin(), mesh.stats.textureProblems.end());
 }
 
+// Blocks built at once with `cores` threads (pipeline/MEMORY.md "Jobs"): a block's nodes are built
+// in parallel (build_tree.cpp), so one block keeps kCoresPerBlock cores busy and each further
+// kCoresPerBlock cores admit one more block (and its working set), within the memory gate.
+constexpr int kCoresPerBlock = 4;
+size_t blocksAtOnce(int cores) { return static_cast<size_t>(std::max(1, cores / kCoresPerBlock)); }
+
 // Triangles the §3.2 recursion will visit (each level goes over the block's originals), for
 // the progress percentage; 0 (unknown) for folder inputs, whose blocks are read as they build.
 uint64_t expectedWork(const std::vector<BlockSource>& blocks, uint32_t first, uint32_t last, const Constants& c) {
@@ -356,10 +363,18 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     blockOptions.read.imageDir = (fs::path(temp.path) / "gltf-images").string();
     progress.beginStage("build", expectedWork(inputs.blocks, first, last, options.constants));
     tbb::task_arena arena(std::max(1, cores));
-    arena.execute([&] {
-        tbb::parallel_for(first, last, 1u, [&](uint32_t b) {
-            buildOne(inputs.blocks[b], inputs.materials, b, recordDir, blockOptions, gate, progress, stats[b]);
-        });
+    arena.execute([&] {  // blocks in order, at most blocksAtOnce of them; every thread helps with their nodes
+        uint32_t next = first;
+        tbb::parallel_pipeline(blocksAtOnce(cores),
+                               tbb::make_filter<void, uint32_t>(tbb::filter_mode::serial_in_order,
+                                                                [&](tbb::flow_control& control) -> uint32_t {
+                                                                    if (next == last) control.stop();
+                                                                    return next == last ? 0 : next++;
+                                                                }) &
+                                   tbb::make_filter<uint32_t, void>(tbb::filter_mode::parallel, [&](uint32_t b) {
+                                       buildOne(inputs.blocks[b], inputs.materials, b, recordDir, blockOptions, gate, progress,
+                                                stats[b]);
+                                   }));
     });
     progress.endStage();
 

@@ -24,9 +24,16 @@
 
 #include <meshoptimizer.h>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <deque>
+#include <mutex>
+#include <optional>
 #include <set>
 
 namespace hlod {
@@ -218,25 +225,31 @@ Piece joinPieces(const std::vector<SimplifiedNode>& parts, bool& geometryOnly) {
 // node simplifies its children's simplified triangles, welded by position (their common cut
 // borders become interior edges, its own borders stay locked as in top-down), to the same
 // target, numTriangles_piece / factor. Each input triangle is simplified about once
-// (1 + 1/c_levelFactor + ... ~ 1.33 passes) instead of once per level.
+// (1 + 1/c_levelFactor + ... ~ 1.33 passes) instead of once per level. The children's subtrees
+// are independent: TBB tasks, their results taken in child order.
 struct BottomUpNode {
     NodeOut out;
     std::vector<uint32_t> children;
 };
+struct BottomUpTree {  // the nodes of a block, in the order they finish (emitted breadth-first by children)
+    std::mutex mutex;
+    std::vector<BottomUpNode> nodes;
+};
 uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions& options, uint32_t blockIndex,
-                  BlockTextures& textures, Progress* progress, std::vector<BottomUpNode>& nodes, SimplifiedNode& result) {
+                  BlockTextures& textures, Progress* progress, BottomUpTree& tree, SimplifiedNode& result) {
     const Constants& c = options.constants;
     BottomUpNode node;
     if (isLeaf(factor, c.levelFactor, options.leafRule)) {
         result = {piece, false};
         node.out = finishNode(result, piece, factor, level, true, blockIndex, options, textures);
     } else {
-        std::vector<SimplifiedNode> simplifiedChildren;
-        for (Piece& child : dividePiece(piece, static_cast<uint32_t>(c.levelFactor), options.planes)) {
-            simplifiedChildren.emplace_back();
-            node.children.push_back(bottomUp(std::move(child), factor / c.levelFactor, level + 1, options, blockIndex, textures,
-                                             progress, nodes, simplifiedChildren.back()));
-        }
+        std::vector<Piece> children = dividePiece(piece, static_cast<uint32_t>(c.levelFactor), options.planes);
+        std::vector<SimplifiedNode> simplifiedChildren(children.size());
+        node.children.resize(children.size());
+        tbb::parallel_for(size_t{0}, children.size(), size_t{1}, [&](size_t k) {
+            node.children[k] = bottomUp(std::move(children[k]), factor / c.levelFactor, level + 1, options, blockIndex, textures,
+                                        progress, tree, simplifiedChildren[k]);
+        });
         bool geometryOnly = false;
         const Piece input = joinPieces(simplifiedChildren, geometryOnly);
         simplifiedChildren.clear();
@@ -246,8 +259,56 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
         node.out = finishNode(result, piece, factor, level, false, blockIndex, options, textures);
     }
     if (progress) progress->advance(piece.mesh.triangleCount());
-    nodes.push_back(std::move(node));
-    return static_cast<uint32_t>(nodes.size() - 1);
+    const std::lock_guard lock(tree.mutex);
+    tree.nodes.push_back(std::move(node));
+    return static_cast<uint32_t>(tree.nodes.size() - 1);
+}
+
+// Top-down, one breadth-first level at a time: the level's nodes are independent (each
+// simplifies, measures and packs its own piece; dividePiece gives its children's), so TBB
+// workers take them in order from a shared counter, and each finished node's record is emitted
+// as soon as every node before it is (records wait only behind a node still being built). A node's
+// piece is freed once its children's pieces exist: the level's pieces and its children's are
+// what the breadth-first queue held before, one node at a time.
+struct Level {
+    std::vector<Pending> pending;
+    std::vector<std::optional<NodeOut>> done;  // finished, not yet emitted
+    std::vector<std::vector<Piece>> children;
+    size_t emitted = 0;
+    std::atomic<size_t> next{0};
+    std::mutex mutex;
+};
+void topDownLevel(Level& level, uint32_t levelBase, const BuildOptions& options, uint32_t blockIndex, BlockTextures& textures,
+                  Progress* progress, BlockStats& stats, std::vector<uint32_t>& parentOf,
+                  const std::function<void(NodeRecord&&)>& emit) {
+    const Constants& c = options.constants;
+    const size_t n = level.pending.size();
+    level.done.resize(n);
+    level.children.resize(n);
+    const size_t workers = std::min<size_t>(n, static_cast<size_t>(tbb::this_task_arena::max_concurrency()));
+    tbb::parallel_for(size_t{0}, workers, size_t{1}, [&](size_t) {
+        for (size_t i; (i = level.next++) < n && !tbb::is_current_task_group_canceling();) {
+            Pending& p = level.pending[i];
+            const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
+            const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier);
+            NodeOut out = finishNode(simplified, p.piece, p.factor, p.level, leaf, blockIndex, options, textures);
+            out.record.parentLocal = p.parentLocal;
+            if (progress) progress->advance(p.piece.mesh.triangleCount());
+            std::vector<Piece> children;
+            if (!leaf) children = dividePiece(p.piece, static_cast<uint32_t>(c.levelFactor), options.planes);
+            p.piece = {};
+            const std::lock_guard lock(level.mutex);
+            level.children[i] = std::move(children);
+            level.done[i] = std::move(out);
+            for (; level.emitted < n && level.done[level.emitted]; ++level.emitted) {  // in breadth-first order
+                NodeOut& ready = *level.done[level.emitted];
+                const uint32_t self = recordNode(stats, parentOf, ready, level.pending[level.emitted].parentLocal);
+                if (self != levelBase + level.emitted) throw std::logic_error("buildBlock: records out of order");
+                emit(std::move(ready.record));
+                level.done[level.emitted].reset();
+            }
+        }
+    });
 }
 
 }  // namespace
@@ -258,7 +319,6 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     if (options.draco.positionStep <= 0)
         options.draco.positionStep = positionLatticeStep(pieceBounds(block.mesh), options.draco.positionBits);
     const Constants& c = options.constants;
-    const uint32_t levelFactor = static_cast<uint32_t>(c.levelFactor);
     BlockStats stats;
     stats.inputTriangles = block.mesh.triangleCount();
     BlockTextures textures(materials, options.textures, options.strict, stats.textureProblems, progress);
@@ -266,9 +326,11 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     const double rootFactor = static_cast<double>(welded.mesh.triangleCount()) / c.desiredTris;  // §3.2 hlod0
     std::vector<uint32_t> parentOf;
     if (options.mode == BuildMode::BottomUp) {
-        std::vector<BottomUpNode> nodes;
+        BottomUpTree tree;
         SimplifiedNode root;
-        const uint32_t rootId = bottomUp(std::move(welded), rootFactor, 0, options, blockIndex, textures, progress, nodes, root);
+        const uint32_t rootId = tbb::this_task_arena::isolate(
+            [&] { return bottomUp(std::move(welded), rootFactor, 0, options, blockIndex, textures, progress, tree, root); });
+        std::vector<BottomUpNode>& nodes = tree.nodes;
         std::deque<std::pair<uint32_t, uint32_t>> order{{rootId, kNone}};  // emitted breadth-first, as top-down
         while (!order.empty()) {
             const auto [id, parentLocal] = order.front();
@@ -280,21 +342,21 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
             for (uint32_t child : nodes[id].children) order.push_back({child, self});
         }
     } else {
-        std::deque<Pending> queue;
-        queue.push_back({std::move(welded), rootFactor, 0, kNone});
-        while (!queue.empty()) {
-            Pending p = std::move(queue.front());
-            queue.pop_front();
-            const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
-            const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier);
-            NodeOut out = finishNode(simplified, p.piece, p.factor, p.level, leaf, blockIndex, options, textures);
-            out.record.parentLocal = p.parentLocal;
-            const uint32_t self = recordNode(stats, parentOf, out, p.parentLocal);
-            emit(std::move(out.record));
-            if (progress) progress->advance(p.piece.mesh.triangleCount());
-            if (leaf) continue;
-            for (Piece& child : dividePiece(p.piece, levelFactor, options.planes))  // §3.2: simplification_hlod(i+1)
-                queue.push_back({std::move(child), p.factor / c.levelFactor, p.level + 1, self});
+        std::vector<Pending> pending;
+        pending.push_back({std::move(welded), rootFactor, 0, kNone});
+        while (!pending.empty()) {
+            Level level;
+            level.pending = std::move(pending);
+            const uint32_t levelBase = static_cast<uint32_t>(parentOf.size());
+            // isolated: a worker waiting here takes only this block's nodes, never another block
+            // (which could wait on the memory gate this block holds)
+            tbb::this_task_arena::isolate(
+                [&] { topDownLevel(level, levelBase, options, blockIndex, textures, progress, stats, parentOf, emit); });
+            pending.clear();
+            for (size_t i = 0; i < level.pending.size(); ++i)
+                for (Piece& child : level.children[i])  // §3.2: simplification_hlod(i+1)
+                    pending.push_back({std::move(child), level.pending[i].factor / c.levelFactor, level.pending[i].level + 1,
+                                       levelBase + static_cast<uint32_t>(i)});
         }
     }
     // A node's error bounds its whole subtree's: a child's measure can exceed its parent's.

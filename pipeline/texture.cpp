@@ -256,6 +256,7 @@ const TextureSource* BlockTextures::source(uint32_t material) {
     if (material >= materials_.size()) return nullptr;
     const Material& m = materials_[material];
     if (!m.image && m.texturePath.empty()) return nullptr;
+    const std::lock_guard lock(mutex_);  // held while a first use decodes: its nodes wait for it anyway
     auto it = sources_.find(material);
     if (it == sources_.end()) {
         std::optional<TextureSource> source;

@@ -7,6 +7,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 
@@ -51,7 +52,8 @@ private:
 Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, bool onSourceGrid = false);
 // The textures of one block's materials: a texture file through `store` (nullptr: a store of
 // the block's own, in memory), an embedded image as it is. A texture that fails to decode is a
-// TextureProblem and its material untextured in this block, or, with `strict`, fatal.
+// TextureProblem and its material untextured in this block, or, with `strict`, fatal. Thread-safe
+// (the nodes of a block are built in parallel).
 class BlockTextures {
 public:
     BlockTextures(const std::vector<Material>& materials, TextureStore* store, bool strict, std::vector<TextureProblem>& problems,
@@ -74,6 +76,7 @@ private:
     bool strict_;
     std::vector<TextureProblem>& problems_;
     Progress* progress_;
+    std::mutex mutex_;  // guards sources_ and problems_
     std::map<uint32_t, std::optional<TextureSource>> sources_;
 };
 
