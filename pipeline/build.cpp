@@ -7,6 +7,7 @@
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 #include "pipeline/split_work.h"
+#include "pipeline/tbb_sync.h"
 
 #include "formats/temp_files.h"
 #include "formats/up_axis.h"
@@ -215,10 +216,28 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
         mesh = readMesh(source.file, read);
         enforceTextures(mesh.stats.textureProblems, options);
     }
-    const GateTicket ticket(gate, blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh)));
+    const uint64_t workingSet = blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh));
+    const GateTicket ticket(gate, workingSet);
+    // The block's nodes run on 1 + extra.nodes threads (build_tree.cpp), each extra one on a
+    // further working set of the block the gate grants beside what is in use (pipeline/MEMORY.md "Jobs").
+    struct ExtraNodes {
+        MemoryGate& gate;
+        uint64_t bytes;
+        int nodes = 0;
+        ~ExtraNodes() { gate.release(bytes * nodes); }
+    } extra{gate, workingSet};
+    while (extra.nodes + 1 < tbb::this_task_arena::max_concurrency() && gate.tryAcquire(workingSet)) ++extra.nodes;
+    tbb::task_arena nodes(1 + extra.nodes);
     BlockRecordWriter records(blockRecordPath(dir, index));
-    stats = buildBlock(mesh.piece, mesh.materials, index, options, &progress,
-                       [&](NodeRecord&& r) { records.add(r); });
+    const auto build = [&] {
+        taskBegin();  // tbb_sync.h
+        BlockStats s = buildBlock(mesh.piece, mesh.materials, index, options, &progress, [&](NodeRecord&& r) { records.add(r); });
+        taskEnd();
+        return s;
+    };
+    taskEnd();
+    stats = nodes.execute(build);
+    taskBegin();
     records.setGeometricErrors(stats.geometricErrors);
     records.finish();
     malloc_trim(0);  // a worker thread's heap keeps a finished block's memory otherwise (glibc arenas)
@@ -231,6 +250,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
 // in parallel (build_tree.cpp), so one block keeps kCoresPerBlock cores busy and each further
 // kCoresPerBlock cores admit one more block (and its working set), within the memory gate.
 constexpr int kCoresPerBlock = 4;
+constexpr int kMmapThreshold = 1 << 20;  // bytes: larger allocations are mapped, returned when freed
 size_t blocksAtOnce(int cores) { return static_cast<size_t>(std::max(1, cores / kCoresPerBlock)); }
 
 // Triangles the §3.2 recursion will visit (each level goes over the block's originals), for
@@ -274,6 +294,14 @@ void MemoryGate::acquire(uint64_t bytes) {
     freed_.wait(lock, [&] { return used_ == 0 || used_ + bytes <= limit_; });
     used_ += bytes;
     peak_ = std::max(peak_, used_);
+}
+
+bool MemoryGate::tryAcquire(uint64_t bytes) {
+    const std::lock_guard lock(mutex_);
+    if (used_ + bytes > limit_) return false;
+    used_ += bytes;
+    peak_ = std::max(peak_, used_);
+    return true;
 }
 
 void MemoryGate::release(uint64_t bytes) {
@@ -344,6 +372,10 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
     const SplitInputs inputs = work ? std::move(work->inputs) : findBlocks(input, options, temp.path, progress);
     malloc_trim(0);  // the split's freed buffers go back to the system, not to the main thread's heap alone
+    // glibc raises its mmap threshold to the largest block freed (up to 32 MiB); after that a node's
+    // large arrays come from the arenas, whose freed pages stay in the process (~50 MiB of Lucy's
+    // peak). A fixed threshold maps and unmaps them (pipeline/MEMORY.md "Jobs").
+    mallopt(M_MMAP_THRESHOLD, kMmapThreshold);
     const uint32_t blockCount = static_cast<uint32_t>(inputs.blocks.size());
     const uint32_t first = std::min(request.firstBlock, blockCount), last = std::min(request.lastBlock, blockCount);
     if (first >= last) throw std::invalid_argument("no blocks selected (input has " + std::to_string(blockCount) + ")");
@@ -363,19 +395,31 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     blockOptions.read.imageDir = (fs::path(temp.path) / "gltf-images").string();
     progress.beginStage("build", expectedWork(inputs.blocks, first, last, options.constants));
     tbb::task_arena arena(std::max(1, cores));
-    arena.execute([&] {  // blocks in order, at most blocksAtOnce of them; every thread helps with their nodes
+    const auto buildBlocks = [&] {  // blocks in order, at most blocksAtOnce of them; every thread helps with their nodes
+        taskBegin();
         uint32_t next = first;
-        tbb::parallel_pipeline(blocksAtOnce(cores),
-                               tbb::make_filter<void, uint32_t>(tbb::filter_mode::serial_in_order,
-                                                                [&](tbb::flow_control& control) -> uint32_t {
-                                                                    if (next == last) control.stop();
-                                                                    return next == last ? 0 : next++;
-                                                                }) &
-                                   tbb::make_filter<uint32_t, void>(tbb::filter_mode::parallel, [&](uint32_t b) {
-                                       buildOne(inputs.blocks[b], inputs.materials, b, recordDir, blockOptions, gate, progress,
-                                                stats[b]);
-                                   }));
-    });
+        const auto take = [&](tbb::flow_control& control) {
+            taskBegin();
+            if (next == last) control.stop();
+            const uint32_t b = next == last ? 0 : next++;
+            taskEnd();
+            return b;
+        };
+        const auto buildIt = [&](uint32_t b) {
+            taskBegin();
+            buildOne(inputs.blocks[b], inputs.materials, b, recordDir, blockOptions, gate, progress, stats[b]);
+            taskEnd();
+        };
+        const tbb::filter<void, void> filters = tbb::make_filter<void, uint32_t>(tbb::filter_mode::serial_in_order, take) &
+                                                tbb::make_filter<uint32_t, void>(tbb::filter_mode::parallel, buildIt);
+        taskEnd();  // tbb_sync.h
+        tbb::parallel_pipeline(blocksAtOnce(cores), filters);
+        taskBegin();
+        taskEnd();
+    };
+    taskEnd();
+    arena.execute(buildBlocks);
+    taskBegin();
     progress.endStage();
 
     BuildSummary summary;

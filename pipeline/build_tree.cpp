@@ -20,11 +20,11 @@
 // triangles instead of the original ones (bottomUp below): each input triangle is simplified
 // about 1.33 times instead of once per level.
 #include "pipeline/pipeline.h"
+#include "pipeline/tbb_sync.h"
 #include "pipeline/texture_charts.h"
 
 #include <meshoptimizer.h>
 
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
@@ -246,7 +246,7 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
         std::vector<Piece> children = dividePiece(piece, static_cast<uint32_t>(c.levelFactor), options.planes);
         std::vector<SimplifiedNode> simplifiedChildren(children.size());
         node.children.resize(children.size());
-        tbb::parallel_for(size_t{0}, children.size(), size_t{1}, [&](size_t k) {
+        parallelFor(children.size(), [&](size_t k) {
             node.children[k] = bottomUp(std::move(children[k]), factor / c.levelFactor, level + 1, options, blockIndex, textures,
                                         progress, tree, simplifiedChildren[k]);
         });
@@ -286,7 +286,7 @@ void topDownLevel(Level& level, uint32_t levelBase, const BuildOptions& options,
     level.done.resize(n);
     level.children.resize(n);
     const size_t workers = std::min<size_t>(n, static_cast<size_t>(tbb::this_task_arena::max_concurrency()));
-    tbb::parallel_for(size_t{0}, workers, size_t{1}, [&](size_t) {
+    parallelFor(workers, [&](size_t) {
         for (size_t i; (i = level.next++) < n && !tbb::is_current_task_group_canceling();) {
             Pending& p = level.pending[i];
             const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);

@@ -343,10 +343,12 @@ std::string formatBytes(uint64_t bytes);
 
 // build.cpp: admits blocks into the parallel build while their estimated working sets fit
 // --memory-limit together; a block larger than the limit alone waits until it runs by itself.
+// A block builds nodes in parallel on further working sets it obtains with tryAcquire.
 class MemoryGate {
 public:
     explicit MemoryGate(uint64_t limit) : limit_(limit) {}
     void acquire(uint64_t bytes);
+    bool tryAcquire(uint64_t bytes);  // acquires when bytes fit beside what is in use, without waiting
     void release(uint64_t bytes);
     uint64_t inUse() const;
     uint64_t peak() const;  // the largest inUse() so far

@@ -25,12 +25,15 @@ done
 echo "run-sample: main command OK (outputs under out/city/)"
 
 # ThreadSanitizer: the threaded loader and player tests (the render thread, the loading thread
-# and their shared queue), rebuilt with -fsanitize=thread; any reported race fails the script.
-# Only the player test executable is built (about 3 minutes on 2 cores).
+# and their shared queue), and the build's nodes of one block built in parallel (build_tree.cpp:
+# their shared texture cache, progress and ordered records), rebuilt with -fsanitize=thread; any
+# reported race fails the script. Only the player and pipeline test executables are built.
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHLOD_TSAN=ON -DHLOD_BENCH=OFF >/dev/null
-cmake --build build-tsan -j "$jobs" --target test_player
+cmake --build build-tsan -j "$jobs" --target test_player test_pipeline
 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
   build-tsan/tests/player/test_player --gtest_filter='Loader*:PlayerEndToEnd.ThreadedLoaderHoldsTarget'
+TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
+  build-tsan/tests/pipeline/test_pipeline --gtest_filter='BlockParallel.*'
 
 # libFuzzer smoke run of every reader (tests/fuzz/README.md, scripts/fuzz.sh): the database
 # skeleton and blobs, PLY, OBJ, MTL, glTF, GLB, camera path, constants and calibration files,

@@ -129,7 +129,7 @@ void addBuild(CLI::App& app, int& status) {
     CLI::App* sub = app.add_subcommand("build", "build an HLOD database from a mesh (PLY, OBJ, glTF) or a folder of block meshes");
     sub->add_option("INPUT", a->request.input, "mesh file, folder of meshes (one block per file, ordered by name), or work folder of `hlod split`")->required();
     sub->add_option("-o,--output", a->request.output, "database to write (a shard folder with --shard)")->required();
-    sub->add_option("-j,--jobs", o.jobs, "blocks built in parallel (default: all cores)");
+    sub->add_option("-j,--jobs", o.jobs, "threads (default: all cores): the nodes of a block are built in parallel, one more block at once per 4 threads");
     sub->add_option("--simplifier", a->simplifier, "meshopt (fast, default) or openmesh (Decimater, ModQuadric)")
         ->check(CLI::IsMember({"meshopt", "openmesh"}));
     sub->add_option("--leaf-rule", a->leafRule,
