@@ -21,8 +21,8 @@ namespace {
 
 constexpr size_t kErrorSize = 1024;
 
-// The plugin at oiioPluginPath(), or nullptr and why not.
-const HlodOiioApi* plugin(std::string& why) {
+// The plugin at oiioPluginPath(), or nullptr and why not (`what` needs it: "its format", "a CMYK JPEG").
+const HlodOiioApi* plugin(const std::string& what, std::string& why) {
     static std::mutex mutex;
     static std::map<std::string, const HlodOiioApi*> loaded;  // by path: HLOD_OIIO_PLUGIN may change
     const std::string path = oiioPluginPath();
@@ -33,7 +33,7 @@ const HlodOiioApi* plugin(std::string& why) {
     auto* entry = handle ? reinterpret_cast<const HlodOiioApi* (*)()>(dlsym(handle, kHlodOiioSymbol)) : nullptr;
     const HlodOiioApi* api = entry ? entry() : nullptr;
     if (!api || api->version != kHlodOiioVersion) {
-        why = "its format needs the OpenImageIO plugin " + path + ", which cannot be loaded (" +
+        why = what + " needs the OpenImageIO plugin " + path + ", which cannot be loaded (" +
               (error ? std::string(error) : handle ? "not an hlod_oiio plugin of this version" : "unknown error") +
               "; HLOD_OIIO_PLUGIN names another path)";
         if (handle) dlclose(handle);
@@ -45,9 +45,9 @@ const HlodOiioApi* plugin(std::string& why) {
 
 class PluginRows final : public ImageRows {
 public:
-    explicit PluginRows(const std::string& path) {
+    PluginRows(const std::string& path, const std::string& what) {
         std::string why;
-        api_ = plugin(why);
+        api_ = plugin(what, why);
         if (!api_) throw ImageError(why);
         char error[kErrorSize] = "";
         int w = 0, h = 0, c = 0;
@@ -92,14 +92,16 @@ std::unique_ptr<ImageRows> openImageFile(const std::string& path) {
     static constexpr uint8_t kPng[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     const bool jpeg = n >= sizeof kJpeg && std::equal(kJpeg, kJpeg + sizeof kJpeg, head);
     const bool png = n >= sizeof kPng && std::equal(kPng, kPng + sizeof kPng, head);
+    std::string what = "its format";
     if (jpeg || png) try {
             std::unique_ptr<ImageRows> rows = jpeg ? openJpeg({file.get(), {}}) : openPng({file.get(), {}}, true);
             rows->file = std::move(file);
             return rows;
-        } catch (const ImageNeedsPlugin&) {
+        } catch (const ImageNeedsPlugin& e) {
+            what = e.what();
         }
     file.reset();
-    return std::make_unique<PluginRows>(path);
+    return std::make_unique<PluginRows>(path, what);
 }
 
 }  // namespace hlod

@@ -8,6 +8,7 @@
 #include "pipeline/texture_store.h"
 #include "tests/support/run_hlod.h"
 
+#include <jpeglib.h>
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <png.h>
@@ -89,6 +90,28 @@ void writePngVariant(const std::string& path, uint32_t w, uint32_t h, int type, 
     std::fclose(f);
 }
 
+// A CMYK JPEG (as Photoshop writes one: Adobe marker, inverted CMYK), written by libjpeg.
+void writeCmykJpeg(const std::string& path, uint32_t w, uint32_t h) {
+    jpeg_compress_struct cinfo{};
+    jpeg_error_mgr error{};
+    cinfo.err = jpeg_std_error(&error);
+    jpeg_create_compress(&cinfo);
+    FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_TRUE(f);
+    jpeg_stdio_dest(&cinfo, f);
+    cinfo.image_width = w, cinfo.image_height = h, cinfo.input_components = 4, cinfo.in_color_space = JCS_CMYK;
+    jpeg_set_defaults(&cinfo);
+    jpeg_start_compress(&cinfo, TRUE);
+    const std::vector<uint8_t> texels = busyTexels(w, h, 4);
+    while (cinfo.next_scanline < h) {
+        JSAMPROW row = const_cast<JSAMPROW>(&texels[size_t(cinfo.next_scanline) * w * 4]);
+        jpeg_write_scanlines(&cinfo, &row, 1);
+    }
+    jpeg_finish_compress(&cinfo);
+    jpeg_destroy_compress(&cinfo);
+    std::fclose(f);
+}
+
 TEST(ImageIo, JpegAndPngFilesDecodeToWhatOpenImageIOGave) {
     TempDir dir;
     const PluginEnvironment plugin(HLOD_OIIO_PLUGIN_PATH);  // PNG with alpha, CMYK JPEG
@@ -114,11 +137,14 @@ TEST(ImageIo, JpegAndPngFilesDecodeToWhatOpenImageIOGave) {
             writeWithOpenImageIO(files.back(), spec, bits == 8 ? static_cast<const void*>(texels.data()) : wide.data());
         }
     }
-    // Through the plugin: alpha (OpenImageIO associates colour with it), a transparent palette entry.
+    // Through the plugin: alpha (OpenImageIO associates colour with it), a transparent palette
+    // entry, CMYK JPEG (OpenImageIO converts it to RGB).
     for (const int type : {PNG_COLOR_TYPE_RGB_ALPHA, PNG_COLOR_TYPE_GRAY_ALPHA}) {
         files.push_back(dir.file(joined({"a", std::to_string(type), ".png"})));
         writePngVariant(files.back(), w, h, type, 8, false);
     }
+    files.push_back(dir.file("cmyk.jpg"));
+    writeCmykJpeg(files.back(), w, h);
     files.push_back(dir.file("palette.png"));
     writePngVariant(files.back(), w, h, PNG_COLOR_TYPE_PALETTE, 4, false);
     // Here: 2-bit grey, interlaced RGB and 16-bit grey, a palette without transparency.
