@@ -35,7 +35,9 @@ void installFailure(JpegFailure& failure) {
     };
     failure.manager.emit_message = [](j_common_ptr c, int level) {
         JpegFailure* f = reinterpret_cast<JpegFailure*>(c->err);
-        if (level < 0 && !f->warning[0]) f->manager.format_message(c, f->warning);
+        if (level >= 0) return;  // trace messages
+        if (!f->warning[0]) f->manager.format_message(c, f->warning);
+        ++f->manager.num_warnings;
     };
 }
 
