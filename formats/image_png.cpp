@@ -8,16 +8,26 @@
 #include <png.h>
 
 #include <csetjmp>
+#include <cstdlib>
 #include <cstring>
 
 namespace hlod {
 
 namespace {
 
+// libpng allocates an ancillary chunk (text, ICC profile, ...) at its declared length, up to
+// 2 GiB, before reading it (fuzz_blob: a 417-byte PNG asked for 1.7 GB). Its own buffers are a
+// few rows at most (8 bytes per texel), so larger requests are refused: libpng skips such a chunk
+// with a warning, or fails the image with an error ("out of memory").
+constexpr png_alloc_size_t kMaxLibpngAllocation = png_alloc_size_t(64) << 20;
+
+png_voidp boundedMalloc(png_structp, png_alloc_size_t size) { return size > kMaxLibpngAllocation ? nullptr : std::malloc(size); }
+void freeMemory(png_structp, png_voidp memory) { std::free(memory); }
+
 class PngRows final : public ImageRows {
 public:
     PngRows(const ImageSource& source, bool refuseAlpha) : source_(source) {
-        read_.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, this, onError, onWarning);
+        read_.png = png_create_read_struct_2(PNG_LIBPNG_VER_STRING, this, onError, onWarning, nullptr, boundedMalloc, freeMemory);
         if (read_.png) read_.info = png_create_info_struct(read_.png);
         if (!read_.info) throw ImageError("out of memory");
         bool alpha = false;
