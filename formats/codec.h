@@ -1,4 +1,4 @@
-// Blob codecs: Draco for geometry, JPEG/PNG (OpenImageIO) for textures.
+// Blob codecs: Draco for geometry, JPEG/PNG (libjpeg-turbo, libpng: formats/image_io.h) for textures.
 #pragma once
 
 #include "formats/db.h"

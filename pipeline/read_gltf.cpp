@@ -10,7 +10,7 @@
 // texels is a TextureProblem, its material untextured), then either decoded into memory or,
 // given ReadOptions::imageDir (as `hlod build` does), written still encoded to that folder and
 // read later by rectangles like any texture file (never all atlases decoded at once); external
-// ones by path (loaded later through OpenImageIO). External
+// ones by path (loaded later by formats/image_io.h). External
 // images and buffers are confined to the input's folder (resolveReference). Every accessor is
 // checked against its buffer view and buffer before it is read: corrupt files give
 // InputError("FILE: problem").

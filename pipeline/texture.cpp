@@ -1,5 +1,5 @@
 // Node textures (thesis §3.2: "the original texture data is down-sampled by this
-// simplification factor as well"). Per material, the source atlas (read by OpenImageIO) is
+// simplification factor as well"). Per material, the source atlas (formats/image_io.h) is
 // downsampled so its texel count drops by the node's factor (sqrt(factor) per side) with a box
 // filter: the area-weighted average of the covered texels (texture_store.cpp, which reads only
 // the rectangles a node uses; stb_image_resize's box filter, used before issue #14, needed the
@@ -17,11 +17,10 @@
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 
+#include "formats/image_io.h"
 #include "formats/layout.h"
 #include "pipeline/chart.h"
 #include "pipeline/texture_charts.h"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
@@ -33,13 +32,13 @@ namespace {
 
 // The side limit of a stored texture (FORMAT.md "Limits"): a larger source could not be kept
 // at its leaves, and its header is refused before its pixels are allocated.
-constexpr int kMaxSourceSide = static_cast<int>(layout::kMaxTextureSide);
+constexpr uint32_t kMaxSourceSide = layout::kMaxTextureSide;
 
-std::string absurd(const OIIO::ImageSpec& spec) {
-    if (spec.width > 0 && spec.height > 0 && spec.width <= kMaxSourceSide && spec.height <= kMaxSourceSide && spec.nchannels > 0)
+std::string absurd(const ImageRows& image) {
+    if (image.width > 0 && image.height > 0 && image.width <= kMaxSourceSide && image.height <= kMaxSourceSide && image.channels > 0)
         return "";
-    return "has absurd size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
-           std::to_string(spec.nchannels) + " (at most " + std::to_string(kMaxSourceSide) + " per side)";
+    return "has absurd size " + std::to_string(image.width) + "x" + std::to_string(image.height) + "x" +
+           std::to_string(image.channels) + " (at most " + std::to_string(kMaxSourceSide) + " per side)";
 }
 
 std::string firstLine(std::string text) { return text.substr(0, text.find('\n')); }
@@ -50,32 +49,50 @@ std::string textureProblem(const std::string& path) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error)) return "is missing";
     if (std::filesystem::file_size(path, error) == 0) return "is empty (0 bytes)";
-    auto input = OIIO::ImageInput::open(path);
-    if (!input) return "is not a readable image (" + firstLine(OIIO::geterror()) + ")";
-    return absurd(input->spec());
+    try {
+        return absurd(*openImageFile(path));
+    } catch (const ImageError& e) {
+        return "is not a readable image (" + firstLine(e.what()) + ")";
+    }
+}
+
+std::unique_ptr<ImageRows> openTexture(const std::string& path) {
+    std::unique_ptr<ImageRows> image;
+    try {
+        image = openImageFile(path);
+    } catch (const ImageError& e) {
+        throw InputError(path + ": cannot read texture (" + firstLine(e.what()) + ")");
+    }
+    if (const std::string problem = absurd(*image); !problem.empty()) throw InputError(path + ": texture " + problem);
+    return image;
+}
+
+void readTextureRows(ImageRows& image, const std::string& path, uint32_t rows, uint32_t channels, uint8_t* out) {
+    try {
+        image.read(rows, channels, out);  // a truncated JPEG's libjpeg warning included
+    } catch (const ImageError& e) {
+        throw InputError(path + ": corrupt texture (" + firstLine(e.what()) + ")");
+    }
 }
 
 Image loadTexture(const std::string& path) {
-    auto input = OIIO::ImageInput::open(path);
-    if (!input) throw InputError(path + ": cannot read texture (" + firstLine(OIIO::geterror()) + ")");
-    const OIIO::ImageSpec& spec = input->spec();
-    if (const std::string problem = absurd(spec); !problem.empty()) throw InputError(path + ": texture " + problem);
+    const std::unique_ptr<ImageRows> input = openTexture(path);
     Image image;
-    image.width = static_cast<uint32_t>(spec.width);
-    image.height = static_cast<uint32_t>(spec.height);
-    image.channels = spec.nchannels >= 3 ? 3 : 1;
+    image.width = input->width;
+    image.height = input->height;
+    image.channels = input->channels >= 3 ? 3 : 1;
     image.pixels.resize(static_cast<size_t>(image.width) * image.height * image.channels);
-    // A truncated JPEG decodes with a libjpeg warning ("premature end of data") that OpenImageIO
-    // keeps as an error while read_image still succeeds: either is a corrupt texture.
-    const bool read = input->read_image(0, 0, 0, static_cast<int>(image.channels), OIIO::TypeDesc::UINT8, image.pixels.data());
-    if (!read || input->has_error()) throw InputError(path + ": corrupt texture (" + firstLine(input->geterror()) + ")");
+    readTextureRows(*input, path, image.height, image.channels, image.pixels.data());
     return image;
 }
 
 uint64_t textureTexels(const std::string& path) {
-    auto input = OIIO::ImageInput::open(path);
-    if (!input || !absurd(input->spec()).empty()) return 0;
-    return static_cast<uint64_t>(input->spec().width) * static_cast<uint64_t>(input->spec().height);
+    try {
+        const std::unique_ptr<ImageRows> input = openImageFile(path);
+        return absurd(*input).empty() ? static_cast<uint64_t>(input->width) * input->height : 0;
+    } catch (const ImageError&) {
+        return 0;
+    }
 }
 
 namespace {

@@ -1,6 +1,6 @@
 // Source textures read region by region (issue #14: the build's peak RSS stays within
 // --memory-limit on scans with tens of 4K atlases). A texture file is decoded once per build,
-// a strip of kStripRows scanlines at a time (OpenImageIO read_scanlines), into an uncompressed
+// a strip of kStripRows scanlines at a time (formats/image_io.h), into an uncompressed
 // file in the build's temporary folder; a node then reads only the rows and columns under the
 // rectangles its charts use (pread: the page cache holds them, not the process). The thesis's
 // downsampling by the node's factor (§3.2: "the original texture data is down-sampled by this
@@ -12,7 +12,7 @@
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 
-#include <OpenImageIO/imageio.h>
+#include "formats/image_io.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -29,8 +29,6 @@ namespace hlod {
 namespace {
 
 constexpr int kStripRows = 64;  // scanlines decoded at once: 4096 x 64 x 3 = 768 KiB
-
-std::string firstLine(std::string text) { return text.substr(0, text.find('\n')); }
 
 // The texels of one axis an output texel covers: source [first, first + weights.size()).
 struct Span {
@@ -132,12 +130,8 @@ struct TextureStore::Impl {
             const Image* held = images.back().get();
             return {held->width, held->height, held->channels, held, -1};
         }
-        auto input = OIIO::ImageInput::open(path);
-        if (!input) throw InputError(path + ": cannot read texture (" + firstLine(OIIO::geterror()) + ")");
-        const OIIO::ImageSpec& spec = input->spec();
-        if (const std::string problem = textureProblem(path); !problem.empty()) throw InputError(path + ": texture " + problem);
-        TextureSource source{static_cast<uint32_t>(spec.width), static_cast<uint32_t>(spec.height), spec.nchannels >= 3 ? 3u : 1u,
-                             nullptr, -1};
+        const std::unique_ptr<ImageRows> input = openTexture(path);
+        TextureSource source{input->width, input->height, input->channels >= 3 ? 3u : 1u, nullptr, -1};
         const std::string file = (std::filesystem::path(dir) / ("texture_" + std::to_string(index) + ".raw")).string();
         source.file = ::open(file.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
         if (source.file < 0) throw std::runtime_error(file + ": cannot create temporary file (" + std::strerror(errno) + ")");
@@ -149,12 +143,7 @@ struct TextureStore::Impl {
         std::vector<uint8_t> strip(rowBytes * kStripRows);
         for (uint32_t y = 0; y < source.height; y += kStripRows) {
             const uint32_t end = std::min<uint32_t>(source.height, y + kStripRows);
-            // A truncated JPEG decodes with a libjpeg warning that OpenImageIO keeps as an error
-            // while the read still succeeds: either is a corrupt texture.
-            if (!input->read_scanlines(0, 0, static_cast<int>(y), static_cast<int>(end), 0, 0, static_cast<int>(source.channels),
-                                       OIIO::TypeDesc::UINT8, strip.data()) ||
-                input->has_error())
-                throw InputError(path + ": corrupt texture (" + firstLine(input->geterror()) + ")");
+            readTextureRows(*input, path, end - y, source.channels, strip.data());
             const size_t bytes = rowBytes * (end - y);
             if (pwrite(source.file, strip.data(), bytes, static_cast<off_t>(rowBytes * y)) != static_cast<ssize_t>(bytes))
                 throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(errno) + ")");

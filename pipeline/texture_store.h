@@ -13,6 +13,14 @@
 
 namespace hlod {
 
+class ImageRows;  // formats/image_io.h
+
+// texture.cpp: a texture file opened for decoding (InputError "PATH: cannot read texture (...)"
+// or "PATH: texture has absurd size ..."), and its next `rows` rows, `channels` (1 or 3) of each
+// texel (InputError "PATH: corrupt texture (...)").
+std::unique_ptr<ImageRows> openTexture(const std::string& path);
+void readTextureRows(ImageRows& image, const std::string& path, uint32_t rows, uint32_t channels, uint8_t* out);
+
 // texture_store.cpp: a texture read by rectangles: an image in memory, or a decoded file's rows.
 struct TextureSource {
     uint32_t width = 0, height = 0, channels = 0;

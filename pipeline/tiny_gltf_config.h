@@ -1,6 +1,6 @@
 // tinygltf as hlod uses it: header-only, with Draco (KHR_draco_mesh_compression primitives are
 // decoded while loading), stb_image for embedded images, no image writer, external images left
-// to the pipeline (loaded later through OpenImageIO), nlohmann/json. Every translation unit that
+// to the pipeline (loaded later by formats/image_io.h), nlohmann/json. Every translation unit that
 // includes tiny_gltf.h includes this header instead, so that they all see the same classes;
 // read_gltf.cpp defines TINYGLTF_IMPLEMENTATION before it.
 #pragma once

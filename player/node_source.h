@@ -36,7 +36,7 @@ public:
 };
 
 // Reads through `db` (which must outlive the source): one positioned read per chunk, blob
-// checksums verified (XXH3-64), geometry decoded with Draco and textures with OpenImageIO.
+// checksums verified (XXH3-64), geometry decoded with Draco and textures with libjpeg-turbo or libpng (formats/image_io.h).
 std::shared_ptr<const NodeSource> databaseSource(const Database& db);
 
 }  // namespace hlod

@@ -10,7 +10,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config ninja-build
   libopenmesh-dev        # OpenMesh: mesh data structure + Decimater (alternate simplifier)
-  libopenimageio-dev     # OpenImageIO: image read/write/resize
+  libopenimageio-dev     # OpenImageIO: texture formats other than JPEG and PNG, in the plugin hlod_oiio.so (loaded on demand)
   openimageio-tools python3-imath  # their CMake configs reference /usr/bin/iconvert and libPyImath: configure fails without them
   libcgal-dev libeigen3-dev  # CGAL: AABB-tree distance queries for geometric error
   libdraco-dev           # Draco: geometry compression of node blobs
@@ -20,7 +20,8 @@ PACKAGES=(
   libtbb-dev             # TBB: parallel blocks in the pipeline
   libcli11-dev           # CLI11: git-style subcommands and --help
   libxxhash-dev          # xxHash: XXH3-64 checksums of skeleton and blobs
-  libjpeg62-turbo-dev    # libjpeg-turbo: JPEG node textures with optimised Huffman tables
+  libjpeg62-turbo-dev    # libjpeg-turbo: JPEG textures read and written (node textures with optimised Huffman tables)
+  libpng-dev             # libpng: PNG textures read row by row and written, without OpenImageIO's ~120 MiB of libraries
   zlib1g-dev             # zlib: CRC-32 of the entries of a .3tz archive (hlod export tiles --3tz)
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev  # OpenGL renderer (EGL headless / GLFW)
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks

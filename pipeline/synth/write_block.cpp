@@ -1,10 +1,11 @@
 // Writes one block as the pipeline reads it: block_NNN.obj (positions, per-vertex texture
-// coordinates, triangles), block_NNN.mtl (map_Kd) and block_NNN.jpg (OpenImageIO). Each file
-// goes to a temporary name and is renamed when complete, so an interrupted run never leaves a
-// half-written block; the mesh is freed before the texture is painted (bounded memory).
+// coordinates, triangles), block_NNN.mtl (map_Kd) and block_NNN.jpg (formats/image_io.h,
+// byte for byte as OpenImageIO wrote it). Each file goes to a temporary name and is renamed when
+// complete, so an interrupted run never leaves a half-written block; the mesh is freed before
+// the texture is painted (bounded memory).
 #include "pipeline/synth/synth.h"
 
-#include <OpenImageIO/imageio.h>
+#include "formats/image_io.h"
 
 #include <charconv>
 #include <cstdio>
@@ -98,20 +99,15 @@ std::string objText(const BlockMesh& mesh, const std::string& mtl, const std::st
     return std::move(o.text());
 }
 
-void writeJpeg(const fs::path& path, const std::vector<uint8_t>& pixels, const TextureLayout& t, int quality) {
+void writeJpeg(const fs::path& path, std::vector<uint8_t> pixels, const TextureLayout& t, int quality) {
     fs::path tmp = path;
     tmp += ".tmp-synth";
-    auto out = OIIO::ImageOutput::create("jpeg");
-    if (!out) throw std::runtime_error(path.string() + ": OpenImageIO has no JPEG writer");
-    OIIO::ImageSpec spec(int(t.width), int(t.height), 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("Compression", "jpeg:" + std::to_string(quality));
-    bool ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data());
-    ok = out->close() && ok;
-    if (!ok) {
-        std::string why = out->geterror();
+    try {
+        writeJpegFile(tmp.string(), Image{t.width, t.height, 3, std::move(pixels)}, quality);
+    } catch (const std::runtime_error& e) {
         std::error_code ec;
         fs::remove(tmp, ec);
-        throw std::runtime_error(path.string() + ": cannot write JPEG: " + why);
+        throw std::runtime_error(path.string() + ": cannot write JPEG (" + e.what() + ")");
     }
     fs::rename(tmp, path);
 }

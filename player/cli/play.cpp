@@ -6,13 +6,13 @@
 #include "formats/calibration.h"
 #include "formats/constants.h"
 #include "formats/db.h"
+#include "formats/image_io.h"
 #include "player/cost_model_renderer.h"
 #include "player/gl/gl_renderer.h"
 #include "player/replay.h"
 #include "player/stats.h"
 
 #include <CLI/CLI.hpp>
-#include <OpenImageIO/imageio.h>
 
 #include <cmath>
 #include <cstdio>
@@ -41,13 +41,6 @@ struct PlayArgs {
     std::vector<std::string> policySettings;  // --policy-set P.NAME=VALUE
     std::string loader = "thesis", onMiss = "parent";
 };
-
-void writePng(const std::string& file, const Image& image) {
-    auto out = OIIO::ImageOutput::create(file);
-    OIIO::ImageSpec spec(int(image.width), int(image.height), int(image.channels), OIIO::TypeDesc::UINT8);
-    if (!out || !out->open(file, spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) || !out->close())
-        throw std::runtime_error(file + ": cannot write PNG frame");
-}
 
 // The CSV goes to FILE.tmp-PID and is renamed when the run completes (no half-written output).
 class StatsFile {
@@ -162,7 +155,7 @@ int runPlay(PlayArgs& a) {
         if (!a.framesDir.empty() && s.frame % a.every == 0) {
             char name[64];
             std::snprintf(name, sizeof name, "/frame_%06llu.png", (unsigned long long)s.frame);
-            writePng(a.framesDir + name, renderer->readPixels());
+            writePngFile(a.framesDir + name, renderer->readPixels());
         }
     });
     csv.commit();
