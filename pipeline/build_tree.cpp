@@ -231,9 +231,10 @@ Piece joinPieces(const std::vector<SimplifiedNode>& parts, bool& geometryOnly) {
 // union of the children's pieces O_i), the Hausdorff distance satisfies the triangle inequality
 // H(A, O) <= H(A, B) + H(B, O), and H(B, O) <= max_i H(B_i, O_i) (each point of B_i lies within
 // H(B_i, O_i) of O_i, a part of O, and conversely); the same holds for the one-sided distance.
-// So the node stores the measured H(A, B) plus its children's largest error (a leaf's is 0: it
-// keeps the original triangles): an upper bound of the error against the original, found
-// without a pass over the original triangles. The mean adds the children's largest mean: an
+// So the node stores the measured H(A, B) plus its children's largest error: an upper bound of
+// the error against the original, found without a pass over the original triangles. A node whose
+// children are leaves (they keep the original triangles, error 0: B is O) is measured against
+// its piece O, the exact measure. The mean adds the children's largest mean: an
 // estimate, not a bound (the build report's; the database stores the maximum).
 struct BottomUpNode {
     NodeOut out;
@@ -262,7 +263,9 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
         const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
         result = simplifyNode(input, std::max(1.0, double(input.mesh.triangleCount()) / target), options.simplifier);
         result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
-        const bool bound = options.bottomUpError == BottomUpError::Bound;
+        // Leaf children keep the original triangles: their union is the piece itself (cut), so the
+        // node is measured against its uncut piece, exactly and on fewer triangles.
+        const bool bound = options.bottomUpError == BottomUpError::Bound && !isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
         node.out = finishNode(result, piece, bound ? input.mesh : piece.mesh, bound ? inherited : SurfaceError{}, factor, level, false,
                               blockIndex, options, textures);
     }
