@@ -340,6 +340,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     if (!o.up.empty()) command += " --up " + o.up;
     if (o.jpegChroma420) command += " --jpeg-chroma 4:2:0";  // absent: 4:4:4, as before the option
     if (o.mode == BuildMode::BottomUp) command += " --mode bottom-up";  // absent: top-down, as before the option
+    if (o.mode == BuildMode::BottomUp && o.bottomUpError == BottomUpError::Exact) command += " --bottom-up-error exact";
     for (const auto& [name, value] : constantsAsPairs(o.constants, kUsedByBuild)) command += " --set " + name + "=" + value;
     meta.emplace_back("command", command);
     for (const auto& pair : constantsAsPairs(o.constants, kUsedByBuild)) meta.push_back(pair);
@@ -347,6 +348,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     meta.emplace_back("tree.leafRule", leafRuleName(o.leafRule));
     meta.emplace_back("tree.planes", planesName(o.planes));
     if (o.mode == BuildMode::BottomUp) meta.emplace_back("tree.mode", buildModeName(o.mode));
+    if (o.mode == BuildMode::BottomUp) meta.emplace_back("tree.error", bottomUpErrorName(o.bottomUpError));
     meta.emplace_back("blocks.triangles", o.blockSize > 0 ? "" : std::to_string(blockTarget(o)));
     meta.emplace_back("blocks.size", o.blockSize > 0 ? std::to_string(o.blockSize) : "");
     meta.emplace_back("draco.positionBits", std::to_string(o.draco.positionBits));

@@ -16,9 +16,11 @@
 // one position lattice (DracoOptions::positionStep, by default the block root's), so the
 // borders the cuts made identical stay identical after quantization.
 // --mode bottom-up (BuildMode, pipeline/BUILD_SPEED.md) keeps the same division, leaves,
-// targets, error measure and textures, but simplifies each node from its children's simplified
-// triangles instead of the original ones (bottomUp below): each input triangle is simplified
-// about 1.33 times instead of once per level.
+// targets and textures, but simplifies each node from its children's simplified triangles
+// instead of the original ones (bottomUp below): each input triangle is simplified about 1.33
+// times instead of once per level. Its geometric error is by default an upper bound from the
+// children (bottomUp), without a pass over the original triangles; --bottom-up-error exact
+// measures against the original piece as top-down does.
 #include "pipeline/pipeline.h"
 #include "pipeline/tbb_sync.h"
 #include "pipeline/texture_charts.h"
@@ -118,17 +120,22 @@ TextureFidelity leafFidelity(const std::vector<SubMesh>& sourceParts, const std:
     return sum;
 }
 
-// Textures, geometric error (against the node's ORIGINAL piece, error.cpp) and packing of a
-// simplified node; the same in both modes.
-NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, double factor, uint32_t level, bool leaf,
-                   uint32_t blockIndex, const BuildOptions& options, BlockTextures& textures) {
+// Textures, geometric error and packing of a simplified node; the same in both modes. The error
+// (error.cpp) is the two-sided distance to `measuredFrom` plus `inherited`, field by field:
+// top-down, the node's ORIGINAL piece and nothing; bottom-up, by default, the surface the node was
+// simplified from and its children's largest errors (bottomUp).
+NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, const MeshData& measuredFrom, const SurfaceError& inherited,
+                   double factor, uint32_t level, bool leaf, uint32_t blockIndex, const BuildOptions& options, BlockTextures& textures) {
     std::vector<SubMesh> parts = splitByMaterial(simplified.piece);
     const Box3f bounds = pieceBounds(original.mesh);
     const double extent = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
     NodeOut out;
     out.level = level;
     // Sample spacing: a hole of 1 / kMeasuredHole of the node's extent holds samples (error.cpp).
-    if (!leaf) out.error = surfaceError(parts, {SubMesh{0, original.mesh, {}}}, extent / (2 * kMeasuredHole));
+    if (!leaf) {
+        out.error = surfaceError(parts, {SubMesh{0, measuredFrom, {}}}, extent / (2 * kMeasuredHole));
+        out.error.oneSided += inherited.oneSided, out.error.max += inherited.max, out.error.mean += inherited.mean;
+    }
     const double textureFactor = leaf ? 1.0 : factor;  // a leaf keeps the source's texels
     std::vector<Image> images(parts.size());
     if (simplified.geometryOnly) {
@@ -225,8 +232,18 @@ Piece joinPieces(const std::vector<SimplifiedNode>& parts, bool& geometryOnly) {
 // node simplifies its children's simplified triangles, welded by position (their common cut
 // borders become interior edges, its own borders stay locked as in top-down), to the same
 // target, numTriangles_piece / factor. Each input triangle is simplified about once
-// (1 + 1/c_levelFactor + ... ~ 1.33 passes) instead of once per level. The children's subtrees
-// are independent: TBB tasks, their results taken in child order.
+// (1 + 1/c_levelFactor + ... ~ 1.33 passes) instead of once per level.
+// Geometric error (BottomUpError::Bound, the default): with A the node's surface, B the union of
+// its children's simplified surfaces (what A was simplified from) and O its original piece (the
+// union of the children's pieces O_i), the Hausdorff distance satisfies the triangle inequality
+// H(A, O) <= H(A, B) + H(B, O), and H(B, O) <= max_i H(B_i, O_i) (each point of B_i lies within
+// H(B_i, O_i) of O_i, a part of O, and conversely); the same holds for the one-sided distance.
+// So the node stores the measured H(A, B) plus its children's largest error: an upper bound of
+// the error against the original, found without a pass over the original triangles. A node whose
+// children are leaves (they keep the original triangles, error 0: B is O) is measured against
+// its piece O, the exact measure. The mean adds the children's largest mean: an
+// estimate, not a bound (the build report's; the database stores the maximum).
+// The children's subtrees are independent: TBB tasks, their results taken in child order.
 struct BottomUpNode {
     NodeOut out;
     std::vector<uint32_t> children;
@@ -241,7 +258,7 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
     BottomUpNode node;
     if (isLeaf(factor, c.levelFactor, options.leafRule)) {
         result = {piece, false};
-        node.out = finishNode(result, piece, factor, level, true, blockIndex, options, textures);
+        node.out = finishNode(result, piece, piece.mesh, {}, factor, level, true, blockIndex, options, textures);
     } else {
         std::vector<Piece> children = dividePiece(piece, static_cast<uint32_t>(c.levelFactor), options.planes);
         std::vector<SimplifiedNode> simplifiedChildren(children.size());
@@ -250,13 +267,25 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
             node.children[k] = bottomUp(std::move(children[k]), factor / c.levelFactor, level + 1, options, blockIndex, textures,
                                         progress, tree, simplifiedChildren[k]);
         });
+        SurfaceError inherited;  // the children's largest errors, field by field
+        {
+            const std::lock_guard lock(tree.mutex);  // other subtrees may be adding nodes
+            for (uint32_t id : node.children) {
+                const SurfaceError& e = tree.nodes[id].out.error;
+                inherited = {std::max(inherited.oneSided, e.oneSided), std::max(inherited.max, e.max), std::max(inherited.mean, e.mean)};
+            }
+        }
         bool geometryOnly = false;
         const Piece input = joinPieces(simplifiedChildren, geometryOnly);
         simplifiedChildren.clear();
         const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
         result = simplifyNode(input, std::max(1.0, double(input.mesh.triangleCount()) / target), options.simplifier);
         result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
-        node.out = finishNode(result, piece, factor, level, false, blockIndex, options, textures);
+        // Leaf children keep the original triangles: their union is the piece itself (cut), so the
+        // node is measured against its uncut piece, exactly and on fewer triangles.
+        const bool bound = options.bottomUpError == BottomUpError::Bound && !isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
+        node.out = finishNode(result, piece, bound ? input.mesh : piece.mesh, bound ? inherited : SurfaceError{}, factor, level, false,
+                              blockIndex, options, textures);
     }
     if (progress) progress->advance(piece.mesh.triangleCount());
     const std::lock_guard lock(tree.mutex);
@@ -291,7 +320,7 @@ void topDownLevel(Level& level, uint32_t levelBase, const BuildOptions& options,
             Pending& p = level.pending[i];
             const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
             const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier);
-            NodeOut out = finishNode(simplified, p.piece, p.factor, p.level, leaf, blockIndex, options, textures);
+            NodeOut out = finishNode(simplified, p.piece, p.piece.mesh, {}, p.factor, p.level, leaf, blockIndex, options, textures);
             out.record.parentLocal = p.parentLocal;
             if (progress) progress->advance(p.piece.mesh.triangleCount());
             std::vector<Piece> children;

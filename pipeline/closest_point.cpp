@@ -54,11 +54,12 @@ double triangleDistance2(const double* t, const double p[3]) {
     return at(vb * denom, vc * denom);
 }
 
-double boxDistance2(const TriangleBvh::Node& n, const double p[3]) {
+double boxDistance2(const float lo[3], const float hi[3], const double p[3]) {
     double d = 0;
-    for (int k = 0; k < 3; ++k) d += sq(std::max({double(n.lo[k]) - p[k], 0.0, p[k] - double(n.hi[k])}));
+    for (int k = 0; k < 3; ++k) d += sq(std::max({double(lo[k]) - p[k], 0.0, p[k] - double(hi[k])}));
     return d;
 }
+double boxDistance2(const TriangleBvh::Node& n, const double p[3]) { return boxDistance2(n.lo, n.hi, p); }
 
 }  // namespace
 
@@ -76,11 +77,27 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
     }
     const uint32_t count = static_cast<uint32_t>(corners.size() / 9);
     if (count == 0) return bvh;
-    std::vector<uint32_t> order(count);
-    std::iota(order.begin(), order.end(), 0u);
-    std::vector<float> centroids(3 * size_t(count));  // x 3
-    for (size_t t = 0; t < count; ++t)
-        for (int k = 0; k < 3; ++k) centroids[3 * t + k] = float(corners[9 * t + k] + corners[9 * t + 3 + k] + corners[9 * t + 6 + k]);
+    // Per triangle its centroid (x 3), its box rounded outwards to float (the box of a node is the
+    // union of its triangles': the same floats as rounding the node's double bounds outwards, since
+    // rounding down is monotone) and its index, partitioned in place (the same order as
+    // partitioning indices into separate arrays, without the random reads).
+    struct Item {
+        float centroid[3], lo[3], hi[3];
+        uint32_t index;
+    };
+    std::vector<Item> items(count);
+    for (uint32_t t = 0; t < count; ++t) {
+        Item& item = items[t];
+        item.index = t;
+        for (int k = 0; k < 3; ++k) {
+            const double* v = &corners[9 * size_t(t) + k];
+            item.centroid[k] = float(v[0] + v[3] + v[6]);
+            const double lo = std::min({v[0], v[3], v[6]}), hi = std::max({v[0], v[3], v[6]});
+            item.lo[k] = float(lo), item.hi[k] = float(hi);
+            if (item.lo[k] > lo) item.lo[k] = std::nextafter(item.lo[k], -std::numeric_limits<float>::max());
+            if (item.hi[k] < hi) item.hi[k] = std::nextafter(item.hi[k], std::numeric_limits<float>::max());
+        }
+    }
     struct Task { uint32_t node, lo, hi; };
     std::vector<Task> stack{{0, 0, count}};
     bvh.nodes.push_back({});
@@ -88,18 +105,9 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
         const Task task = stack.back();
         stack.pop_back();
         TriangleBvh::Node& node = bvh.nodes[task.node];
-        double lo[3], hi[3];
-        for (int k = 0; k < 3; ++k) lo[k] = std::numeric_limits<double>::max(), hi[k] = -lo[k];
-        for (uint32_t i = task.lo; i < task.hi; ++i)
-            for (int j = 0; j < 9; ++j) {
-                const double x = corners[9 * size_t(order[i]) + j];
-                lo[j % 3] = std::min(lo[j % 3], x), hi[j % 3] = std::max(hi[j % 3], x);
-            }
-        for (int k = 0; k < 3; ++k) {  // rounded outwards: the box holds its triangles
-            node.lo[k] = float(lo[k]), node.hi[k] = float(hi[k]);
-            if (node.lo[k] > lo[k]) node.lo[k] = std::nextafter(node.lo[k], -std::numeric_limits<float>::max());
-            if (node.hi[k] < hi[k]) node.hi[k] = std::nextafter(node.hi[k], std::numeric_limits<float>::max());
-        }
+        for (int k = 0; k < 3; ++k) node.lo[k] = std::numeric_limits<float>::max(), node.hi[k] = -node.lo[k];
+        for (uint32_t i = task.lo; i < task.hi; ++i)  // the box holds its triangles
+            for (int k = 0; k < 3; ++k) node.lo[k] = std::min(node.lo[k], items[i].lo[k]), node.hi[k] = std::max(node.hi[k], items[i].hi[k]);
         if (task.hi - task.lo <= kLeafTriangles) {
             node.first = task.lo, node.count = task.hi - task.lo;
             continue;
@@ -108,15 +116,19 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
         for (int k = 1; k < 3; ++k)
             if (node.hi[k] - node.lo[k] > node.hi[axis] - node.lo[axis]) axis = k;
         const uint32_t mid = task.lo + (task.hi - task.lo) / 2;
-        std::nth_element(order.begin() + task.lo, order.begin() + mid, order.begin() + task.hi,
-                         [&](uint32_t a, uint32_t b) { return centroids[3 * size_t(a) + axis] < centroids[3 * size_t(b) + axis]; });
+        std::nth_element(items.begin() + task.lo, items.begin() + mid, items.begin() + task.hi,
+                         [axis](const Item& a, const Item& b) { return a.centroid[axis] < b.centroid[axis]; });
         const uint32_t left = static_cast<uint32_t>(bvh.nodes.size());
         node.first = left, node.count = 0;  // `node` is not used past here: push_back may move it
         bvh.nodes.push_back({}), bvh.nodes.push_back({});
         stack.push_back({left, task.lo, mid}), stack.push_back({left + 1, mid, task.hi});
     }
     bvh.corners.resize(corners.size());
-    for (uint32_t i = 0; i < count; ++i) std::copy_n(corners.begin() + 9 * size_t(order[i]), 9, bvh.corners.begin() + 9 * size_t(i));
+    bvh.boxes.resize(6 * size_t(count));
+    for (uint32_t i = 0; i < count; ++i) {
+        std::copy_n(corners.begin() + 9 * size_t(items[i].index), 9, bvh.corners.begin() + 9 * size_t(i));
+        std::copy_n(items[i].lo, 3, bvh.boxes.begin() + 6 * size_t(i)), std::copy_n(items[i].hi, 3, bvh.boxes.begin() + 6 * size_t(i) + 3);
+    }
     return bvh;
 }
 
@@ -125,7 +137,11 @@ double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint
     const size_t triangles = bvh.corners.size() / 9;
     if (triangles == 0) return best;
     if (hint < triangles) best = triangleDistance2(&bvh.corners[9 * size_t(hint)], p);
-    std::pair<double, uint32_t> stack[64];
+    struct Entry {
+        double boxD;
+        uint32_t index;
+    };
+    Entry stack[64];  // not value-initialised (a pair's constructor zeroed 1 KB per query)
     int top = 0;
     stack[top++] = {boxDistance2(bvh.nodes[0], p), 0};
     while (top > 0) {
@@ -133,8 +149,11 @@ double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint
         if (boxD >= best) continue;
         const TriangleBvh::Node& n = bvh.nodes[index];
         if (n.count > 0) {
-            for (uint32_t t = n.first; t < n.first + n.count; ++t)
+            for (uint32_t t = n.first; t < n.first + n.count; ++t) {
+                const float* box = &bvh.boxes[6 * size_t(t)];
+                if (boxDistance2(box, box + 3, p) >= best) continue;  // its box first: ~3 x cheaper
                 if (const double d = triangleDistance2(&bvh.corners[9 * size_t(t)], p); d < best) best = d, hint = t;
+            }
             continue;
         }
         const double dl = boxDistance2(bvh.nodes[n.first], p), dr = boxDistance2(bvh.nodes[n.first + 1], p);

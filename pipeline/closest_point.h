@@ -17,6 +17,7 @@ struct TriangleBvh {
         uint32_t first, count;  // count > 0: a leaf of triangles [first, first + count); else children first, first + 1
     };
     std::vector<double> corners;  // 9 per triangle, in leaf order
+    std::vector<float> boxes;     // 6 per triangle (low, high corner; rounded outwards), in leaf order
     std::vector<Node> nodes;
     bool empty() const { return corners.empty(); }
 };

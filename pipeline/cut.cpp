@@ -20,6 +20,8 @@
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace hlod {
@@ -142,34 +144,71 @@ namespace {
 constexpr int kCandidates = 64;
 constexpr double kCrossingWeight = 3;  // a crossing triangle becomes three, with two locked vertices
 
+// For every candidate position (sorted, unique), how many of `values` lie below it: strictly
+// (std::lower_bound's count on the sorted values) or not (std::upper_bound's). One pass and a
+// histogram over the candidates instead of a sort of the values (the sorts were 5 % of a build).
+std::vector<double> countsBelow(const std::vector<float>& values, const std::vector<float>& candidates, bool strictly) {
+    std::vector<double> counts(candidates.size() + 1);
+    for (float v : values) {  // v < p for candidates from upper_bound(v) on; v <= p from lower_bound(v) on
+        const auto at = strictly ? std::upper_bound(candidates.begin(), candidates.end(), v) : std::lower_bound(candidates.begin(), candidates.end(), v);
+        ++counts[at - candidates.begin()];
+    }
+    for (size_t i = 1; i < counts.size(); ++i) counts[i] += counts[i - 1];
+    counts.pop_back();
+    return counts;
+}
+
 std::vector<float> divisionPlanes(const MeshData& m, int axis, uint32_t count) {
     const size_t n = m.triangleCount();
+    if (n == 0) return {};
     std::vector<float> lows(n), highs(n), centroids(n);
     for (size_t t = 0; t < n; ++t) {
         const float a = m.positions[3 * m.indices[3 * t] + axis], b = m.positions[3 * m.indices[3 * t + 1] + axis],
                     c = m.positions[3 * m.indices[3 * t + 2] + axis];
         lows[t] = std::min({a, b, c}), highs[t] = std::max({a, b, c}), centroids[t] = (a + b + c) / 3.0f;
     }
-    std::sort(lows.begin(), lows.end()), std::sort(highs.begin(), highs.end()), std::sort(centroids.begin(), centroids.end());
-    std::vector<float> coordinates(m.vertexCount());
-    for (size_t i = 0; i < coordinates.size(); ++i) coordinates[i] = m.positions[3 * i + axis];
-    std::sort(coordinates.begin(), coordinates.end());
-    auto below = [](const std::vector<float>& v, float p) { return double(std::upper_bound(v.begin(), v.end(), p) - v.begin()); };
+    const auto [lowest, highest] = std::minmax_element(centroids.begin(), centroids.end());
+    const float lo = *lowest, hi = *highest;
+    // The candidates: per plane the quantile centroid, then through a vertex (no sliver beside a
+    // vertex on the plane): the smallest vertex coordinate >= each of the even positions, the
+    // largest coordinate when none is.
+    std::vector<float> quantiles, evens, through(kCandidates, -std::numeric_limits<float>::infinity());
+    for (uint32_t k = 1; k < count; ++k) {
+        std::vector<float> copy = centroids;
+        const size_t at = static_cast<size_t>(double(n) * k / count);
+        std::nth_element(copy.begin(), copy.begin() + at, copy.end());
+        quantiles.push_back(copy[at]);
+    }
+    for (int i = 1; i < kCandidates; ++i) evens.push_back(lo + (hi - lo) * static_cast<float>(i) / kCandidates);
+    std::vector<float> smallestFrom(kCandidates, std::numeric_limits<float>::infinity());  // by the evens below it
+    float largest = -std::numeric_limits<float>::infinity();
+    for (size_t v = 0; v < m.vertexCount(); ++v) {
+        const float x = m.positions[3 * v + axis];
+        largest = std::max(largest, x);
+        float& slot = smallestFrom[std::upper_bound(evens.begin(), evens.end(), x) - evens.begin()];
+        slot = std::min(slot, x);
+    }
+    for (int i = kCandidates - 2; i >= 0; --i) smallestFrom[i] = std::min(smallestFrom[i], smallestFrom[i + 1]);
+    for (int i = 1; i < kCandidates; ++i)  // evens[i - 1] <= x from slot i on
+        through[i] = std::isinf(smallestFrom[i]) ? largest : smallestFrom[i];
+    std::vector<float> candidates(quantiles);
+    candidates.insert(candidates.end(), through.begin() + 1, through.end());
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    const std::vector<double> lowsBelow = countsBelow(lows, candidates, true), highsBelow = countsBelow(highs, candidates, false),
+                              centroidsBelow = countsBelow(centroids, candidates, false);
     auto cost = [&](float p, double wanted) {
-        const double crossing = double(std::lower_bound(lows.begin(), lows.end(), p) - lows.begin()) - below(highs, p);
-        return (kCrossingWeight * crossing + std::abs(below(centroids, p) - wanted)) / double(n);
+        const size_t i = std::lower_bound(candidates.begin(), candidates.end(), p) - candidates.begin();
+        const double crossing = lowsBelow[i] - highsBelow[i];
+        return (kCrossingWeight * crossing + std::abs(centroidsBelow[i] - wanted)) / double(n);
     };
-    const float lo = centroids.front(), hi = centroids.back();
     std::vector<float> planes;
-    for (uint32_t k = 1; k < count && n > 0; ++k) {
+    for (uint32_t k = 1; k < count; ++k) {
         const double wanted = double(n) * k / count;
-        float best = centroids[static_cast<size_t>(wanted)];
+        float best = quantiles[k - 1];
         double bestCost = cost(best, wanted);
-        for (int i = 1; i < kCandidates; ++i) {  // through a vertex: no sliver beside a vertex on the plane
-            const float even = lo + (hi - lo) * static_cast<float>(i) / kCandidates;
-            const float p = *std::min(std::lower_bound(coordinates.begin(), coordinates.end(), even), coordinates.end() - 1);
-            if (const double c = cost(p, wanted); c < bestCost) best = p, bestCost = c;
-        }
+        for (int i = 1; i < kCandidates; ++i)
+            if (const double c = cost(through[i], wanted); c < bestCost) best = through[i], bestCost = c;
         planes.push_back(best);
     }
     std::sort(planes.begin(), planes.end());

@@ -282,6 +282,7 @@ struct BuildOptions {
     Simplifier simplifier = Simplifier::Meshopt;
     LeafRule leafRule = LeafRule::BelowOne;  // tree_rules.h, pipeline/TREE.md
     BuildMode mode = BuildMode::TopDown;     // tree_rules.h, pipeline/BUILD_SPEED.md
+    BottomUpError bottomUpError = BottomUpError::Bound;  // --mode bottom-up only
     Planes planes = Planes::Balanced;
     DracoOptions draco;
     int jpegQuality = 85;

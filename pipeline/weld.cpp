@@ -17,9 +17,10 @@
 // does), and identical vertices (position, UV, colour, material) merged.
 #include "pipeline/pipeline.h"
 
+#include <meshoptimizer.h>
+
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
 
 namespace hlod {
 namespace {
@@ -28,10 +29,51 @@ struct CellKey {
     int64_t x, y, z;
     bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
-struct CellHash {
-    size_t operator()(const CellKey& k) const {
-        return size_t(k.x * 73856093) ^ size_t(k.y * 19349663) ^ size_t(k.z * 83492791);
+
+// The representatives of each occupied cell, in insertion order: an open-addressing table of
+// cells (linear probing), each the head of a list threaded through `next` (std::unordered_map of
+// vectors was a tenth of a bottom-up build).
+class CellGrid {
+public:
+    explicit CellGrid(size_t vertices) : next_(vertices, kNone) {
+        size_t capacity = 16;
+        while (capacity < 2 * vertices) capacity *= 2;
+        slots_.resize(capacity);
     }
+    // The first representative of cell c (kNone when empty); follow with next().
+    uint32_t first(const CellKey& c) const {
+        for (size_t i = hash(c);; i = (i + 1) & (slots_.size() - 1)) {
+            const Slot& s = slots_[i];
+            if (s.head == kNone) return kNone;
+            if (s.key == c) return s.head;
+        }
+    }
+    uint32_t next(uint32_t r) const { return next_[r]; }
+    void add(const CellKey& c, uint32_t r) {
+        for (size_t i = hash(c);; i = (i + 1) & (slots_.size() - 1)) {
+            Slot& s = slots_[i];
+            if (s.head == kNone) {
+                s = {c, r, r};
+                return;
+            }
+            if (s.key == c) {
+                next_[s.tail] = r, s.tail = r;
+                return;
+            }
+        }
+    }
+
+private:
+    struct Slot {
+        CellKey key{};
+        uint32_t head = kNone, tail = kNone;
+    };
+    size_t hash(const CellKey& k) const {
+        const uint64_t h = uint64_t(k.x) * 0x9E3779B97F4A7C15ull ^ uint64_t(k.y) * 0xC2B2AE3D27D4EB4Full ^ uint64_t(k.z) * 0x165667B19E3779F9ull;
+        return size_t(h ^ (h >> 29)) & (slots_.size() - 1);
+    }
+    std::vector<Slot> slots_;
+    std::vector<uint32_t> next_;
 };
 
 }  // namespace
@@ -53,7 +95,7 @@ Piece weldPiece(const Piece& piece, double epsilon) {
             return CellKey{int64_t(std::floor(p[0] / epsilon)), int64_t(std::floor(p[1] / epsilon)),
                            int64_t(std::floor(p[2] / epsilon))};
         };
-        std::unordered_map<CellKey, std::vector<uint32_t>, CellHash> grid;  // representatives per cell
+        CellGrid grid(vc);  // representatives per cell
         const double eps2 = epsilon * epsilon;
         for (int pass = 0; pass < 2; ++pass)  // face vertices first: they never move
             for (uint32_t i = 0; i < vc; ++i) {
@@ -63,10 +105,8 @@ Piece weldPiece(const Piece& piece, double epsilon) {
                 uint32_t found = kNone;
                 for (int64_t dx = -1; dx <= 1 && found == kNone; ++dx)
                     for (int64_t dy = -1; dy <= 1 && found == kNone; ++dy)
-                        for (int64_t dz = -1; dz <= 1 && found == kNone; ++dz) {
-                            auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
-                            if (it == grid.end()) continue;
-                            for (uint32_t r : it->second) {
+                        for (int64_t dz = -1; dz <= 1 && found == kNone; ++dz)
+                            for (uint32_t r = grid.first({c.x + dx, c.y + dy, c.z + dz}); r != kNone; r = grid.next(r)) {
                                 const float* q = &positions[3 * r];
                                 const double d = std::hypot(double(p[0]) - q[0], double(p[1]) - q[1], double(p[2]) - q[2]);
                                 if (d * d < eps2 && (pass == 1 || std::memcmp(p, q, 3 * sizeof(float)) == 0)) {
@@ -74,35 +114,25 @@ Piece weldPiece(const Piece& piece, double epsilon) {
                                     break;
                                 }
                             }
-                        }
-                if (found == kNone) grid[c].push_back(i);
+                if (found == kNone) grid.add(c, i);
                 else std::copy_n(&positions[3 * found], 3, p);
             }
     }
-    // Corners keyed by (position, UV, colour, material): one vertex per key, first-use order.
+    // Corners keyed by (position, UV, colour, material): one vertex per key, first-use order (the
+    // order meshoptimizer's remap numbers the corners in).
     struct Key {
         float p[3], uv[2];
         uint8_t color[4];
         uint32_t material;
-        bool operator==(const Key& o) const { return std::memcmp(this, &o, sizeof(Key)) == 0; }
     };
-    struct KeyHash {
-        size_t operator()(const Key& k) const {
-            uint64_t h = 1469598103934665603ull;
-            const auto* b = reinterpret_cast<const uint8_t*>(&k);
-            for (size_t i = 0; i < sizeof(Key); ++i) h = (h ^ b[i]) * 1099511628211ull;
-            return size_t(h);
-        }
-    };
-    std::unordered_map<Key, uint32_t, KeyHash> ids;
-    Piece out;
+    static_assert(sizeof(Key) == 28, "compared as bytes: no padding");
     const bool uv = !m.texcoords.empty(), colors = !m.colors.empty();
+    std::vector<Key> corners;
+    corners.reserve(m.indices.size());
+    Piece out;
     for (size_t t = 0; t < m.triangleCount(); ++t) {
         const uint32_t* tri = &m.indices[3 * t];
-        const float* a = &positions[3 * tri[0]];
-        const float* b = &positions[3 * tri[1]];
-        const float* c = &positions[3 * tri[2]];
-        if (zeroArea(a, b, c)) continue;
+        if (zeroArea(&positions[3 * tri[0]], &positions[3 * tri[1]], &positions[3 * tri[2]])) continue;
         for (int k = 0; k < 3; ++k) {
             const uint32_t v = tri[k];
             Key key;
@@ -111,15 +141,18 @@ Piece weldPiece(const Piece& piece, double epsilon) {
             if (uv) std::copy_n(&m.texcoords[2 * v], 2, key.uv);
             if (colors) std::copy_n(&m.colors[4 * v], 4, key.color);
             key.material = piece.materials[t];
-            auto [it, fresh] = ids.try_emplace(key, static_cast<uint32_t>(out.mesh.vertexCount()));
-            if (fresh) {
-                out.mesh.positions.insert(out.mesh.positions.end(), key.p, key.p + 3);
-                if (uv) out.mesh.texcoords.insert(out.mesh.texcoords.end(), key.uv, key.uv + 2);
-                if (colors) out.mesh.colors.insert(out.mesh.colors.end(), key.color, key.color + 4);
-            }
-            out.mesh.indices.push_back(it->second);
+            corners.push_back(key);
         }
         out.materials.push_back(piece.materials[t]);
+    }
+    out.mesh.indices.resize(corners.size());
+    const size_t unique = meshopt_generateVertexRemap(out.mesh.indices.data(), nullptr, corners.size(), corners.data(), corners.size(), sizeof(Key));
+    std::vector<Key> vertices(unique);
+    meshopt_remapVertexBuffer(vertices.data(), corners.data(), corners.size(), sizeof(Key), out.mesh.indices.data());
+    for (const Key& key : vertices) {
+        out.mesh.positions.insert(out.mesh.positions.end(), key.p, key.p + 3);
+        if (uv) out.mesh.texcoords.insert(out.mesh.texcoords.end(), key.uv, key.uv + 2);
+        if (colors) out.mesh.colors.insert(out.mesh.colors.end(), key.color, key.color + 4);
     }
     return out;
 }

@@ -27,6 +27,7 @@ struct BuildArgs {
     std::string simplifier = "meshopt";
     std::string leafRule = "below-one";
     std::string mode = "top-down";
+    std::string bottomUpError = "bound";
     std::string planes = "balanced";
     std::string blocks;  // "A:B" shard selection
     ProgressOptions progress;
@@ -90,6 +91,7 @@ int runBuildCommand(BuildArgs& a) {
     o.simplifier = a.simplifier == "openmesh" ? Simplifier::OpenMesh : Simplifier::Meshopt;
     o.leafRule = a.leafRule == "stop-before" ? LeafRule::StopBefore : LeafRule::BelowOne;
     o.mode = a.mode == "bottom-up" ? BuildMode::BottomUp : BuildMode::TopDown;
+    o.bottomUpError = a.bottomUpError == "exact" ? BottomUpError::Exact : BottomUpError::Bound;
     o.planes = a.planes == "even" ? Planes::Even : Planes::Balanced;
     if (!a.blocks.empty()) parseBlockRange(a.blocks, a.request);
     printConstants(std::cout, o.constants, kUsedByBuild);
@@ -140,6 +142,10 @@ void addBuild(CLI::App& app, int& status) {
                     "top-down (default, thesis 3.2: every level simplified from the original triangles) or bottom-up "
                     "(each level from the level below, faster); pipeline/BUILD_SPEED.md")
         ->check(CLI::IsMember({"top-down", "bottom-up"}));
+    sub->add_option("--bottom-up-error", a->bottomUpError,
+                    "with --mode bottom-up: bound (default: distance to the children's simplified surface + their "
+                    "error, an upper bound) or exact (distance to the original, slower); pipeline/BUILD_SPEED.md")
+        ->check(CLI::IsMember({"bound", "exact"}));
     sub->add_option("--planes", a->planes,
                     "balanced (default: triangle-count quantiles avoiding dense surfaces) or even (evenly spaced, "
                     "empty pieces dropped)")

@@ -201,7 +201,10 @@ void printStats(std::ostream& os, const Stats& s) {
             os << fmt("level %zu: %s, ok\n", l, versus.c_str());
     }
     if (s.build && !s.build->nodes.empty()) {  // what the build measured (two-sided error, baking)
-        os << "measured by the build (" << buildReportPath(s.summary.path) << "): error against the original surface (input units)\n";
+        os << "measured by the build (" << buildReportPath(s.summary.path) << "): "
+           << (s.treeError == "bound" ? "upper bound of the error against the original surface (distance to the children's "
+                                        "surface + their largest error, --mode bottom-up; input units)\n"
+                                      : "error against the original surface (input units)\n");
         const std::vector<LevelQuality> quality = levelQuality(s.build->nodes);
         for (size_t l = 0; l < quality.size(); ++l) {
             const LevelQuality& q = quality[l];
