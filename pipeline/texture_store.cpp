@@ -1,14 +1,19 @@
 // Source textures read region by region (issue #14: the build's peak RSS stays within
 // --memory-limit on scans with tens of 4K atlases). A texture file is decoded once per build,
 // a strip of kStripRows scanlines at a time (formats/image_io.h), into an uncompressed
-// file in the build's temporary folder; a node then reads only the rows and columns under the
-// rectangles its charts use (pread: the page cache holds them, not the process). The thesis's
-// downsampling by the node's factor (§3.2: "the original texture data is down-sampled by this
-// simplification factor as well") is a box filter computed per rectangle: each scaled texel
-// is the area-weighted mean of the source texels it covers, a function of that texel alone, so a
-// rectangle's texels equal those of the whole downsampled image (downsampleTexture) and no
-// whole atlas, source or downsampled, is held. Without a folder (buildBlock outside runBuild)
-// the decoded sources stay in memory, one block's at a time.
+// file in the build's temporary folder, followed by its mip pyramid (each level the box-filtered
+// halving of the one before, computed by strips from it read back: 1/3 more bytes); a node then
+// reads only the rows and columns under the rectangles its charts use (pread: the page cache
+// holds them, not the process). The thesis's downsampling by the node's factor (§3.2: "the
+// original texture data is down-sampled by this simplification factor as well") is a box filter
+// computed per rectangle from the pyramid level just finer than the node's size (a remaining
+// factor below 2 per side): each scaled texel is the area-weighted mean of the level's texels it
+// covers, a function of that texel alone, so a rectangle's texels equal those of the whole
+// downsampled image (downsampleTexture) and no whole atlas, source or downsampled, is held.
+// Reading the level instead of the source makes a node's filter cost proportional to its own
+// texels, not the source texels under them (pipeline/MEMORY.md "Source texels per CPU-second").
+// Without a folder (buildBlock outside runBuild) the decoded sources and pyramids stay in
+// memory, one block's at a time.
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 
@@ -23,6 +28,7 @@
 #include <filesystem>
 #include <future>
 #include <map>
+#include <mutex>
 
 namespace hlod {
 
@@ -58,20 +64,29 @@ uint32_t scaledSide(uint32_t side, double factor) {
     return std::max(1u, static_cast<uint32_t>(std::lround(side * scale)));
 }
 
-void TextureSource::rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out) const {
+uint32_t mipSide(uint32_t side) { return (side + 1) / 2; }
+
+void TextureSource::rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out, size_t level) const {
+    const TextureLevel& l = levels.at(level);
     const size_t rowBytes = size_t(x1 - x0) * channels;
     for (uint32_t y = y0; y < y1; ++y, out += rowBytes) {
-        const size_t offset = (size_t(y) * width + x0) * channels;
-        if (image) {
-            std::memcpy(out, image->pixels.data() + offset, rowBytes);
+        const size_t offset = (size_t(y) * l.width + x0) * channels;
+        if (l.pixels) {
+            std::memcpy(out, l.pixels + offset, rowBytes);
             continue;
         }
         for (size_t done = 0; done < rowBytes;) {
-            const ssize_t n = pread(file, out + done, rowBytes - done, static_cast<off_t>(offset + done));
+            const ssize_t n = pread(file, out + done, rowBytes - done, static_cast<off_t>(l.offset + offset + done));
             if (n <= 0) throw std::runtime_error("texture store: cannot read back a decoded texture (" + std::string(std::strerror(errno)) + ")");
             done += static_cast<size_t>(n);
         }
     }
+}
+
+TextureSource textureView(const Image& image, const std::vector<Image>& mips) {
+    TextureSource view{image.width, image.height, image.channels, -1, 0, {{image.width, image.height, image.pixels.data(), 0}}};
+    for (const Image& m : mips) view.levels.push_back({m.width, m.height, m.pixels.data(), 0});
+    return view;
 }
 
 Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t scaledHeight, uint32_t x0, uint32_t y0, uint32_t x1,
@@ -79,11 +94,29 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
     const uint32_t nc = source.channels;
     Image out{x1 - x0, y1 - y0, nc, {}};
     out.pixels.resize(size_t(out.width) * out.height * nc);
-    if (scaledWidth == source.width && scaledHeight == source.height) {
-        source.rows(y0, y1, x0, x1, out.pixels.data());
+    size_t level = 0;  // the coarsest level that still has scaledWidth x scaledHeight texels
+    while (level + 1 < source.levels.size() && source.levels[level + 1].width >= scaledWidth && source.levels[level + 1].height >= scaledHeight)
+        ++level;
+    const TextureLevel& from = source.levels[level];
+    if (scaledWidth == from.width && scaledHeight == from.height) {
+        source.rows(y0, y1, x0, x1, out.pixels.data(), level);
         return out;
     }
-    const std::vector<Span> across = spans(source.width, scaledWidth, x0, x1), down = spans(source.height, scaledHeight, y0, y1);
+    if (from.width == 2 * scaledWidth && from.height == 2 * scaledHeight) {  // a halving (the pyramid's): 2 x 2 means
+        std::vector<uint8_t> pair(size_t(x1 - x0) * 2 * nc * 2);
+        const size_t rowBytes = pair.size() / 2;
+        for (uint32_t oy = 0; oy < out.height; ++oy) {
+            source.rows(2 * (y0 + oy), 2 * (y0 + oy) + 2, 2 * x0, 2 * x1, pair.data(), level);
+            uint8_t* o = &out.pixels[size_t(oy) * out.width * nc];
+            for (size_t x = 0; x < size_t(out.width); ++x)
+                for (uint32_t c = 0; c < nc; ++c) {
+                    const uint8_t* t = &pair[2 * x * nc + c];  // the float filter's exact sum, rounded half up as lround
+                    o[x * nc + c] = static_cast<uint8_t>((t[0] + t[nc] + t[rowBytes] + t[rowBytes + nc] + 2) >> 2);
+                }
+        }
+        return out;
+    }
+    const std::vector<Span> across = spans(from.width, scaledWidth, x0, x1), down = spans(from.height, scaledHeight, y0, y1);
     const uint32_t sx0 = across.front().first, sx1 = across.back().first + static_cast<uint32_t>(across.back().weights.size());
     std::vector<uint8_t> row(size_t(sx1 - sx0) * nc);
     std::vector<float> filtered(size_t(out.width) * nc), sum(size_t(out.width) * nc);
@@ -91,7 +124,8 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
         std::fill(sum.begin(), sum.end(), 0.0f);
         const Span& vertical = down[oy];
         for (size_t k = 0; k < vertical.weights.size(); ++k) {
-            source.rows(vertical.first + static_cast<uint32_t>(k), vertical.first + static_cast<uint32_t>(k) + 1, sx0, sx1, row.data());
+            const uint32_t y = vertical.first + static_cast<uint32_t>(k);
+            source.rows(y, y + 1, sx0, sx1, row.data(), level);
             std::fill(filtered.begin(), filtered.end(), 0.0f);
             for (uint32_t ox = 0; ox < out.width; ++ox) {
                 const Span& s = across[ox];
@@ -108,30 +142,46 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
     return out;
 }
 
+std::vector<Image> mipLevels(const Image& image) {
+    std::vector<Image> mips;
+    for (const Image* last = &image; last->width > 1 || last->height > 1; last = &mips.back()) {
+        const uint32_t w = mipSide(last->width), h = mipSide(last->height);
+        Image next = scaledRegion(textureView(*last), w, h, 0, 0, w, h);
+        mips.push_back(std::move(next));  // `last` is re-pointed after the move
+    }
+    return mips;
+}
+
 Image downsampleTexture(const Image& source, double factor) {
     const uint32_t w = scaledSide(source.width, factor), h = scaledSide(source.height, factor);
     if (w == source.width && h == source.height) return source;
-    const TextureSource view{source.width, source.height, source.channels, &source, -1};
-    return scaledRegion(view, w, h, 0, 0, w, h);
+    const std::vector<Image> mips = mipLevels(source);
+    return scaledRegion(textureView(source, mips), w, h, 0, 0, w, h);
 }
 
 struct TextureStore::Impl {
+    struct Held {
+        Image image;
+        std::vector<Image> mips;
+    };
     std::string dir;
     std::mutex mutex;
     std::map<std::string, std::shared_future<TextureSource>> sources;
     std::vector<int> files;
-    std::vector<std::unique_ptr<Image>> images;  // without a folder
+    std::vector<std::unique_ptr<Held>> images;  // without a folder
 
     TextureSource decode(const std::string& path, size_t index) {
         if (dir.empty()) {
-            auto image = std::make_unique<Image>(loadTexture(path));
+            auto held = std::make_unique<Held>();
+            held->image = loadTexture(path);
+            held->mips = mipLevels(held->image);
+            const TextureSource source = textureView(held->image, held->mips);
             const std::lock_guard lock(mutex);
-            images.push_back(std::move(image));
-            const Image* held = images.back().get();
-            return {held->width, held->height, held->channels, held, -1};
+            images.push_back(std::move(held));
+            return source;
         }
         const std::unique_ptr<ImageRows> input = openTexture(path);
-        TextureSource source{input->width, input->height, input->channels >= 3 ? 3u : 1u, nullptr, -1};
+        TextureSource source{input->width, input->height, input->channels >= 3 ? 3u : 1u, -1, 0, {{input->width, input->height, nullptr, 0}}};
         const std::string file = (std::filesystem::path(dir) / ("texture_" + std::to_string(index) + ".raw")).string();
         source.file = ::open(file.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
         if (source.file < 0) throw std::runtime_error(file + ": cannot create temporary file (" + std::strerror(errno) + ")");
@@ -139,14 +189,28 @@ struct TextureStore::Impl {
             const std::lock_guard lock(mutex);
             files.push_back(source.file);
         }
+        const auto write = [&](const uint8_t* bytes, size_t size, uint64_t offset) {
+            if (pwrite(source.file, bytes, size, static_cast<off_t>(offset)) != static_cast<ssize_t>(size))
+                throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(errno) + ")");
+        };
         const size_t rowBytes = size_t(source.width) * source.channels;
         std::vector<uint8_t> strip(rowBytes * kStripRows);
         for (uint32_t y = 0; y < source.height; y += kStripRows) {
             const uint32_t end = std::min<uint32_t>(source.height, y + kStripRows);
             readTextureRows(*input, path, end - y, source.channels, strip.data());
-            const size_t bytes = rowBytes * (end - y);
-            if (pwrite(source.file, strip.data(), bytes, static_cast<off_t>(rowBytes * y)) != static_cast<ssize_t>(bytes))
-                throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(errno) + ")");
+            write(strip.data(), rowBytes * (end - y), rowBytes * y);
+        }
+        // The pyramid after it, each level filtered by strips from the one before, read back.
+        for (TextureLevel last = source.levels[0]; last.width > 1 || last.height > 1; last = source.levels.back()) {
+            const TextureLevel next{mipSide(last.width), mipSide(last.height), nullptr,
+                                    last.offset + uint64_t(last.width) * last.height * source.channels};
+            TextureSource previous = source;
+            previous.levels = {last};
+            for (uint32_t y = 0; y < next.height; y += kStripRows) {
+                const Image rows = scaledRegion(previous, next.width, next.height, 0, y, next.width, std::min<uint32_t>(next.height, y + kStripRows));
+                write(rows.pixels.data(), rows.pixels.size(), next.offset + uint64_t(y) * next.width * source.channels);
+            }
+            source.levels.push_back(next);
         }
         std::filesystem::remove(file);  // the open descriptor keeps it until the store closes it
         return source;
