@@ -36,25 +36,44 @@ namespace {
 
 constexpr int kStripRows = 64;  // scanlines decoded at once: 4096 x 64 x 3 = 768 KiB
 
-// The texels of one axis an output texel covers: source [first, first + weights.size()).
+// The texels of one axis an output texel covers: source [first, first + count), their weights
+// at [weight, weight + count) of Spans::weights.
 struct Span {
-    uint32_t first = 0;
+    uint32_t first = 0, count = 0, weight = 0;
+};
+struct Spans {
+    std::vector<Span> spans;
     std::vector<float> weights;
 };
 
 // Output texels [begin, end) of an axis of `out` texels over `in` source texels.
-std::vector<Span> spans(uint32_t in, uint32_t out, uint32_t begin, uint32_t end) {
+Spans spans(uint32_t in, uint32_t out, uint32_t begin, uint32_t end) {
     const double ratio = double(in) / out;
-    std::vector<Span> result(end - begin);
+    Spans result;
+    result.spans.resize(end - begin);
     for (uint32_t o = begin; o < end; ++o) {
         const double lo = o * ratio, hi = (o + 1) * ratio;
-        Span& s = result[o - begin];
+        Span& s = result.spans[o - begin];
         s.first = static_cast<uint32_t>(std::floor(lo));
+        s.weight = static_cast<uint32_t>(result.weights.size());
         const uint32_t last = std::min(in, static_cast<uint32_t>(std::ceil(hi)));
         for (uint32_t i = s.first; i < last; ++i)
-            s.weights.push_back(static_cast<float>((std::min(hi, i + 1.0) - std::max(lo, double(i))) / ratio));
+            result.weights.push_back(static_cast<float>((std::min(hi, i + 1.0) - std::max(lo, double(i))) / ratio));
+        s.count = last - s.first;
     }
     return result;
+}
+
+// A halving by 2 x 2 means: `pairs` rows of `rowBytes` (two input rows per output row, 2 x
+// `width` texels each) into `pairs` rows of `width` texels. The float box filter's exact sum,
+// rounded half up as its lround.
+void halveRows(const uint8_t* in, size_t rowBytes, uint32_t width, uint32_t pairs, uint32_t nc, uint8_t* out) {
+    for (uint32_t y = 0; y < pairs; ++y, in += 2 * rowBytes)
+        for (size_t x = 0; x < width; ++x)
+            for (uint32_t c = 0; c < nc; ++c, ++out) {
+                const uint8_t* t = in + 2 * x * nc + c;
+                *out = static_cast<uint8_t>((t[0] + t[nc] + t[rowBytes] + t[rowBytes + nc] + 2) >> 2);
+            }
 }
 
 }  // namespace
@@ -102,42 +121,35 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
         source.rows(y0, y1, x0, x1, out.pixels.data(), level);
         return out;
     }
-    if (from.width == 2 * scaledWidth && from.height == 2 * scaledHeight) {  // a halving (the pyramid's): 2 x 2 means
+    if (from.width == 2 * scaledWidth && from.height == 2 * scaledHeight) {  // a halving (the pyramid's)
         std::vector<uint8_t> pair(size_t(x1 - x0) * 2 * nc * 2);
-        const size_t rowBytes = pair.size() / 2;
         for (uint32_t oy = 0; oy < out.height; ++oy) {
             source.rows(2 * (y0 + oy), 2 * (y0 + oy) + 2, 2 * x0, 2 * x1, pair.data(), level);
-            uint8_t* o = &out.pixels[size_t(oy) * out.width * nc];
-            for (size_t x = 0; x < size_t(out.width); ++x)
-                for (uint32_t c = 0; c < nc; ++c) {
-                    const uint8_t* t = &pair[2 * x * nc + c];  // the float filter's exact sum, rounded half up as lround
-                    o[x * nc + c] = static_cast<uint8_t>((t[0] + t[nc] + t[rowBytes] + t[rowBytes + nc] + 2) >> 2);
-                }
+            halveRows(pair.data(), pair.size() / 2, out.width, 1, nc, &out.pixels[size_t(oy) * out.width * nc]);
         }
         return out;
     }
-    const std::vector<Span> across = spans(from.width, scaledWidth, x0, x1), down = spans(from.height, scaledHeight, y0, y1);
-    const uint32_t sx0 = across.front().first, sx1 = across.back().first + static_cast<uint32_t>(across.back().weights.size());
+    const Spans across = spans(from.width, scaledWidth, x0, x1), down = spans(from.height, scaledHeight, y0, y1);
+    const uint32_t sx0 = across.spans.front().first, sx1 = across.spans.back().first + across.spans.back().count;
     std::vector<uint8_t> row(size_t(sx1 - sx0) * nc);
-    std::vector<float> filtered(size_t(out.width) * nc), sum(size_t(out.width) * nc);
+    std::vector<float> sum(size_t(out.width) * nc);
     for (uint32_t oy = 0; oy < out.height; ++oy) {
         std::fill(sum.begin(), sum.end(), 0.0f);
-        const Span& vertical = down[oy];
-        for (size_t k = 0; k < vertical.weights.size(); ++k) {
-            const uint32_t y = vertical.first + static_cast<uint32_t>(k);
-            source.rows(y, y + 1, sx0, sx1, row.data(), level);
-            std::fill(filtered.begin(), filtered.end(), 0.0f);
+        const Span& vertical = down.spans[oy];
+        for (uint32_t k = 0; k < vertical.count; ++k) {
+            source.rows(vertical.first + k, vertical.first + k + 1, sx0, sx1, row.data(), level);
+            const float w = down.weights[vertical.weight + k];
             for (uint32_t ox = 0; ox < out.width; ++ox) {
-                const Span& s = across[ox];
+                const Span& s = across.spans[ox];
                 const uint8_t* texel = &row[size_t(s.first - sx0) * nc];
-                for (size_t i = 0; i < s.weights.size(); ++i, texel += nc)
-                    for (uint32_t c = 0; c < nc; ++c) filtered[ox * nc + c] += s.weights[i] * texel[c];
+                const float* weight = &across.weights[s.weight];
+                float* into = &sum[size_t(ox) * nc];
+                for (uint32_t i = 0; i < s.count; ++i, texel += nc)
+                    for (uint32_t c = 0; c < nc; ++c) into[c] += w * weight[i] * texel[c];
             }
-            const float w = vertical.weights[k];
-            for (size_t i = 0; i < sum.size(); ++i) sum[i] += w * filtered[i];
         }
-        for (size_t i = 0; i < sum.size(); ++i)
-            out.pixels[size_t(oy) * out.width * nc + i] = static_cast<uint8_t>(std::clamp(std::lround(sum[i]), 0l, 255l));
+        uint8_t* o = &out.pixels[size_t(oy) * out.width * nc];
+        for (size_t i = 0; i < sum.size(); ++i) o[i] = static_cast<uint8_t>(std::clamp(sum[i], 0.0f, 255.0f) + 0.5f);  // half up
     }
     return out;
 }
@@ -195,13 +207,21 @@ struct TextureStore::Impl {
         };
         const size_t rowBytes = size_t(source.width) * source.channels;
         std::vector<uint8_t> strip(rowBytes * kStripRows);
+        // Even sides: level 1 from the decoded strips (kStripRows is even), not read back.
+        const bool even = source.width % 2 == 0 && source.height % 2 == 0;
+        const TextureLevel half{source.width / 2, source.height / 2, nullptr, uint64_t(rowBytes) * source.height};
+        std::vector<uint8_t> halved(even ? rowBytes / 2 * kStripRows / 2 : 0);
         for (uint32_t y = 0; y < source.height; y += kStripRows) {
             const uint32_t end = std::min<uint32_t>(source.height, y + kStripRows);
             readTextureRows(*input, path, end - y, source.channels, strip.data());
             write(strip.data(), rowBytes * (end - y), rowBytes * y);
+            if (!even) continue;
+            halveRows(strip.data(), rowBytes, half.width, (end - y) / 2, source.channels, halved.data());
+            write(halved.data(), rowBytes / 2 * ((end - y) / 2), half.offset + rowBytes / 2 * (y / 2));
         }
-        // The pyramid after it, each level filtered by strips from the one before, read back.
-        for (TextureLevel last = source.levels[0]; last.width > 1 || last.height > 1; last = source.levels.back()) {
+        if (even) source.levels.push_back(half);
+        // The rest of the pyramid, each level filtered by strips from the one before, read back.
+        for (TextureLevel last = source.levels.back(); last.width > 1 || last.height > 1; last = source.levels.back()) {
             const TextureLevel next{mipSide(last.width), mipSide(last.height), nullptr,
                                     last.offset + uint64_t(last.width) * last.height * source.channels};
             TextureSource previous = source;
