@@ -76,6 +76,20 @@ void halveRows(const uint8_t* in, size_t rowBytes, uint32_t width, uint32_t pair
             }
 }
 
+// Adds w x the horizontal box filter of one row of source texels (from column sx0) to `sum`.
+template <uint32_t NC>
+void filterRow(const uint8_t* row, const Spans& across, uint32_t sx0, float w, float* sum) {
+    for (const Span& s : across.spans) {
+        const uint8_t* texel = row + size_t(s.first - sx0) * NC;
+        const float* weight = &across.weights[s.weight];
+        float filtered[NC] = {};
+        for (uint32_t i = 0; i < s.count; ++i, texel += NC)
+            for (uint32_t c = 0; c < NC; ++c) filtered[c] += weight[i] * texel[c];
+        for (uint32_t c = 0; c < NC; ++c) sum[c] += w * filtered[c];
+        sum += NC;
+    }
+}
+
 }  // namespace
 
 uint32_t scaledSide(uint32_t side, double factor) {
@@ -139,14 +153,10 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
         for (uint32_t k = 0; k < vertical.count; ++k) {
             source.rows(vertical.first + k, vertical.first + k + 1, sx0, sx1, row.data(), level);
             const float w = down.weights[vertical.weight + k];
-            for (uint32_t ox = 0; ox < out.width; ++ox) {
-                const Span& s = across.spans[ox];
-                const uint8_t* texel = &row[size_t(s.first - sx0) * nc];
-                const float* weight = &across.weights[s.weight];
-                float* into = &sum[size_t(ox) * nc];
-                for (uint32_t i = 0; i < s.count; ++i, texel += nc)
-                    for (uint32_t c = 0; c < nc; ++c) into[c] += w * weight[i] * texel[c];
-            }
+            if (nc == 3) filterRow<3>(row.data(), across, sx0, w, sum.data());
+            else if (nc == 1) filterRow<1>(row.data(), across, sx0, w, sum.data());
+            else if (nc == 2) filterRow<2>(row.data(), across, sx0, w, sum.data());
+            else filterRow<4>(row.data(), across, sx0, w, sum.data());  // Image: 1 to 4 channels
         }
         uint8_t* o = &out.pixels[size_t(oy) * out.width * nc];
         for (size_t i = 0; i < sum.size(); ++i) o[i] = static_cast<uint8_t>(std::clamp(sum[i], 0.0f, 255.0f) + 0.5f);  // half up
