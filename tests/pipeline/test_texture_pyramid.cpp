@@ -79,7 +79,7 @@ TEST(TexturePyramid, StoreFileHoldsTheSamePyramidAsMemory) {
     TempDir dir;
     // Even sides: level 1 halved from the decoded strips (the last one shorter); odd: read back.
     for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{300, 190}, {301, 97}}) {
-        const std::string path = dir.file("t" + std::to_string(width) + ".png");
+        const std::string path = dir.file(std::to_string(width) + "_texture.png");
         const Image source = noise(width, height, 3);
         const EncodedBlob blob = encodeTexture(source, Codec::Png);
         std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(blob.bytes.data()), std::streamsize(blob.bytes.size()));
