@@ -107,5 +107,23 @@ TEST(TexturePyramid, StoreFileHoldsTheSamePyramidAsMemory) {
     }
 }
 
+// Every channel count the filter is specialised for filters each channel as a grey image alone.
+TEST(TexturePyramid, EachChannelFilteredAlone) {
+    for (const uint32_t channels : {2u, 3u, 4u}) {
+        const Image image = noise(90, 70, channels);
+        for (const double factor : {2.9, 11.0}) {
+            const Image all = downsampleTexture(image, factor);
+            for (uint32_t c = 0; c < channels; ++c) {
+                Image grey{90, 70, 1, {}};
+                for (size_t i = c; i < image.pixels.size(); i += channels) grey.pixels.push_back(image.pixels[i]);
+                const Image one = downsampleTexture(grey, factor);
+                ASSERT_EQ(one.pixels.size() * channels, all.pixels.size());
+                for (size_t i = 0; i < one.pixels.size(); ++i)
+                    ASSERT_EQ(all.pixels[i * channels + c], one.pixels[i]) << channels << " channels, factor " << factor << ", channel " << c;
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace hlod::test
