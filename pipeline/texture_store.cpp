@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <future>
@@ -101,7 +102,8 @@ uint32_t mipSide(uint32_t side) { return (side + 1) / 2; }
 
 void TextureSource::rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out, size_t level) const {
     const TextureLevel& l = levels.at(level);
-    const size_t rowBytes = size_t(x1 - x0) * channels;
+    size_t rowBytes = size_t(x1 - x0) * channels;
+    if (x0 == 0 && x1 == l.width) rowBytes *= y1 - y0, y1 = std::min(y1, y0 + 1);  // whole rows: one read
     for (uint32_t y = y0; y < y1; ++y, out += rowBytes) {
         const size_t offset = (size_t(y) * l.width + x0) * channels;
         if (l.pixels) {
@@ -145,18 +147,29 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
     }
     const Spans across = spans(from.width, scaledWidth, x0, x1), down = spans(from.height, scaledHeight, y0, y1);
     const uint32_t sx0 = across.spans.front().first, sx1 = across.spans.back().first + across.spans.back().count;
-    std::vector<uint8_t> row(size_t(sx1 - sx0) * nc);
+    // The last kCachedRows source rows read (by row modulo kCachedRows): consecutive output rows
+    // share rows, which are then read once.
+    constexpr uint32_t kCachedRows = 4;
+    const size_t rowBytes = size_t(sx1 - sx0) * nc;
+    std::vector<uint8_t> cache(rowBytes * kCachedRows);
+    uint32_t cachedY[kCachedRows];
+    std::fill_n(cachedY, kCachedRows, UINT32_MAX);
+    const auto sourceRow = [&](uint32_t y) {
+        uint8_t* slot = &cache[(y % kCachedRows) * rowBytes];
+        if (cachedY[y % kCachedRows] != y) source.rows(y, y + 1, sx0, sx1, slot, level), cachedY[y % kCachedRows] = y;
+        return slot;
+    };
     std::vector<float> sum(size_t(out.width) * nc);
     for (uint32_t oy = 0; oy < out.height; ++oy) {
         std::fill(sum.begin(), sum.end(), 0.0f);
         const Span& vertical = down.spans[oy];
         for (uint32_t k = 0; k < vertical.count; ++k) {
-            source.rows(vertical.first + k, vertical.first + k + 1, sx0, sx1, row.data(), level);
+            const uint8_t* row = sourceRow(vertical.first + k);
             const float w = down.weights[vertical.weight + k];
-            if (nc == 3) filterRow<3>(row.data(), across, sx0, w, sum.data());
-            else if (nc == 1) filterRow<1>(row.data(), across, sx0, w, sum.data());
-            else if (nc == 2) filterRow<2>(row.data(), across, sx0, w, sum.data());
-            else filterRow<4>(row.data(), across, sx0, w, sum.data());  // Image: 1 to 4 channels
+            if (nc == 3) filterRow<3>(row, across, sx0, w, sum.data());
+            else if (nc == 1) filterRow<1>(row, across, sx0, w, sum.data());
+            else if (nc == 2) filterRow<2>(row, across, sx0, w, sum.data());
+            else filterRow<4>(row, across, sx0, w, sum.data());  // Image: 1 to 4 channels
         }
         uint8_t* o = &out.pixels[size_t(oy) * out.width * nc];
         for (size_t i = 0; i < sum.size(); ++i) o[i] = static_cast<uint8_t>(std::clamp(sum[i], 0.0f, 255.0f) + 0.5f);  // half up
