@@ -277,7 +277,7 @@ const TextureSource* BlockTextures::source(uint32_t material) {
     auto it = sources_.find(material);
     if (it == sources_.end()) {
         std::optional<TextureSource> source;
-        if (m.image) source = textureView(*m.image), source->jpegQuality = m.jpegQuality;
+        if (m.image) source = textureView(*m.image, mips_[material] = mipLevels(*m.image)), source->jpegQuality = m.jpegQuality;
         else try {
                 source = store_->open(m.texturePath, progress_);
             } catch (const InputError& e) {

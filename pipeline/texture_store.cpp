@@ -1,14 +1,19 @@
 // Source textures read region by region (issue #14: the build's peak RSS stays within
 // --memory-limit on scans with tens of 4K atlases). A texture file is decoded once per build,
 // a strip of kStripRows scanlines at a time (formats/image_io.h), into an uncompressed
-// file in the build's temporary folder; a node then reads only the rows and columns under the
-// rectangles its charts use (pread: the page cache holds them, not the process). The thesis's
-// downsampling by the node's factor (§3.2: "the original texture data is down-sampled by this
-// simplification factor as well") is a box filter computed per rectangle: each scaled texel
-// is the area-weighted mean of the source texels it covers, a function of that texel alone, so a
-// rectangle's texels equal those of the whole downsampled image (downsampleTexture) and no
-// whole atlas, source or downsampled, is held. Without a folder (buildBlock outside runBuild)
-// the decoded sources stay in memory, one block's at a time.
+// file in the build's temporary folder, followed by its mip pyramid (each level the box-filtered
+// halving of the one before, computed by strips from it read back: 1/3 more bytes); a node then
+// reads only the rows and columns under the rectangles its charts use (pread: the page cache
+// holds them, not the process). The thesis's downsampling by the node's factor (§3.2: "the
+// original texture data is down-sampled by this simplification factor as well") is a box filter
+// computed per rectangle from the pyramid level just finer than the node's size (a remaining
+// factor below 2 per side): each scaled texel is the area-weighted mean of the level's texels it
+// covers, a function of that texel alone, so a rectangle's texels equal those of the whole
+// downsampled image (downsampleTexture) and no whole atlas, source or downsampled, is held.
+// Reading the level instead of the source makes a node's filter cost proportional to its own
+// texels, not the source texels under them (pipeline/MEMORY.md "Source texels per CPU-second").
+// Without a folder (buildBlock outside runBuild) the decoded sources and pyramids stay in
+// memory, one block's at a time.
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 
@@ -19,10 +24,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <future>
 #include <map>
+#include <mutex>
 
 namespace hlod {
 
@@ -30,25 +37,58 @@ namespace {
 
 constexpr int kStripRows = 64;  // scanlines decoded at once: 4096 x 64 x 3 = 768 KiB
 
-// The texels of one axis an output texel covers: source [first, first + weights.size()).
+// The texels of one axis an output texel covers: source [first, first + count), their weights
+// at [weight, weight + count) of Spans::weights.
 struct Span {
-    uint32_t first = 0;
+    uint32_t first = 0, count = 0, weight = 0;
+};
+struct Spans {
+    std::vector<Span> spans;
     std::vector<float> weights;
 };
 
 // Output texels [begin, end) of an axis of `out` texels over `in` source texels.
-std::vector<Span> spans(uint32_t in, uint32_t out, uint32_t begin, uint32_t end) {
+Spans spans(uint32_t in, uint32_t out, uint32_t begin, uint32_t end) {
     const double ratio = double(in) / out;
-    std::vector<Span> result(end - begin);
+    Spans result;
+    result.spans.resize(end - begin);
     for (uint32_t o = begin; o < end; ++o) {
         const double lo = o * ratio, hi = (o + 1) * ratio;
-        Span& s = result[o - begin];
+        Span& s = result.spans[o - begin];
         s.first = static_cast<uint32_t>(std::floor(lo));
+        s.weight = static_cast<uint32_t>(result.weights.size());
         const uint32_t last = std::min(in, static_cast<uint32_t>(std::ceil(hi)));
         for (uint32_t i = s.first; i < last; ++i)
-            s.weights.push_back(static_cast<float>((std::min(hi, i + 1.0) - std::max(lo, double(i))) / ratio));
+            result.weights.push_back(static_cast<float>((std::min(hi, i + 1.0) - std::max(lo, double(i))) / ratio));
+        s.count = last - s.first;
     }
     return result;
+}
+
+// A halving by 2 x 2 means: `pairs` rows of `rowBytes` (two input rows per output row, 2 x
+// `width` texels each) into `pairs` rows of `width` texels. The float box filter's exact sum,
+// rounded half up as its lround.
+void halveRows(const uint8_t* in, size_t rowBytes, uint32_t width, uint32_t pairs, uint32_t nc, uint8_t* out) {
+    for (uint32_t y = 0; y < pairs; ++y, in += 2 * rowBytes)
+        for (size_t x = 0; x < width; ++x)
+            for (uint32_t c = 0; c < nc; ++c, ++out) {
+                const uint8_t* t = in + 2 * x * nc + c;
+                *out = static_cast<uint8_t>((t[0] + t[nc] + t[rowBytes] + t[rowBytes + nc] + 2) >> 2);
+            }
+}
+
+// Adds w x the horizontal box filter of one row of source texels (from column sx0) to `sum`.
+template <uint32_t NC>
+void filterRow(const uint8_t* row, const Spans& across, uint32_t sx0, float w, float* sum) {
+    for (const Span& s : across.spans) {
+        const uint8_t* texel = row + size_t(s.first - sx0) * NC;
+        const float* weight = &across.weights[s.weight];
+        float filtered[NC] = {};
+        for (uint32_t i = 0; i < s.count; ++i, texel += NC)
+            for (uint32_t c = 0; c < NC; ++c) filtered[c] += weight[i] * texel[c];
+        for (uint32_t c = 0; c < NC; ++c) sum[c] += w * filtered[c];
+        sum += NC;
+    }
 }
 
 }  // namespace
@@ -58,20 +98,30 @@ uint32_t scaledSide(uint32_t side, double factor) {
     return std::max(1u, static_cast<uint32_t>(std::lround(side * scale)));
 }
 
-void TextureSource::rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out) const {
-    const size_t rowBytes = size_t(x1 - x0) * channels;
+uint32_t mipSide(uint32_t side) { return (side + 1) / 2; }
+
+void TextureSource::rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out, size_t level) const {
+    const TextureLevel& l = levels.at(level);
+    size_t rowBytes = size_t(x1 - x0) * channels;
+    if (x0 == 0 && x1 == l.width) rowBytes *= y1 - y0, y1 = std::min(y1, y0 + 1);  // whole rows: one read
     for (uint32_t y = y0; y < y1; ++y, out += rowBytes) {
-        const size_t offset = (size_t(y) * width + x0) * channels;
-        if (image) {
-            std::memcpy(out, image->pixels.data() + offset, rowBytes);
+        const size_t offset = (size_t(y) * l.width + x0) * channels;
+        if (l.pixels) {
+            std::memcpy(out, l.pixels + offset, rowBytes);
             continue;
         }
         for (size_t done = 0; done < rowBytes;) {
-            const ssize_t n = pread(file, out + done, rowBytes - done, static_cast<off_t>(offset + done));
+            const ssize_t n = pread(file, out + done, rowBytes - done, static_cast<off_t>(l.offset + offset + done));
             if (n <= 0) throw std::runtime_error("texture store: cannot read back a decoded texture (" + std::string(std::strerror(errno)) + ")");
             done += static_cast<size_t>(n);
         }
     }
+}
+
+TextureSource textureView(const Image& image, const std::vector<Image>& mips) {
+    TextureSource view{image.width, image.height, image.channels, -1, 0, {{image.width, image.height, image.pixels.data(), 0}}};
+    for (const Image& m : mips) view.levels.push_back({m.width, m.height, m.pixels.data(), 0});
+    return view;
 }
 
 Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t scaledHeight, uint32_t x0, uint32_t y0, uint32_t x1,
@@ -79,59 +129,94 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
     const uint32_t nc = source.channels;
     Image out{x1 - x0, y1 - y0, nc, {}};
     out.pixels.resize(size_t(out.width) * out.height * nc);
-    if (scaledWidth == source.width && scaledHeight == source.height) {
-        source.rows(y0, y1, x0, x1, out.pixels.data());
+    size_t level = 0;  // the coarsest level that still has scaledWidth x scaledHeight texels
+    while (level + 1 < source.levels.size() && source.levels[level + 1].width >= scaledWidth && source.levels[level + 1].height >= scaledHeight)
+        ++level;
+    const TextureLevel& from = source.levels[level];
+    if (scaledWidth == from.width && scaledHeight == from.height) {
+        source.rows(y0, y1, x0, x1, out.pixels.data(), level);
         return out;
     }
-    const std::vector<Span> across = spans(source.width, scaledWidth, x0, x1), down = spans(source.height, scaledHeight, y0, y1);
-    const uint32_t sx0 = across.front().first, sx1 = across.back().first + static_cast<uint32_t>(across.back().weights.size());
-    std::vector<uint8_t> row(size_t(sx1 - sx0) * nc);
-    std::vector<float> filtered(size_t(out.width) * nc), sum(size_t(out.width) * nc);
+    if (from.width == 2 * scaledWidth && from.height == 2 * scaledHeight) {  // a halving (the pyramid's)
+        std::vector<uint8_t> pair(size_t(x1 - x0) * 2 * nc * 2);
+        for (uint32_t oy = 0; oy < out.height; ++oy) {
+            source.rows(2 * (y0 + oy), 2 * (y0 + oy) + 2, 2 * x0, 2 * x1, pair.data(), level);
+            halveRows(pair.data(), pair.size() / 2, out.width, 1, nc, &out.pixels[size_t(oy) * out.width * nc]);
+        }
+        return out;
+    }
+    const Spans across = spans(from.width, scaledWidth, x0, x1), down = spans(from.height, scaledHeight, y0, y1);
+    const uint32_t sx0 = across.spans.front().first, sx1 = across.spans.back().first + across.spans.back().count;
+    // The last kCachedRows source rows read (by row modulo kCachedRows): consecutive output rows
+    // share rows, which are then read once.
+    constexpr uint32_t kCachedRows = 4;
+    const size_t rowBytes = size_t(sx1 - sx0) * nc;
+    std::vector<uint8_t> cache(rowBytes * kCachedRows);
+    uint32_t cachedY[kCachedRows];
+    std::fill_n(cachedY, kCachedRows, UINT32_MAX);
+    const auto sourceRow = [&](uint32_t y) {
+        uint8_t* slot = &cache[(y % kCachedRows) * rowBytes];
+        if (cachedY[y % kCachedRows] != y) source.rows(y, y + 1, sx0, sx1, slot, level), cachedY[y % kCachedRows] = y;
+        return slot;
+    };
+    std::vector<float> sum(size_t(out.width) * nc);
     for (uint32_t oy = 0; oy < out.height; ++oy) {
         std::fill(sum.begin(), sum.end(), 0.0f);
-        const Span& vertical = down[oy];
-        for (size_t k = 0; k < vertical.weights.size(); ++k) {
-            source.rows(vertical.first + static_cast<uint32_t>(k), vertical.first + static_cast<uint32_t>(k) + 1, sx0, sx1, row.data());
-            std::fill(filtered.begin(), filtered.end(), 0.0f);
-            for (uint32_t ox = 0; ox < out.width; ++ox) {
-                const Span& s = across[ox];
-                const uint8_t* texel = &row[size_t(s.first - sx0) * nc];
-                for (size_t i = 0; i < s.weights.size(); ++i, texel += nc)
-                    for (uint32_t c = 0; c < nc; ++c) filtered[ox * nc + c] += s.weights[i] * texel[c];
-            }
-            const float w = vertical.weights[k];
-            for (size_t i = 0; i < sum.size(); ++i) sum[i] += w * filtered[i];
+        const Span& vertical = down.spans[oy];
+        for (uint32_t k = 0; k < vertical.count; ++k) {
+            const uint8_t* row = sourceRow(vertical.first + k);
+            const float w = down.weights[vertical.weight + k];
+            if (nc == 3) filterRow<3>(row, across, sx0, w, sum.data());
+            else if (nc == 1) filterRow<1>(row, across, sx0, w, sum.data());
+            else if (nc == 2) filterRow<2>(row, across, sx0, w, sum.data());
+            else filterRow<4>(row, across, sx0, w, sum.data());  // Image: 1 to 4 channels
         }
-        for (size_t i = 0; i < sum.size(); ++i)
-            out.pixels[size_t(oy) * out.width * nc + i] = static_cast<uint8_t>(std::clamp(std::lround(sum[i]), 0l, 255l));
+        uint8_t* o = &out.pixels[size_t(oy) * out.width * nc];
+        for (size_t i = 0; i < sum.size(); ++i) o[i] = static_cast<uint8_t>(std::clamp(sum[i], 0.0f, 255.0f) + 0.5f);  // half up
     }
     return out;
+}
+
+std::vector<Image> mipLevels(const Image& image) {
+    std::vector<Image> mips;
+    for (const Image* last = &image; last->width > 1 || last->height > 1; last = &mips.back()) {
+        const uint32_t w = mipSide(last->width), h = mipSide(last->height);
+        Image next = scaledRegion(textureView(*last), w, h, 0, 0, w, h);
+        mips.push_back(std::move(next));  // `last` is re-pointed after the move
+    }
+    return mips;
 }
 
 Image downsampleTexture(const Image& source, double factor) {
     const uint32_t w = scaledSide(source.width, factor), h = scaledSide(source.height, factor);
     if (w == source.width && h == source.height) return source;
-    const TextureSource view{source.width, source.height, source.channels, &source, -1};
-    return scaledRegion(view, w, h, 0, 0, w, h);
+    const std::vector<Image> mips = mipLevels(source);
+    return scaledRegion(textureView(source, mips), w, h, 0, 0, w, h);
 }
 
 struct TextureStore::Impl {
+    struct Held {
+        Image image;
+        std::vector<Image> mips;
+    };
     std::string dir;
     std::mutex mutex;
     std::map<std::string, std::shared_future<TextureSource>> sources;
     std::vector<int> files;
-    std::vector<std::unique_ptr<Image>> images;  // without a folder
+    std::vector<std::unique_ptr<Held>> images;  // without a folder
 
     TextureSource decode(const std::string& path, size_t index) {
         if (dir.empty()) {
-            auto image = std::make_unique<Image>(loadTexture(path));
+            auto held = std::make_unique<Held>();
+            held->image = loadTexture(path);
+            held->mips = mipLevels(held->image);
+            const TextureSource source = textureView(held->image, held->mips);
             const std::lock_guard lock(mutex);
-            images.push_back(std::move(image));
-            const Image* held = images.back().get();
-            return {held->width, held->height, held->channels, held, -1};
+            images.push_back(std::move(held));
+            return source;
         }
         const std::unique_ptr<ImageRows> input = openTexture(path);
-        TextureSource source{input->width, input->height, input->channels >= 3 ? 3u : 1u, nullptr, -1};
+        TextureSource source{input->width, input->height, input->channels >= 3 ? 3u : 1u, -1, 0, {{input->width, input->height, nullptr, 0}}};
         const std::string file = (std::filesystem::path(dir) / ("texture_" + std::to_string(index) + ".raw")).string();
         source.file = ::open(file.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
         if (source.file < 0) throw std::runtime_error(file + ": cannot create temporary file (" + std::strerror(errno) + ")");
@@ -139,14 +224,36 @@ struct TextureStore::Impl {
             const std::lock_guard lock(mutex);
             files.push_back(source.file);
         }
+        const auto write = [&](const uint8_t* bytes, size_t size, uint64_t offset) {
+            if (pwrite(source.file, bytes, size, static_cast<off_t>(offset)) != static_cast<ssize_t>(size))
+                throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(errno) + ")");
+        };
         const size_t rowBytes = size_t(source.width) * source.channels;
         std::vector<uint8_t> strip(rowBytes * kStripRows);
+        // Even sides: level 1 from the decoded strips (kStripRows is even), not read back.
+        const bool even = source.width % 2 == 0 && source.height % 2 == 0;
+        const TextureLevel half{source.width / 2, source.height / 2, nullptr, uint64_t(rowBytes) * source.height};
+        std::vector<uint8_t> halved(even ? rowBytes / 2 * kStripRows / 2 : 0);
         for (uint32_t y = 0; y < source.height; y += kStripRows) {
             const uint32_t end = std::min<uint32_t>(source.height, y + kStripRows);
             readTextureRows(*input, path, end - y, source.channels, strip.data());
-            const size_t bytes = rowBytes * (end - y);
-            if (pwrite(source.file, strip.data(), bytes, static_cast<off_t>(rowBytes * y)) != static_cast<ssize_t>(bytes))
-                throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(errno) + ")");
+            write(strip.data(), rowBytes * (end - y), rowBytes * y);
+            if (!even) continue;
+            halveRows(strip.data(), rowBytes, half.width, (end - y) / 2, source.channels, halved.data());
+            write(halved.data(), rowBytes / 2 * ((end - y) / 2), half.offset + rowBytes / 2 * (y / 2));
+        }
+        if (even) source.levels.push_back(half);
+        // The rest of the pyramid, each level filtered by strips from the one before, read back.
+        for (TextureLevel last = source.levels.back(); last.width > 1 || last.height > 1; last = source.levels.back()) {
+            const TextureLevel next{mipSide(last.width), mipSide(last.height), nullptr,
+                                    last.offset + uint64_t(last.width) * last.height * source.channels};
+            TextureSource previous = source;
+            previous.levels = {last};
+            for (uint32_t y = 0; y < next.height; y += kStripRows) {
+                const Image rows = scaledRegion(previous, next.width, next.height, 0, y, next.width, std::min<uint32_t>(next.height, y + kStripRows));
+                write(rows.pixels.data(), rows.pixels.size(), next.offset + uint64_t(y) * next.width * source.channels);
+            }
+            source.levels.push_back(next);
         }
         std::filesystem::remove(file);  // the open descriptor keeps it until the store closes it
         return source;

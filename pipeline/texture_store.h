@@ -10,6 +10,7 @@
 #include <mutex>
 #include <optional>
 #include <span>
+#include <vector>
 
 namespace hlod {
 
@@ -21,27 +22,41 @@ class ImageRows;  // formats/image_io.h
 std::unique_ptr<ImageRows> openTexture(const std::string& path);
 void readTextureRows(ImageRows& image, const std::string& path, uint32_t rows, uint32_t channels, uint8_t* out);
 
-// texture_store.cpp: a texture read by rectangles: an image in memory, or a decoded file's rows.
-struct TextureSource {
-    uint32_t width = 0, height = 0, channels = 0;
-    const Image* image = nullptr;  // in memory, or
-    int file = -1;                 // width x height x channels bytes, row by row
-    int jpegQuality = 0;           // the quality a JPEG source was written with (jpegQuality); 0: unknown
-    void rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out) const;  // [x0, x1) of rows [y0, y1)
+// texture_store.cpp: a texture read by rectangles, with its mip pyramid: level 0 the source,
+// level k + 1 the box-filtered halving of level k (mipSide per side), down to 1 x 1.
+struct TextureLevel {
+    uint32_t width = 0, height = 0;
+    const uint8_t* pixels = nullptr;  // in memory, or
+    uint64_t offset = 0;              // the level's first byte in the source's file (width x height x channels, row by row)
 };
-inline TextureSource textureView(const Image& image) { return {image.width, image.height, image.channels, &image, -1}; }
+struct TextureSource {
+    uint32_t width = 0, height = 0, channels = 0;  // level 0's
+    int file = -1;                                 // the levels' file, or -1: in memory
+    int jpegQuality = 0;  // the quality a JPEG source was written with (jpegQuality); 0: unknown
+    std::vector<TextureLevel> levels;
+    // [x0, x1) of rows [y0, y1) of a level (pread from the file: safe from any thread)
+    void rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out, size_t level = 0) const;
+};
+uint32_t mipSide(uint32_t side);  // a side of the next pyramid level: (side + 1) / 2
+// Levels 1.. of an image's pyramid, in memory; a view of the image with them (`mips` outlives it).
+std::vector<Image> mipLevels(const Image& image);
+TextureSource textureView(const Image& image, const std::vector<Image>& mips = {});
 // jpeg_quality.cpp: the libjpeg quality whose scaled standard luminance table is the JPEG's own
 // (the file's, or the encoded bytes'); 0 when it is not a JPEG or its table is not such a one.
 int jpegQuality(std::span<const uint8_t> bytes);
 int jpegFileQuality(const std::string& path);
 uint32_t scaledSide(uint32_t side, double factor);  // a side downsampled by factor (sqrt per side; factor <= 1: as is)
-// Texels [x0, x1) x [y0, y1) of the source downsampled to scaledWidth x scaledHeight (box filter:
-// each texel the area-weighted mean of the source texels it covers; equal sizes: a copy).
+// Texels [x0, x1) x [y0, y1) of the source downsampled to scaledWidth x scaledHeight: a box
+// filter (each texel the area-weighted mean of the texels it covers) from the coarsest pyramid
+// level at least that size on both sides (equal sizes: a copy of the level). Each texel is a
+// function of the level alone, whatever the rectangle.
 Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t scaledHeight, uint32_t x0, uint32_t y0, uint32_t x1,
                    uint32_t y1);
-Image downsampleTexture(const Image& source, double factor);  // the whole image by scaledRegion
-// The texture files of a build, each decoded once (by strips of scanlines) into a file under
-// `dir` and read back by rectangles; dir "" keeps them decoded in memory. Thread-safe.
+Image downsampleTexture(const Image& source, double factor);  // the whole image by scaledRegion, over its mipLevels
+// The texture files of a build, each decoded once (by strips of scanlines) with its pyramid into a
+// file under `dir` and read back by rectangles; dir "" keeps them decoded in memory. Thread-safe:
+// open() decodes a file once whoever asks (the others wait for it), and a TextureSource is a
+// read-only description of the file (pread) or of images the store keeps until it is destroyed.
 class TextureStore {
 public:
     explicit TextureStore(const std::string& dir = "");
@@ -84,8 +99,9 @@ private:
     bool strict_;
     std::vector<TextureProblem>& problems_;
     Progress* progress_;
-    std::mutex mutex_;  // guards sources_ and problems_
+    std::mutex mutex_;  // guards sources_, mips_ and problems_
     std::map<uint32_t, std::optional<TextureSource>> sources_;
+    std::map<uint32_t, std::vector<Image>> mips_;  // embedded images' pyramids, filled with sources_
 };
 
 }  // namespace hlod
