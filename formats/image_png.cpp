@@ -89,9 +89,9 @@ private:
         const size_t rowBytes = size_t(width) * channels * (sixteen_ ? 2 : 1);
         if (interlaced_ && whole_.empty()) {
             whole_.resize(rowBytes * height);
-            std::vector<png_bytep> rows(height);
-            for (uint32_t y = 0; y < height; ++y) rows[y] = &whole_[rowBytes * y];
-            png_read_image(read_.png, rows.data());
+            rows_.resize(height);  // a member: png_error's longjmp skips a local's destructor
+            for (uint32_t y = 0; y < height; ++y) rows_[y] = &whole_[rowBytes * y];
+            png_read_image(read_.png, rows_.data());
         }
         if (!interlaced_) row_.resize(rowBytes);
         for (uint32_t r = 0; r < count; ++r, ++next_) {
@@ -115,6 +115,7 @@ private:
     bool sixteen_ = false, interlaced_ = false;
     uint32_t next_ = 0;
     std::vector<uint8_t> row_, whole_;
+    std::vector<png_bytep> rows_;
 };
 
 struct Write {
