@@ -16,9 +16,9 @@ namespace hlod {
 namespace {
 
 // libpng allocates an ancillary chunk (text, ICC profile, ...) at its declared length, up to
-// 2 GiB, before reading it (fuzz_blob: a 417-byte PNG asked for 1.7 GB). Its own buffers are a
-// few rows at most (8 bytes per texel), so larger requests are refused: libpng skips such a chunk
-// with a warning, or fails the image with an error ("out of memory").
+// 2 GiB, before reading it (fuzz_blob: a 417-byte PNG's tEXt chunk declared 1.8 GB). Its own buffers are a
+// few rows at most (8 bytes per texel), so larger requests are refused and the image fails with an
+// error ("out of memory"), as fuzz_blob's finding now does (tests/fuzz/README.md).
 constexpr png_alloc_size_t kMaxLibpngAllocation = png_alloc_size_t(64) << 20;
 
 png_voidp boundedMalloc(png_structp, png_alloc_size_t size) { return size > kMaxLibpngAllocation ? nullptr : std::malloc(size); }
