@@ -56,7 +56,8 @@ std::unique_ptr<ImageRows> openPng(const ImageSource& source, bool refuseAlpha);
 // ImageError (no file name in it) when it cannot be opened, the plugin's absence included.
 std::unique_ptr<ImageRows> openImageFile(const std::string& path);
 
-// The OpenImageIO plugin: HLOD_OIIO_PLUGIN when set, else hlod_oiio.so beside the executable.
+// The OpenImageIO plugin: HLOD_OIIO_PLUGIN when set, else hlod_oiio.so beside the executable
+// ("" when the executable's folder cannot be read).
 std::string oiioPluginPath();
 
 // JPEG bytes of a 1- or 3-channel image: chroma halved per axis (4:2:0) or not (4:4:4), Huffman

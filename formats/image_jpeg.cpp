@@ -8,11 +8,14 @@
 #include "formats/image_io.h"
 
 #include <csetjmp>
-#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <new>
+#include <type_traits>
+#include <vector>
 
 #include <jpeglib.h>
+#include <jerror.h>
 
 namespace hlod {
 
@@ -90,6 +93,7 @@ private:
         Decompress(JpegFailure& failure) {
             cinfo.err = &failure.manager;
             installFailure(failure);
+            if (setjmp(failure.jump)) throw ImageError(failure.message);  // out of memory in the create
             jpeg_create_decompress(&cinfo);
         }
         ~Decompress() { jpeg_destroy_decompress(&cinfo); }
@@ -106,6 +110,38 @@ private:
 // first IFD has no entries.
 constexpr uint8_t kEmptyExif[] = {'E', 'x', 'i', 'f', 0, 0, 'I', 'I', '*', 0, 8, 0, 0, 0, 0, 0, 0, 0, 0, 0};
 
+// A destination appending to a vector (jpeg_mem_dest frees its first buffer when it grows but
+// hands the caller the new one only at the end, so an error in between cannot free it safely).
+struct VectorDestination {
+    jpeg_destination_mgr manager{};
+    std::vector<uint8_t> bytes;
+
+    VectorDestination() {
+        manager.init_destination = [](j_compress_ptr c) {
+            VectorDestination& d = self(c);
+            d.bytes.resize(size_t{1} << 16);
+            d.manager.next_output_byte = d.bytes.data(), d.manager.free_in_buffer = d.bytes.size();
+        };
+        manager.empty_output_buffer = [](j_compress_ptr c) -> boolean {
+            VectorDestination& d = self(c);
+            const size_t used = d.bytes.size();  // called when the whole buffer is full
+            try {
+                d.bytes.resize(2 * used);
+            } catch (const std::bad_alloc&) {
+                ERREXIT(c, JERR_OUT_OF_MEMORY);
+            }
+            d.manager.next_output_byte = d.bytes.data() + used, d.manager.free_in_buffer = d.bytes.size() - used;
+            return TRUE;
+        };
+        manager.term_destination = [](j_compress_ptr c) {
+            VectorDestination& d = self(c);
+            d.bytes.resize(d.bytes.size() - d.manager.free_in_buffer);
+        };
+    }
+    static VectorDestination& self(j_compress_ptr c) { return *reinterpret_cast<VectorDestination*>(c->dest); }
+};
+static_assert(std::is_standard_layout_v<VectorDestination>);  // `manager` first: self() casts its address
+
 }  // namespace
 
 std::unique_ptr<ImageRows> openJpeg(const ImageSource& source) { return std::make_unique<JpegRows>(source); }
@@ -115,15 +151,13 @@ std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420,
     JpegFailure failure{};
     cinfo.err = &failure.manager;
     installFailure(failure);
-    unsigned char* buffer = nullptr;
-    unsigned long size = 0;
+    VectorDestination destination;  // before the setjmp: a longjmp must not skip its destructor
     if (setjmp(failure.jump)) {
         jpeg_destroy_compress(&cinfo);
-        std::free(buffer);
         throw std::runtime_error(std::string("encodeTexture: ") + failure.message);
     }
     jpeg_create_compress(&cinfo);
-    jpeg_mem_dest(&cinfo, &buffer, &size);
+    cinfo.dest = &destination.manager;
     cinfo.image_width = image.width;
     cinfo.image_height = image.height;
     cinfo.input_components = static_cast<int>(image.channels);
@@ -144,10 +178,8 @@ std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420,
         jpeg_write_scanlines(&cinfo, &row, 1);
     }
     jpeg_finish_compress(&cinfo);
-    std::vector<uint8_t> bytes(buffer, buffer + size);
     jpeg_destroy_compress(&cinfo);
-    std::free(buffer);
-    return bytes;
+    return std::move(destination.bytes);
 }
 
 void writeJpegFile(const std::string& path, const Image& image, int quality) {

@@ -26,6 +26,11 @@ const HlodOiioApi* plugin(const std::string& what, std::string& why) {
     static std::mutex mutex;
     static std::map<std::string, const HlodOiioApi*> loaded;  // by path: HLOD_OIIO_PLUGIN may change
     const std::string path = oiioPluginPath();
+    if (path.empty()) {
+        why = what + " needs the OpenImageIO plugin, but the hlod executable's folder is unknown (/proc/self/exe); "
+                     "HLOD_OIIO_PLUGIN names its path";
+        return nullptr;
+    }
     const std::lock_guard lock(mutex);
     if (auto it = loaded.find(path); it != loaded.end()) return it->second;
     void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
@@ -79,6 +84,7 @@ std::string oiioPluginPath() {
     if (const char* path = std::getenv("HLOD_OIIO_PLUGIN"); path && *path) return path;
     std::error_code error;
     const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+    if (error || !exe.has_parent_path()) return {};  // never a bare name: dlopen would search the library path
     return (exe.parent_path() / "hlod_oiio.so").string();
 }
 

@@ -16,9 +16,9 @@ namespace hlod {
 namespace {
 
 // libpng allocates an ancillary chunk (text, ICC profile, ...) at its declared length, up to
-// 2 GiB, before reading it (fuzz_blob: a 417-byte PNG asked for 1.7 GB). Its own buffers are a
-// few rows at most (8 bytes per texel), so larger requests are refused: libpng skips such a chunk
-// with a warning, or fails the image with an error ("out of memory").
+// 2 GiB, before reading it (fuzz_blob: a 417-byte PNG's tEXt chunk declared 1.8 GB). Its own buffers are a
+// few rows at most (8 bytes per texel), so larger requests are refused and the image fails with an
+// error ("out of memory"), as fuzz_blob's finding now does (tests/fuzz/README.md).
 constexpr png_alloc_size_t kMaxLibpngAllocation = png_alloc_size_t(64) << 20;
 
 png_voidp boundedMalloc(png_structp, png_alloc_size_t size) { return size > kMaxLibpngAllocation ? nullptr : std::malloc(size); }
@@ -89,9 +89,9 @@ private:
         const size_t rowBytes = size_t(width) * channels * (sixteen_ ? 2 : 1);
         if (interlaced_ && whole_.empty()) {
             whole_.resize(rowBytes * height);
-            std::vector<png_bytep> rows(height);
-            for (uint32_t y = 0; y < height; ++y) rows[y] = &whole_[rowBytes * y];
-            png_read_image(read_.png, rows.data());
+            rows_.resize(height);  // a member: png_error's longjmp skips a local's destructor
+            for (uint32_t y = 0; y < height; ++y) rows_[y] = &whole_[rowBytes * y];
+            png_read_image(read_.png, rows_.data());
         }
         if (!interlaced_) row_.resize(rowBytes);
         for (uint32_t r = 0; r < count; ++r, ++next_) {
@@ -115,6 +115,7 @@ private:
     bool sixteen_ = false, interlaced_ = false;
     uint32_t next_ = 0;
     std::vector<uint8_t> row_, whole_;
+    std::vector<png_bytep> rows_;
 };
 
 struct Write {

@@ -41,8 +41,6 @@
 namespace hlod {
 namespace {
 
-// The smallest hole the geometric error must see, as a fraction of the node's extent (issue #16).
-constexpr double kMeasuredHole = 10;
 // Smallest baked atlas: 64 x 64 texels (a coarse node of a small piece would otherwise get a few texels).
 constexpr uint64_t kMinBakeTexels = 64 * 64;
 

@@ -66,6 +66,7 @@ double boxDistance2(const TriangleBvh::Node& n, const double p[3]) { return boxD
 TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vector<uint32_t>& indices) {
     TriangleBvh bvh;
     std::vector<double> corners;
+    corners.reserve(3 * indices.size());  // 9 per triangle: growing by doubling could hold twice that
     for (size_t t = 0; t + 2 < indices.size(); t += 3) {
         double v[9];
         for (int j = 0; j < 3; ++j)
@@ -124,11 +125,11 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
         stack.push_back({left, task.lo, mid}), stack.push_back({left + 1, mid, task.hi});
     }
     bvh.corners.resize(corners.size());
+    for (uint32_t i = 0; i < count; ++i) std::copy_n(corners.begin() + 9 * size_t(items[i].index), 9, bvh.corners.begin() + 9 * size_t(i));
+    std::vector<double>().swap(corners);  // freed before the boxes: one triangle array less at the peak
     bvh.boxes.resize(6 * size_t(count));
-    for (uint32_t i = 0; i < count; ++i) {
-        std::copy_n(corners.begin() + 9 * size_t(items[i].index), 9, bvh.corners.begin() + 9 * size_t(i));
+    for (uint32_t i = 0; i < count; ++i)
         std::copy_n(items[i].lo, 3, bvh.boxes.begin() + 6 * size_t(i)), std::copy_n(items[i].hi, 3, bvh.boxes.begin() + 6 * size_t(i) + 3);
-    }
     return bvh;
 }
 

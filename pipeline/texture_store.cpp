@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -112,7 +113,9 @@ void TextureSource::rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uin
         }
         for (size_t done = 0; done < rowBytes;) {
             const ssize_t n = pread(file, out + done, rowBytes - done, static_cast<off_t>(l.offset + offset + done));
-            if (n <= 0) throw std::runtime_error("texture store: cannot read back a decoded texture (" + std::string(std::strerror(errno)) + ")");
+            if (n <= 0)
+                throw std::runtime_error("texture store: cannot read back a decoded texture (" +
+                                         std::string(n == 0 ? "unexpected end of the temporary file" : std::strerror(errno)) + ")");
             done += static_cast<size_t>(n);
         }
     }
@@ -225,8 +228,11 @@ struct TextureStore::Impl {
             files.push_back(source.file);
         }
         const auto write = [&](const uint8_t* bytes, size_t size, uint64_t offset) {
-            if (pwrite(source.file, bytes, size, static_cast<off_t>(offset)) != static_cast<ssize_t>(size))
-                throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(errno) + ")");
+            for (size_t done = 0; done < size;) {  // a short write (a full disk) says why on the next call
+                const ssize_t n = pwrite(source.file, bytes + done, size - done, static_cast<off_t>(offset + done));
+                if (n <= 0) throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(n == 0 ? ENOSPC : errno) + ")");
+                done += static_cast<size_t>(n);
+            }
         };
         const size_t rowBytes = size_t(source.width) * source.channels;
         std::vector<uint8_t> strip(rowBytes * kStripRows);

@@ -33,6 +33,9 @@ enum class BottomUpError {
     Exact,  // two-sided distance to its original piece, as top-down (a pass over the original per level)
 };
 inline const char* bottomUpErrorName(BottomUpError e) { return e == BottomUpError::Bound ? "bound" : "exact"; }
+// The smallest hole the geometric error must see, as a fraction of the node's extent (issue #16;
+// build_tree.cpp samples at half of it).
+inline constexpr double kMeasuredHole = 10;
 inline const char* leafRuleName(LeafRule r) { return r == LeafRule::BelowOne ? "below-one" : "stop-before"; }
 inline const char* planesName(Planes p) { return p == Planes::Balanced ? "balanced" : "even"; }
 

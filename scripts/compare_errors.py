@@ -23,12 +23,16 @@ def main():
         print(f"compare_errors: {len(a)} against {len(b)} nodes: not the same tree", file=sys.stderr)
         sys.exit(2)
     levels = {}
-    for x, y in zip(a, b):
-        if x["level"] != y["level"] or x["triangles"] != y["triangles"]:
-            print(f"compare_errors: node {x['node']} of block {x['block']} differs: not the same tree", file=sys.stderr)
-            sys.exit(2)
-        if x["error_max"] > 0:
-            levels.setdefault(x["level"], []).append((x["error_max"], y["error_max"]))
+    try:
+        for x, y in zip(a, b):
+            if x["level"] != y["level"] or x["triangles"] != y["triangles"]:
+                print(f"compare_errors: node {x['node']} of block {x['block']} differs: not the same tree", file=sys.stderr)
+                sys.exit(2)
+            if x["error_max"] > 0:
+                levels.setdefault(x["level"], []).append((float(x["error_max"]), float(y["error_max"])))
+    except (KeyError, TypeError, ValueError) as e:
+        print(f"compare_errors: a node without a usable level, triangles or error_max ({e!r})", file=sys.stderr)
+        sys.exit(2)
     print("| level | nodes | A max | B max | A mean of nodes | B mean of nodes | B / A: mean | largest | nodes where B < A (largest shortfall) |")
     print("|---|---|---|---|---|---|---|---|---|")
     for level in sorted(levels):

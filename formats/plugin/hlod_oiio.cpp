@@ -31,7 +31,8 @@ void* openImage(const char* path, int* width, int* height, int* channels, char* 
 
 int readRows(void* image, int y0, int y1, int keep, unsigned char* out, char* error, size_t errorSize) {
     auto* input = static_cast<OIIO::ImageInput*>(image);
-    if (!input->read_scanlines(0, 0, y0, y1, 0, 0, keep, OIIO::TypeDesc::UINT8, out) || input->has_error()) {
+    const int top = input->spec().y;  // the data window's first row (an EXR's may not be 0)
+    if (!input->read_scanlines(0, 0, top + y0, top + y1, 0, 0, keep, OIIO::TypeDesc::UINT8, out) || input->has_error()) {
         copyError(input->geterror(), error, errorSize);
         return 0;
     }

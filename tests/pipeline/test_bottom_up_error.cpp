@@ -75,7 +75,7 @@ TEST(BottomUpError, BoundIsAtLeastTheExactErrorOfEveryNode) {
 // Each node's bound, recomputed from what the database stores (positions on a 22-bit lattice,
 // 2^-15 units: each surface moves at most sqrt(3) / 2 steps, each distance by at most twice that):
 // the two-sided distance between the node and its children's stored triangles, sampled at a
-// twentieth of the node's extent (build_tree.cpp kMeasuredHole), plus the children's largest error.
+// half of 1 / kMeasuredHole of the node's extent (tree_rules.h), plus the children's largest error.
 // A node whose children are leaves (the original triangles) stores the exact measure.
 TEST(BottomUpError, IsTheDistanceToTheChildrenPlusTheirLargestError) {
     const BlockBuild b = buildTerrainBlock(BuildMode::BottomUp, BottomUpError::Bound, kMaxPositionBits);
@@ -103,7 +103,7 @@ TEST(BottomUpError, IsTheDistanceToTheChildrenPlusTheirLargestError) {
         }
         const Box3f& box = b.records[i].node.bounds;
         const double extent = std::max({box.max.x - box.min.x, box.max.y - box.min.y, box.max.z - box.min.z});
-        const SurfaceError d = surfaceError({SubMesh{0, node, {}}}, {SubMesh{0, below, {}}}, extent / 20);
+        const SurfaceError d = surfaceError({SubMesh{0, node, {}}}, {SubMesh{0, below, {}}}, extent / (2 * kMeasuredHole));
         EXPECT_NEAR(b.stats.measured[i].max, d.max + childMax, tolerance) << "node " << i << " level " << b.stats.levels[i];
         EXPECT_NEAR(b.stats.measured[i].oneSided, d.oneSided + childOneSided, tolerance) << "node " << i;
         ++checked, inheriting += childMax > 10 * tolerance;
