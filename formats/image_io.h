@@ -1,5 +1,5 @@
 // Images read and written without OpenImageIO (issue #14: OpenImageIO's libraries alone were
-// ~130 MiB of the process's baseline). JPEG through libjpeg-turbo (image_jpeg.cpp) and PNG through
+// ~122 MiB of the process's baseline). JPEG through libjpeg-turbo (image_jpeg.cpp) and PNG through
 // libpng (image_png.cpp), row by row; every other format through OpenImageIO in a plugin loaded
 // with dlopen() the first time such a file is met (image_plugin.cpp, plugin/hlod_oiio.cpp).
 // Decoded texels are those OpenImageIO gave before (tests/pipeline/test_image_io.cpp compares them).

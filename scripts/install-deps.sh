@@ -21,7 +21,7 @@ PACKAGES=(
   libcli11-dev           # CLI11: git-style subcommands and --help
   libxxhash-dev          # xxHash: XXH3-64 checksums of skeleton and blobs
   libjpeg62-turbo-dev    # libjpeg-turbo: JPEG textures read and written (node textures with optimised Huffman tables)
-  libpng-dev             # libpng: PNG textures read row by row and written, without OpenImageIO's ~120 MiB of libraries
+  libpng-dev             # libpng: PNG textures read row by row and written, without OpenImageIO's ~122 MiB of libraries
   zlib1g-dev             # zlib: CRC-32 of the entries of a .3tz archive (hlod export tiles --3tz)
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev  # OpenGL renderer (EGL headless / GLFW)
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks

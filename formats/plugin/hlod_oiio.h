@@ -1,6 +1,6 @@
 // The C interface of the OpenImageIO plugin (hlod_oiio.cpp), which formats/image_plugin.cpp loads
 // with dlopen() the first time a texture file is neither JPEG nor PNG (issue #14: linking
-// OpenImageIO cost every hlod process ~130 MiB of libraries). C, so that the plugin and the
+// OpenImageIO cost every hlod process ~122 MiB of libraries). C, so that the plugin and the
 // tool need not agree on a C++ ABI; `version` changes with any change to this struct.
 #pragma once
 
