@@ -362,9 +362,21 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     return meta;
 }
 
+namespace {
+// A shard's output may be absent, an empty folder or an earlier shard (replaced); anything else is
+// refused rather than deleted.
+bool replaceableShard(const std::string& output) {
+    std::error_code ec;
+    if (!fs::exists(output, ec)) return true;
+    return fs::is_directory(output, ec) && (fs::is_empty(output, ec) || fs::exists(fs::path(output) / "shard.json", ec));
+}
+}  // namespace
+
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     BuildOptions options = request.options;
     validateConstants(options.constants, kUsedByBuild);
+    if (request.shard && !replaceableShard(request.output))
+        throw std::invalid_argument(request.output + ": exists and is not a shard folder (refusing to replace it)");
     std::optional<SplitWork> work;  // an `hlod split` work folder: its blocks, options and input
     if (isSplitWork(request.input)) work = openSplitWork(request.input, options, request.firstBlock, request.lastBlock);
     const std::string input = work ? work->input : request.input;
@@ -382,8 +394,10 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const uint32_t first = std::min(request.firstBlock, blockCount), last = std::min(request.lastBlock, blockCount);
     if (first >= last) throw std::invalid_argument("no blocks selected (input has " + std::to_string(blockCount) + ")");
 
-    std::string recordDir = (fs::path(temp.path) / "records").string();
-    if (request.shard) recordDir = request.output;
+    // A shard is written into a staging folder next to it and renamed into place when complete.
+    std::optional<StagingFolder> staging;
+    if (request.shard) staging.emplace(fs::absolute(request.output).lexically_normal().string());
+    const std::string recordDir = staging ? staging->path : (fs::path(temp.path) / "records").string();
     fs::create_directories(recordDir);
 
     const int cores = options.jobs > 0 ? options.jobs : tbb::info::default_concurrency();
@@ -448,7 +462,11 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     ShardInfo shard{blockCount, {}, buildMeta(input, blockOptions)};
     for (uint32_t b = first; b < last; ++b) shard.blocks.push_back(b);
     writeShardInfo(recordDir, shard);
-    if (!request.shard) {
+    if (staging) {
+        if (fs::exists(request.output)) fs::remove_all(request.output);  // an earlier shard, or an empty folder
+        fs::rename(staging->path, request.output);
+        staging->kept = true;
+    } else {
         progress.beginStage("write", blockCount, "blocks");
         mergeShards({recordDir}, request.output, options.constants.textured);
         progress.advance(blockCount);

@@ -95,24 +95,21 @@ std::string inWork(const std::string& work, const std::string& texture) {
     return a.rfind(root, 0) == 0 ? a.substr(root.size()) : a;
 }
 
-// A staging folder next to WORK, renamed to WORK when complete or removed however the split ends.
-struct Staging {
-    std::string path;
-    bool kept = false;
-    explicit Staging(const fs::path& work) {
-        const std::string prefix = work.string() + ".tmp";
-        removeStaleTemporaries(prefix);  // of splits killed before they removed theirs
-        std::string pattern = temporaryPattern(prefix);
-        if (!mkdtemp(pattern.data())) throw std::runtime_error(work.string() + ": cannot create a temporary folder next to it");
-        path = pattern;
-    }
-    ~Staging() {
-        std::error_code ignored;
-        if (!kept) fs::remove_all(path, ignored);
-    }
-};
 
 }  // namespace
+
+StagingFolder::StagingFolder(const std::string& target) {
+    const std::string prefix = target + ".tmp";
+    removeStaleTemporaries(prefix);  // of runs killed before they removed theirs
+    std::string pattern = temporaryPattern(prefix);
+    if (!mkdtemp(pattern.data())) throw std::runtime_error(target + ": cannot create a temporary folder next to it");
+    path = pattern;
+}
+
+StagingFolder::~StagingFolder() {
+    std::error_code ignored;
+    if (!kept) fs::remove_all(path, ignored);
+}
 
 bool isSplitWork(const std::string& path) {
     std::error_code ec;
@@ -128,7 +125,7 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
     if (isSplitWork(input)) throw std::invalid_argument(input + ": is already a split work folder");
     const UpChoice up = chooseUpAxis(input, options.up);
     progress.message("up axis: " + up.axis + " (" + up.reason + ")");
-    Staging staging(target);
+    StagingFolder staging(target);
     const fs::path cells = fs::path(staging.path) / "cells";
     fs::create_directories(cells);
     SplitInputs in = findBlocks(input, options, cells.string(), progress);

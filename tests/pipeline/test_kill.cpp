@@ -75,6 +75,7 @@ struct KillSweep : ::testing::Test {
                 EXPECT_EQ(readFile(complete.string()), reference) << k;
             }
             for (const fs::path& f : filesUnder(out, {complete})) EXPECT_FALSE(opensAsDatabase(f)) << k << ": " << f;
+            expectNoHalfShard(k);
             interrupted += leftTemporaries();  // a figure: how many kills landed mid-write (timing-dependent)
         }
         std::cout << "[ sweep    ] " << args[0] << ": " << interrupted << " of " << kKills
@@ -83,6 +84,16 @@ struct KillSweep : ::testing::Test {
         ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
     }
     int interrupted = 0;
+    // A shard folder is whole or absent: block records outside a temporary only beside shard.json
+    // (a killed shard build leaves its staging folder, never a half-written shard).
+    void expectNoHalfShard(int k) const {
+        for (const auto& e : fs::recursive_directory_iterator(out)) {
+            const fs::path folder = e.path().parent_path();
+            const std::string name = folder.filename().string();
+            if (e.path().extension() != ".nodes" || name.rfind("hlod-build-", 0) == 0 || name.find(".tmp-") != std::string::npos) continue;
+            EXPECT_TRUE(fs::exists(folder / "shard.json")) << k << ": half-written shard " << folder;
+        }
+    }
     // Whether out/ holds a build folder or a database temporary of a killed run.
     bool leftTemporaries() const {
         for (const auto& e : fs::recursive_directory_iterator(out)) {

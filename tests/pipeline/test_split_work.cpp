@@ -180,6 +180,16 @@ TEST(SplitWork, SplitOptionsBelongToTheSplitAndForeignFoldersAreNotReplaced) {
     const RunResult missing = runHlod({"split", dir.file("nope.ply"), "-o", dir.file("w2")});
     EXPECT_EQ(missing.exitCode, 2) << missing.outAndErr();
     EXPECT_FALSE(fs::exists(dir.file("w2")));
+
+    // The same for a shard folder: an earlier shard is replaced, a foreign folder refused.
+    const RunResult shardAgain = runHlod({"build", dir.file("work"), "-o", dir.file("s"), "--shard"});
+    EXPECT_EQ(shardAgain.exitCode, 0) << shardAgain.outAndErr();
+    EXPECT_TRUE(fs::exists(dir.file("s/shard.json")));
+    const RunResult foreignShard = runHlod({"build", dir.file("work"), "-o", dir.file("mine"), "--shard"});
+    EXPECT_EQ(foreignShard.exitCode, 2) << foreignShard.outAndErr();
+    EXPECT_NE(foreignShard.err.find(dir.file("mine") + ": exists and is not a shard folder"), std::string::npos) << foreignShard.err;
+    EXPECT_TRUE(fs::exists(dir.file("mine/keep.txt")));
+    EXPECT_FALSE(fs::exists(dir.file("mine/shard.json")));
 }
 
 TEST(SplitWork, KilledAnywhereLeavesNoWorkFolderOrACompleteOne) {
