@@ -13,7 +13,6 @@ namespace hlod {
 
 namespace {
 
-std::string firstLine(const std::string& text) { return text.substr(0, text.find('\n')); }
 
 }  // namespace
 
@@ -40,11 +39,8 @@ EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality, bool
 Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
     if (codec != Codec::Jpeg && codec != Codec::Png) throw FormatError(name + ": not an image codec");
     // Checking the signature first keeps decoding to the one codec the record names.
-    static constexpr uint8_t kJpegMagic[] = {0xFF, 0xD8, 0xFF};
-    static constexpr uint8_t kPngMagic[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     const std::string format = codec == Codec::Png ? "PNG" : "JPEG";
-    std::span<const uint8_t> magic = codec == Codec::Png ? std::span<const uint8_t>(kPngMagic) : kJpegMagic;
-    if (bytes.size() < magic.size() || !std::equal(magic.begin(), magic.end(), bytes.begin()))
+    if (!(codec == Codec::Png ? hasPngSignature(bytes) : hasJpegSignature(bytes)))
         throw FormatError(name + ": bad " + format + " texture: wrong signature");
     std::unique_ptr<ImageRows> in;
     try {

@@ -7,6 +7,7 @@
 
 #include "formats/codec.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -21,6 +22,17 @@ namespace hlod {
 struct ImageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+// A library's message up to its first line break (one-line errors).
+inline std::string firstLine(const std::string& text) { return text.substr(0, text.find('\n')); }
+
+// Whether `head` starts with the JPEG (FF D8 FF) or the PNG signature.
+inline bool hasJpegSignature(std::span<const uint8_t> head) {
+    return head.size() >= 3 && head[0] == 0xFF && head[1] == 0xD8 && head[2] == 0xFF;
+}
+inline bool hasPngSignature(std::span<const uint8_t> head) {
+    static constexpr uint8_t kPng[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    return head.size() >= sizeof kPng && std::equal(kPng, kPng + sizeof kPng, head.begin());
+}
 
 // A JPEG or PNG this code does not decode as OpenImageIO did: a CMYK JPEG (OpenImageIO converts
 // it to RGB) or, read as a texture file, a PNG with alpha (OpenImageIO associates its colour with

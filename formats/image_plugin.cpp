@@ -94,10 +94,7 @@ std::unique_ptr<ImageRows> openImageFile(const std::string& path) {
     uint8_t head[8] = {};
     const size_t n = std::fread(head, 1, sizeof head, file.get());
     std::rewind(file.get());
-    static constexpr uint8_t kJpeg[] = {0xFF, 0xD8, 0xFF};
-    static constexpr uint8_t kPng[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-    const bool jpeg = n >= sizeof kJpeg && std::equal(kJpeg, kJpeg + sizeof kJpeg, head);
-    const bool png = n >= sizeof kPng && std::equal(kPng, kPng + sizeof kPng, head);
+    const bool jpeg = hasJpegSignature({head, n}), png = hasPngSignature({head, n});
     std::string what = "its format";
     if (jpeg || png) try {
             std::unique_ptr<ImageRows> rows = jpeg ? openJpeg({file.get(), {}}) : openPng({file.get(), {}}, true);

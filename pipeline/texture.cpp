@@ -41,8 +41,6 @@ std::string absurd(const ImageRows& image) {
            std::to_string(image.channels) + " (at most " + std::to_string(kMaxSourceSide) + " per side)";
 }
 
-std::string firstLine(std::string text) { return text.substr(0, text.find('\n')); }
-
 }  // namespace
 
 std::string textureProblem(const std::string& path) {
