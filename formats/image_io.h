@@ -61,7 +61,10 @@ struct ImageSource {
 // Throw ImageError when the header cannot be read, ImageNeedsPlugin for a CMYK JPEG and, with
 // `refuseAlpha`, a PNG with an alpha channel or a transparent colour. Alpha is kept as stored.
 std::unique_ptr<ImageRows> openJpeg(const ImageSource& source);
-std::unique_ptr<ImageRows> openPng(const ImageSource& source, bool refuseAlpha);
+// An interlaced PNG is decoded in bands of at most `interlacedBandBytes` of decoded rows (at least
+// one row), the file read once per band: the memory stays bounded whatever the image's size.
+constexpr size_t kInterlacedBandBytes = size_t(32) << 20;
+std::unique_ptr<ImageRows> openPng(const ImageSource& source, bool refuseAlpha, size_t interlacedBandBytes = kInterlacedBandBytes);
 
 // A texture file as OpenImageIO opened it by default: JPEG and PNG (by their signature) here,
 // with associated alpha; any other format, and CMYK JPEG, through the OpenImageIO plugin. Throws

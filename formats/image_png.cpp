@@ -1,5 +1,6 @@
-// PNG through libpng (formats/image_io.h), a row at a time (an interlaced PNG, whose rows come in
-// seven passes, whole, once). The transformations are OpenImageIO's reader's: a palette expanded
+// PNG through libpng (formats/image_io.h), a row at a time. An interlaced PNG's rows are complete
+// only after its seven passes, i.e. after the whole file: it is decoded in bands of at most
+// `interlacedBandBytes` of decoded rows, the file read once per band (one pass when it fits). The transformations are OpenImageIO's reader's: a palette expanded
 // to RGB, greys of 1, 2 or 4 bits to 8, a transparent colour (tRNS) to an alpha channel; 16-bit
 // samples are rounded to 8 bits as OpenImageIO's conversion rounds them, v * 255 / 65535 to the
 // nearest (tests/pipeline/test_image_io.cpp checks every value against OpenImageIO).
@@ -7,6 +8,7 @@
 
 #include <png.h>
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstdlib>
 #include <cstring>
@@ -26,12 +28,10 @@ void freeMemory(png_structp, png_voidp memory) { std::free(memory); }
 
 class PngRows final : public ImageRows {
 public:
-    PngRows(const ImageSource& source, bool refuseAlpha) : source_(source) {
-        read_.png = png_create_read_struct_2(PNG_LIBPNG_VER_STRING, this, onError, onWarning, nullptr, boundedMalloc, freeMemory);
-        if (read_.png) read_.info = png_create_info_struct(read_.png);
-        if (!read_.info) throw ImageError("out of memory");
+    PngRows(const ImageSource& source, bool refuseAlpha, size_t interlacedBandBytes)
+        : source_(source), start_(source.file ? std::ftell(source.file) : 0), bandBytes_(interlacedBandBytes) {
         bool alpha = false;
-        if (!header(alpha)) throw ImageError(message_);
+        if (!open(alpha)) throw ImageError(message_);
         if (refuseAlpha && alpha) throw ImageNeedsPlugin("a PNG with alpha");
     }
 
@@ -43,8 +43,13 @@ private:
     struct Read {
         png_structp png = nullptr;
         png_infop info = nullptr;
-        ~Read() {
+        Read() = default;
+        Read(const Read&) = delete;
+        Read& operator=(const Read&) = delete;
+        ~Read() { reset(); }
+        void reset() {
             if (png) png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
+            png = nullptr, info = nullptr;
         }
     };
 
@@ -59,6 +64,14 @@ private:
         if (bytes > self->source_.bytes.size() - self->offset_) png_error(png, "truncated PNG data");
         std::memcpy(out, self->source_.bytes.data() + self->offset_, bytes);
         self->offset_ += bytes;
+    }
+
+    bool open(bool& alpha) {
+        read_.reset();
+        read_.png = png_create_read_struct_2(PNG_LIBPNG_VER_STRING, this, onError, onWarning, nullptr, boundedMalloc, freeMemory);
+        if (read_.png) read_.info = png_create_info_struct(read_.png);
+        if (!read_.info) return message_ = "out of memory", false;
+        return header(alpha);
     }
 
     bool header(bool& alpha) {
@@ -77,28 +90,44 @@ private:
         sixteen_ = depth == 16;
         if (sixteen_) png_set_swap(png);  // host (little-endian) order
         interlaced_ = png_get_interlace_type(png, info) != PNG_INTERLACE_NONE;
-        if (interlaced_) png_set_interlace_handling(png);
+        if (interlaced_) passes_ = png_set_interlace_handling(png);
         png_read_update_info(png, info);
         width = png_get_image_width(png, info), height = png_get_image_height(png, info);
         channels = png_get_channels(png, info);
         return true;
     }
 
-    bool decode(uint32_t count, uint32_t keep, uint8_t* out) {
-        if (setjmp(png_jmpbuf(read_.png))) return false;
-        const size_t rowBytes = size_t(width) * channels * (sixteen_ ? 2 : 1);
-        if (interlaced_ && whole_.empty()) {
-            whole_.resize(rowBytes * height);
-            rows_.resize(height);  // a member: png_error's longjmp skips a local's destructor
-            for (uint32_t y = 0; y < height; ++y) rows_[y] = &whole_[rowBytes * y];
-            png_read_image(read_.png, rows_.data());
+    size_t rowBytes() const { return size_t(width) * channels * (sixteen_ ? 2 : 1); }
+
+    // Rows [bandStart_, bandStart_ + band_.size() / rowBytes()) of an interlaced image: every pass
+    // of the file decoded, only the band's rows kept (libpng merges each pass's texels into the
+    // row it is given; a null row skips them). The file is read again from its start for every
+    // band after the first.
+    bool decodeBand(uint32_t first) {
+        if (first > 0) {
+            bool alpha = false;
+            if (source_.file && std::fseek(source_.file, start_, SEEK_SET) != 0) return message_ = "cannot seek", false;
+            offset_ = 0;
+            if (!open(alpha)) return false;
         }
-        if (!interlaced_) row_.resize(rowBytes);
+        if (setjmp(png_jmpbuf(read_.png))) return false;
+        const size_t rows = std::clamp<size_t>(bandBytes_ / rowBytes(), 1, height - first);
+        band_.assign(rows * rowBytes(), 0);
+        bandStart_ = first;
+        for (int pass = 0; pass < passes_; ++pass)
+            for (uint32_t y = 0; y < height; ++y)
+                png_read_row(read_.png, y >= first && y - first < rows ? &band_[(y - first) * rowBytes()] : nullptr, nullptr);
+        return true;
+    }
+
+    bool decode(uint32_t count, uint32_t keep, uint8_t* out) {
+        if (!interlaced_) row_.resize(rowBytes());
         for (uint32_t r = 0; r < count; ++r, ++next_) {
+            if (next_ >= height) return message_ = "fewer rows than the header says", false;
+            if (interlaced_ && (band_.empty() || next_ - bandStart_ >= band_.size() / rowBytes()) && !decodeBand(next_)) return false;
+            const uint8_t* row = interlaced_ ? &band_[rowBytes() * (next_ - bandStart_)] : row_.data();
+            if (!interlaced_ && !readRow()) return false;
             uint8_t* texels = out + size_t(r) * width * keep;
-            if (next_ >= height) png_error(read_.png, "fewer rows than the header says");
-            const uint8_t* row = interlaced_ ? &whole_[rowBytes * next_] : row_.data();
-            if (!interlaced_) png_read_row(read_.png, row_.data(), nullptr);
             for (uint32_t x = 0; x < width; ++x)
                 for (uint32_t c = 0; c < keep; ++c) {
                     const size_t i = size_t(x) * channels + c;
@@ -108,14 +137,22 @@ private:
         return true;
     }
 
+    bool readRow() {
+        if (setjmp(png_jmpbuf(read_.png))) return false;
+        png_read_row(read_.png, row_.data(), nullptr);
+        return true;
+    }
+
     Read read_;
     ImageSource source_;
+    long start_;
+    size_t bandBytes_;
     size_t offset_ = 0;
     std::string message_;
     bool sixteen_ = false, interlaced_ = false;
-    uint32_t next_ = 0;
-    std::vector<uint8_t> row_, whole_;
-    std::vector<png_bytep> rows_;
+    int passes_ = 1;
+    uint32_t next_ = 0, bandStart_ = 0;
+    std::vector<uint8_t> row_, band_;
 };
 
 struct Write {
@@ -149,8 +186,8 @@ bool writePng(Write& w, const Image& image) {
 
 }  // namespace
 
-std::unique_ptr<ImageRows> openPng(const ImageSource& source, bool refuseAlpha) {
-    return std::make_unique<PngRows>(source, refuseAlpha);
+std::unique_ptr<ImageRows> openPng(const ImageSource& source, bool refuseAlpha, size_t interlacedBandBytes) {
+    return std::make_unique<PngRows>(source, refuseAlpha, interlacedBandBytes);
 }
 
 std::vector<uint8_t> encodePng(const Image& image) {

@@ -231,10 +231,36 @@ TEST(ImageIo, OtherFormatsGoThroughThePlugin) {
     }
 }
 
-// Without the plugin a TGA texture is unusable, with a one-line reason naming the plugin path
-// tried; JPEG and PNG need no plugin. `hlod build --strict` fails with it (exit 2).
-// An interlaced PNG is decoded whole (png_read_image); cut in half, libpng's error longjmps out of
-// that read: a one-line error naming the file (and, under ASan, nothing leaked on the way).
+// An interlaced PNG larger than the band is decoded in bands, the file read again for each: the
+// same texels as OpenImageIO's whole decode, from a file and from memory, for bands of one row, a
+// few rows and a band that does not divide the height, read in uneven batches.
+TEST(ImageIo, InterlacedPngDecodesInBands) {
+    TempDir dir;
+    const uint32_t w = 37, h = 23;
+    for (const auto& [type, depth] : {std::pair{PNG_COLOR_TYPE_RGB, 8}, std::pair{PNG_COLOR_TYPE_GRAY, 16}}) {
+        const std::string file = dir.file("i" + std::to_string(depth) + ".png");
+        writePngVariant(file, w, h, type, depth, true);
+        const Image expected = readWithOpenImageIO(file);
+        const std::vector<uint8_t> bytes = readFile(file);
+        const size_t rowBytes = size_t(w) * expected.channels * depth / 8;
+        for (const size_t band : {size_t(1), 3 * rowBytes, 5 * rowBytes + 1, 100 * rowBytes}) {
+            SCOPED_TRACE(file + ", band " + std::to_string(band));
+            const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.c_str(), "rb"), &std::fclose);
+            ASSERT_TRUE(f);
+            for (const ImageSource source : {ImageSource{f.get(), {}}, ImageSource{nullptr, bytes}}) {
+                const std::unique_ptr<ImageRows> rows = openPng(source, false, band);
+                std::vector<uint8_t> got(expected.pixels.size());
+                for (uint32_t y = 0, batch = 1; y < h; y += batch, batch = batch % 4 + 1)
+                    rows->read(std::min(batch, h - y), expected.channels, &got[size_t(y) * w * expected.channels]);
+                EXPECT_TRUE(got == expected.pixels);
+                EXPECT_THROW(rows->read(1, expected.channels, got.data()), ImageError) << "past the last row";
+            }
+        }
+    }
+}
+
+// An interlaced PNG cut in half: libpng's error longjmps out of a band's decode: a one-line
+// error naming the file (and, under ASan, nothing leaked on the way), whole or in bands.
 TEST(ImageIo, TruncatedInterlacedPngIsAnError) {
     TempDir dir;
     writePngVariant(dir.file("whole.png"), 64, 64, PNG_COLOR_TYPE_RGB, 8, true);
@@ -249,8 +275,14 @@ TEST(ImageIo, TruncatedInterlacedPngIsAnError) {
         EXPECT_EQ(what.rfind(dir.file("half.png") + ": ", 0), 0u) << what;
         EXPECT_EQ(what.find('\n'), std::string::npos) << what;
     }
+    const std::vector<uint8_t> half(bytes.begin(), bytes.begin() + bytes.size() / 2);
+    const std::unique_ptr<ImageRows> rows = openPng({nullptr, half}, false, 8 * 64 * 3);
+    std::vector<uint8_t> texels(64 * 64 * 3);
+    EXPECT_THROW(rows->read(64, 3, texels.data()), ImageError) << "in bands of 8 rows";
 }
 
+// Without the plugin a TGA texture is unusable, with a one-line reason naming the plugin path
+// tried; JPEG and PNG need no plugin. `hlod build --strict` fails with it (exit 2).
 TEST(ImageIo, MissingPluginIsAOneLineErrorNamingTheTexture) {
     TempDir dir;
     writeWithOpenImageIO(dir.file("t.tga"), OIIO::ImageSpec(16, 16, 3, OIIO::TypeDesc::UINT8), busyTexels(16, 16, 3).data());
