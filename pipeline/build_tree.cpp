@@ -74,7 +74,7 @@ double usedTexels(const MeshData& mesh, const Image& texture) {
 // not baked (image empty): its node stays untextured.
 BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, double factor, BlockTextures& textures) {
     std::vector<TexturedChart> original;  // by material and UV chart, each with the texels it covers
-    for (SubMesh& part : splitByMaterial(piece)) {
+    for (SubMesh& part : splitByMaterial(piece, false)) {
         std::vector<TexturedChart> charts;
         if (!part.mesh.texcoords.empty()) charts = textureCharts(textures, part.material, factor, part.mesh);
         if (charts.empty()) original.push_back({std::move(part.mesh), {}});
@@ -127,7 +127,7 @@ TextureFidelity leafFidelity(const std::vector<SubMesh>& sourceParts, const std:
 // `inherited` alone (bottomUp's BottomUpError::Simplifier).
 NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, const MeshData* measuredFrom, const SurfaceError& inherited,
                    double factor, uint32_t level, bool leaf, uint32_t blockIndex, const BuildOptions& options, BlockTextures& textures) {
-    std::vector<SubMesh> parts = splitByMaterial(simplified.piece);
+    std::vector<SubMesh> parts = splitByMaterial(simplified.piece, false);
     const Box3f bounds = pieceBounds(original.mesh);
     const double extent = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
     NodeOut out;

@@ -157,8 +157,8 @@ std::vector<uint8_t> sharedVertices(const Piece& piece) {
     return locked;
 }
 
-std::vector<SubMesh> splitByMaterial(const Piece& piece) {
-    const std::vector<uint8_t> locked = sharedVertices(piece);
+std::vector<SubMesh> splitByMaterial(const Piece& piece, bool withLocked) {
+    const std::vector<uint8_t> locked = withLocked ? sharedVertices(piece) : std::vector<uint8_t>{};
     std::vector<SubMesh> parts;
     std::vector<uint32_t> slot;
     std::vector<std::vector<uint32_t>> indices;
@@ -172,7 +172,7 @@ std::vector<SubMesh> splitByMaterial(const Piece& piece) {
     for (uint32_t m = 0; m < slot.size(); ++m) {
         if (slot[m] == kNone) continue;
         std::vector<uint32_t> kept;
-        SubMesh part{m, compact(piece.mesh, indices[slot[m]], &kept), {}};
+        SubMesh part{m, compact(piece.mesh, indices[slot[m]], withLocked ? &kept : nullptr), {}};
         for (uint32_t i : kept) part.locked.push_back(locked[i]);
         parts.push_back(std::move(part));
     }
