@@ -148,8 +148,8 @@ void addBuild(CLI::App& app, int& status) {
                     "with --mode bottom-up: bound (default: distance to the children's simplified surface + their "
                     "error, an upper bound), exact (distance to the original, slower) or simplifier (the children's "
                     "error + meshoptimizer's own quadric estimate, as Nexus: fastest, measures no distance, NOT a bound: "
-                    "on Lucy below the exact distance on 87 % of the nodes, as low as 1 % of it, and up to 4.4 x above it "
-                    "at coarse levels; needs --simplifier meshopt); pipeline/BUILD_SPEED.md")
+                    "below the exact distance on 87-93 % of the nodes (Lucy, a terrain), as low as 1 % of it, and up to "
+                    "9.6 x above it at the roots; needs --simplifier meshopt); pipeline/BUILD_SPEED.md")
         ->check(CLI::IsMember({"bound", "exact", "simplifier"}));
     sub->add_option("--planes", a->planes,
                     "balanced (default: triangle-count quantiles avoiding dense surfaces) or even (evenly spaced, "
