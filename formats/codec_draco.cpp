@@ -1,8 +1,11 @@
 // Geometry blobs: one Draco-compressed mesh per sub-mesh (FORMAT.md §Geometry blobs).
 // Positions on one power-of-two lattice (explicit Draco quantization, exact: see Lattice),
 // texture coordinates, normals and colours with per-attribute quantization. The record's
-// counts come from decoding the encoded bytes: Draco splits non-manifold vertices and drops
-// unused vertices and faces with a repeated index, so they can differ from the input's.
+// counts are those the decoder will produce, which can differ from the input's (Draco splits
+// non-manifold vertices and drops unused vertices and faces with a repeated index): the
+// encoder's own counts of encoded points and faces (SetTrackEncodedProperties; without it
+// Draco 1.5 reports 0), equal to a decode's (Codec.CountsAreThoseOfTheDecodedMesh) without
+// decoding the blob again.
 #include "formats/codec.h"
 #include "formats/draco_attribute.h"
 #include "formats/layout.h"
@@ -158,22 +161,18 @@ EncodedBlob encodeGeometry(const MeshData& m, const DracoOptions& o) {
     encoder.SetAttributeQuantization(GA::TEX_COORD, o.texcoordBits);
     encoder.SetAttributeQuantization(GA::NORMAL, o.normalBits);
     encoder.SetSpeedOptions(10 - o.compressionLevel, 10 - o.compressionLevel);
+    encoder.SetTrackEncodedProperties(true);
     draco::EncoderBuffer buffer;
     draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
     if (!status.ok()) throw std::runtime_error("encodeGeometry: Draco: " + status.error_msg_string());
-    draco::DecoderBuffer encoded;
-    encoded.Init(buffer.data(), buffer.size());
-    draco::Decoder decoder;
-    auto decoded = decoder.DecodeMeshFromBuffer(&encoded);
-    if (!decoded.ok()) throw std::runtime_error("encodeGeometry: Draco: " + decoded.status().error_msg_string());
 
     EncodedBlob blob;
     blob.bytes.assign(buffer.data(), buffer.data() + buffer.size());
     BlobRef& r = blob.info;
     r.kind = BlobKind::Geometry;
     r.codec = Codec::Draco;
-    r.triangles = decoded.value()->num_faces();
-    r.vertices = decoded.value()->num_points();
+    r.triangles = uint32_t(encoder.num_encoded_faces());
+    r.vertices = uint32_t(encoder.num_encoded_points());
     r.attributes = kAttrPosition | (m.texcoords.empty() ? 0 : kAttrTexcoord) | (m.normals.empty() ? 0 : kAttrNormal) |
                    (m.colors.empty() ? 0 : kAttrColor);
     r.positionBits = uint8_t(lattice.bits);

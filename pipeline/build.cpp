@@ -340,7 +340,8 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     if (!o.up.empty()) command += " --up " + o.up;
     if (o.jpegChroma420) command += " --jpeg-chroma 4:2:0";  // absent: 4:4:4, as before the option
     if (o.mode == BuildMode::BottomUp) command += " --mode bottom-up";  // absent: top-down, as before the option
-    if (o.mode == BuildMode::BottomUp && o.bottomUpError == BottomUpError::Exact) command += " --bottom-up-error exact";
+    if (o.mode == BuildMode::BottomUp && o.bottomUpError != BottomUpError::Bound)  // absent: bound, as before the option
+        command += std::string(" --bottom-up-error ") + bottomUpErrorName(o.bottomUpError);
     for (const auto& [name, value] : constantsAsPairs(o.constants, kUsedByBuild)) command += " --set " + name + "=" + value;
     meta.emplace_back("command", command);
     for (const auto& pair : constantsAsPairs(o.constants, kUsedByBuild)) meta.push_back(pair);
@@ -375,6 +376,7 @@ bool replaceableShard(const std::string& output) {
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     BuildOptions options = request.options;
     validateConstants(options.constants, kUsedByBuild);
+    checkBottomUpError(options);
     if (request.shard && !replaceableShard(request.output))
         throw std::invalid_argument(request.output + ": exists and is not a shard folder (refusing to replace it)");
     std::optional<SplitWork> work;  // an `hlod split` work folder: its blocks, options and input

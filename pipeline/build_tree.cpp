@@ -20,7 +20,8 @@
 // instead of the original ones (bottomUp below): each input triangle is simplified about 1.33
 // times instead of once per level. Its geometric error is by default an upper bound from the
 // children (bottomUp), without a pass over the original triangles; --bottom-up-error exact
-// measures against the original piece as top-down does.
+// measures against the original piece as top-down does; --bottom-up-error simplifier adds the
+// simplifier's own error estimate to the children's, measuring no distance at all (as Nexus).
 #include "pipeline/pipeline.h"
 #include "pipeline/tbb_sync.h"
 #include "pipeline/texture_charts.h"
@@ -37,6 +38,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <stdexcept>
 
 namespace hlod {
 namespace {
@@ -72,7 +74,7 @@ double usedTexels(const MeshData& mesh, const Image& texture) {
 // not baked (image empty): its node stays untextured.
 BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, double factor, BlockTextures& textures) {
     std::vector<TexturedChart> original;  // by material and UV chart, each with the texels it covers
-    for (SubMesh& part : splitByMaterial(piece)) {
+    for (SubMesh& part : splitByMaterial(piece, false)) {
         std::vector<TexturedChart> charts;
         if (!part.mesh.texcoords.empty()) charts = textureCharts(textures, part.material, factor, part.mesh);
         if (charts.empty()) original.push_back({std::move(part.mesh), {}});
@@ -121,17 +123,18 @@ TextureFidelity leafFidelity(const std::vector<SubMesh>& sourceParts, const std:
 // Textures, geometric error and packing of a simplified node; the same in both modes. The error
 // (error.cpp) is the two-sided distance to `measuredFrom` plus `inherited`, field by field:
 // top-down, the node's ORIGINAL piece and nothing; bottom-up, by default, the surface the node was
-// simplified from and its children's largest errors (bottomUp).
-NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, const MeshData& measuredFrom, const SurfaceError& inherited,
+// simplified from and its children's largest errors (bottomUp). Without `measuredFrom` it is
+// `inherited` alone (bottomUp's BottomUpError::Simplifier).
+NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, const MeshData* measuredFrom, const SurfaceError& inherited,
                    double factor, uint32_t level, bool leaf, uint32_t blockIndex, const BuildOptions& options, BlockTextures& textures) {
-    std::vector<SubMesh> parts = splitByMaterial(simplified.piece);
+    std::vector<SubMesh> parts = splitByMaterial(simplified.piece, false);
     const Box3f bounds = pieceBounds(original.mesh);
     const double extent = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
     NodeOut out;
     out.level = level;
     // Sample spacing: a hole of 1 / kMeasuredHole of the node's extent holds samples (error.cpp).
     if (!leaf) {
-        out.error = surfaceError(parts, {SubMesh{0, measuredFrom, {}}}, extent / (2 * kMeasuredHole));
+        if (measuredFrom) out.error = surfaceError(parts, {SubMesh{0, *measuredFrom, {}}}, extent / (2 * kMeasuredHole));
         out.error.oneSided += inherited.oneSided, out.error.max += inherited.max, out.error.mean += inherited.mean;
     }
     const double textureFactor = leaf ? 1.0 : factor;  // a leaf keeps the source's texels
@@ -241,6 +244,14 @@ Piece joinPieces(const std::vector<SimplifiedNode>& parts, bool& geometryOnly) {
 // children are leaves (they keep the original triangles, error 0: B is O) is measured against
 // its piece O, the exact measure. The mean adds the children's largest mean: an
 // estimate, not a bound (the build report's; the database stores the maximum).
+// BottomUpError::Simplifier: the node's error is its children's largest plus the error its
+// simplifier reports for simplifying them (SimplifiedNode::error: meshoptimizer's quadric error,
+// an area-weighted root mean square of distances to the merged triangles' planes, in input
+// units), in all three fields; no distance is measured. This is Nexus's choice (Ponchio, 2008,
+// PhD thesis "Multiresolution structures for interactive visualization of very large 3D
+// datasets", the error of a patch from its simplifier's quadric estimate and its children's;
+// section numbers not checked offline): like for like with Nexus's speed, but an estimate, NOT a
+// bound of the distance to the original; pipeline/BUILD_SPEED.md compares it with the exact measure.
 // The children's subtrees are independent: TBB tasks, their results taken in child order.
 struct BottomUpNode {
     NodeOut out;
@@ -256,7 +267,7 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
     BottomUpNode node;
     if (isLeaf(factor, c.levelFactor, options.leafRule)) {
         result = {piece, false};
-        node.out = finishNode(result, piece, piece.mesh, {}, factor, level, true, blockIndex, options, textures);
+        node.out = finishNode(result, piece, nullptr, {}, factor, level, true, blockIndex, options, textures);
     } else {
         std::vector<Piece> children = dividePiece(piece, static_cast<uint32_t>(c.levelFactor), options.planes);
         std::vector<SimplifiedNode> simplifiedChildren(children.size());
@@ -279,11 +290,16 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
         const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
         result = simplifyNode(input, std::max(1.0, double(input.mesh.triangleCount()) / target), options.simplifier);
         result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
-        // Leaf children keep the original triangles: their union is the piece itself (cut), so the
-        // node is measured against its uncut piece, exactly and on fewer triangles.
-        const bool bound = options.bottomUpError == BottomUpError::Bound && !isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
-        node.out = finishNode(result, piece, bound ? input.mesh : piece.mesh, bound ? inherited : SurfaceError{}, factor, level, false,
-                              blockIndex, options, textures);
+        if (options.bottomUpError == BottomUpError::Simplifier) {
+            inherited = {inherited.oneSided + result.error, inherited.max + result.error, inherited.mean + result.error};
+            node.out = finishNode(result, piece, nullptr, inherited, factor, level, false, blockIndex, options, textures);
+        } else {
+            // Leaf children keep the original triangles: their union is the piece itself (cut), so
+            // the node is measured against its uncut piece, exactly and on fewer triangles.
+            const bool bound = options.bottomUpError == BottomUpError::Bound && !isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
+            node.out = finishNode(result, piece, bound ? &input.mesh : &piece.mesh, bound ? inherited : SurfaceError{}, factor, level,
+                                  false, blockIndex, options, textures);
+        }
     }
     if (progress) progress->advance(piece.mesh.triangleCount());
     const std::lock_guard lock(tree.mutex);
@@ -318,7 +334,7 @@ void topDownLevel(Level& level, uint32_t levelBase, const BuildOptions& options,
             Pending& p = level.pending[i];
             const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
             const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier);
-            NodeOut out = finishNode(simplified, p.piece, p.piece.mesh, {}, p.factor, p.level, leaf, blockIndex, options, textures);
+            NodeOut out = finishNode(simplified, p.piece, &p.piece.mesh, {}, p.factor, p.level, leaf, blockIndex, options, textures);
             out.record.parentLocal = p.parentLocal;
             if (progress) progress->advance(p.piece.mesh.triangleCount());
             std::vector<Piece> children;
@@ -340,8 +356,15 @@ void topDownLevel(Level& level, uint32_t levelBase, const BuildOptions& options,
 
 }  // namespace
 
+void checkBottomUpError(const BuildOptions& o) {
+    if (o.mode == BuildMode::BottomUp && o.bottomUpError == BottomUpError::Simplifier && o.simplifier != Simplifier::Meshopt)
+        throw std::invalid_argument("--bottom-up-error simplifier needs --simplifier meshopt (OpenMesh's decimater reports no "
+                                    "error of its own; pipeline/BUILD_SPEED.md)");
+}
+
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
                       const BuildOptions& blockOptions, Progress* progress, const std::function<void(NodeRecord&&)>& emit) {
+    checkBottomUpError(blockOptions);
     BuildOptions options = blockOptions;  // every node of the block on one position lattice
     if (options.draco.positionStep <= 0)
         options.draco.positionStep = positionLatticeStep(pieceBounds(block.mesh), options.draco.positionBits);

@@ -65,15 +65,21 @@ MeshData compact(const MeshData& mesh, const std::vector<uint32_t>& indices, std
 // position with an unreferenced twin is classified Kind_Locked by its simplifier (a two-way
 // wedge whose twin has no open edge is not a seam), so it is never collapsed; the twins are
 // appended after the real vertices and never appear in the result.
+// `error` (when given) receives meshoptimizer's own error of the result: 0.18 returns the square
+// root of the largest quadric error of its collapses (each an area-weighted mean of squared
+// distances to the planes of the triangles merged into the vertex) on positions scaled to the
+// unit cube, so it is multiplied by meshopt_simplifyScale of the same positions (its header).
 std::vector<uint32_t> simplifyMeshopt(const MeshData& mesh, const std::vector<uint32_t>& indices, size_t targetTriangles,
-                                      const std::vector<uint8_t>& locked) {
+                                      const std::vector<uint8_t>& locked, double* error) {
     std::vector<float> positions = mesh.positions;
     for (size_t i = 0; i < locked.size(); ++i)
         if (locked[i]) positions.insert(positions.end(), mesh.positions.begin() + 3 * i, mesh.positions.begin() + 3 * i + 3);
     std::vector<uint32_t> out(indices.size());
+    float relative = 0;
     const size_t n = meshopt_simplify(out.data(), indices.data(), indices.size(), positions.data(),
-                                      positions.size() / 3, 3 * sizeof(float), targetTriangles * 3, FLT_MAX, 0, nullptr);
+                                      positions.size() / 3, 3 * sizeof(float), targetTriangles * 3, FLT_MAX, 0, &relative);
     out.resize(n);
+    if (error) *error = double(relative) * meshopt_simplifyScale(positions.data(), positions.size() / 3, 3 * sizeof(float));
     return out;
 }
 
@@ -151,8 +157,8 @@ std::vector<uint8_t> sharedVertices(const Piece& piece) {
     return locked;
 }
 
-std::vector<SubMesh> splitByMaterial(const Piece& piece) {
-    const std::vector<uint8_t> locked = sharedVertices(piece);
+std::vector<SubMesh> splitByMaterial(const Piece& piece, bool withLocked) {
+    const std::vector<uint8_t> locked = withLocked ? sharedVertices(piece) : std::vector<uint8_t>{};
     std::vector<SubMesh> parts;
     std::vector<uint32_t> slot;
     std::vector<std::vector<uint32_t>> indices;
@@ -166,7 +172,7 @@ std::vector<SubMesh> splitByMaterial(const Piece& piece) {
     for (uint32_t m = 0; m < slot.size(); ++m) {
         if (slot[m] == kNone) continue;
         std::vector<uint32_t> kept;
-        SubMesh part{m, compact(piece.mesh, indices[slot[m]], &kept), {}};
+        SubMesh part{m, compact(piece.mesh, indices[slot[m]], withLocked ? &kept : nullptr), {}};
         for (uint32_t i : kept) part.locked.push_back(locked[i]);
         parts.push_back(std::move(part));
     }
@@ -176,12 +182,18 @@ std::vector<SubMesh> splitByMaterial(const Piece& piece) {
 namespace {
 
 // Simplifies `indices` (into `mesh`) to about `target` triangles; when the result exceeds
-// kTargetSlack x target, the hole-filling fallback of the header comment.
+// kTargetSlack x target, the hole-filling fallback of the header comment. `error` (when given)
+// receives the sum of meshoptimizer's errors over the rounds (each round's is measured from the
+// previous round's result; 0 for OpenMesh, which reports none).
 std::vector<uint32_t> simplifyToTarget(const MeshData& mesh, const std::vector<uint32_t>& indices, size_t target,
-                                       const std::vector<uint8_t>& lock, Simplifier simplifier) {
+                                       const std::vector<uint8_t>& lock, Simplifier simplifier, double* error = nullptr) {
+    if (error) *error = 0;
     auto simplify = [&](const std::vector<uint32_t>& in) {
-        return simplifier == Simplifier::Meshopt ? simplifyMeshopt(mesh, in, target, lock)
-                                                 : simplifyOpenMesh(mesh, in, target, lock);
+        double roundError = 0;
+        std::vector<uint32_t> out = simplifier == Simplifier::Meshopt ? simplifyMeshopt(mesh, in, target, lock, &roundError)
+                                                                      : simplifyOpenMesh(mesh, in, target, lock);
+        if (error) *error += roundError;
+        return out;
     };
     std::vector<uint32_t> result = simplify(indices);
     for (int round = 0; round < kFillRounds && double(result.size() / 3) > kTargetSlack * double(target); ++round) {
@@ -225,7 +237,7 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
         for (uint32_t p : position) ++wedges[p];
         for (size_t i = 0; i < vc; ++i) seamLock[i] = seamLock[i] || wedges[position[i]] > 1;
     }
-    std::vector<uint32_t> result = simplifyToTarget(m, m.indices, target, seamLock, simplifier);
+    std::vector<uint32_t> result = simplifyToTarget(m, m.indices, target, seamLock, simplifier, &out.error);
     if (double(result.size() / 3) <= kTargetSlack * double(target)) {
         std::vector<uint32_t> material(vc);  // weldPiece gives every vertex one material
         for (size_t t = 0; t < m.triangleCount(); ++t)
@@ -247,7 +259,7 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
     for (size_t i = 0; i < vc; ++i) geometryLock[position[i]] |= lock[i];
     std::vector<uint32_t> indices(m.indices.size());
     meshopt_remapIndexBuffer(indices.data(), m.indices.data(), m.indices.size(), position.data());
-    out.piece.mesh = compact(geometry, simplifyToTarget(geometry, indices, target, geometryLock, simplifier));
+    out.piece.mesh = compact(geometry, simplifyToTarget(geometry, indices, target, geometryLock, simplifier, &out.error));
     out.piece.materials.assign(out.piece.mesh.triangleCount(), 0);
     out.geometryOnly = true;
     return out;

@@ -27,12 +27,16 @@ enum class BuildMode {
     BottomUp,  // each node simplifies its children's simplified triangles, welded (~1.33 passes)
 };
 inline const char* buildModeName(BuildMode m) { return m == BuildMode::TopDown ? "top-down" : "bottom-up"; }
-// A bottom-up node's geometric error (build_tree.cpp; pipeline/BUILD_SPEED.md has both measured).
+// A bottom-up node's geometric error (build_tree.cpp; pipeline/BUILD_SPEED.md has all three measured).
 enum class BottomUpError {
-    Bound,  // default: two-sided distance to its children's simplified surface + their largest error
-    Exact,  // two-sided distance to its original piece, as top-down (a pass over the original per level)
+    Bound,       // default: two-sided distance to its children's simplified surface + their largest error
+    Exact,       // two-sided distance to its original piece, as top-down (a pass over the original per level)
+    Simplifier,  // the children's largest error + the simplifier's own estimate (meshopt only; Nexus's
+                 // choice): no distance measured, not a bound of the distance to the original
 };
-inline const char* bottomUpErrorName(BottomUpError e) { return e == BottomUpError::Bound ? "bound" : "exact"; }
+inline const char* bottomUpErrorName(BottomUpError e) {
+    return e == BottomUpError::Bound ? "bound" : e == BottomUpError::Exact ? "exact" : "simplifier";
+}
 // The smallest hole the geometric error must see, as a fraction of the node's extent (issue #16;
 // build_tree.cpp samples at half of it).
 inline constexpr double kMeasuredHole = 10;

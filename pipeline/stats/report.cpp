@@ -204,7 +204,10 @@ void printStats(std::ostream& os, const Stats& s) {
         os << "measured by the build (" << buildReportPath(s.summary.path) << "): "
            << (s.treeError == "bound" ? "upper bound of the error against the original surface (distance to the children's "
                                         "surface + their largest error, --mode bottom-up; input units)\n"
-                                      : "error against the original surface (input units)\n");
+               : s.treeError == "simplifier"
+                   ? "the simplifier's estimate, no distance measured (the children's largest + meshoptimizer's quadric error, "
+                     "--bottom-up-error simplifier; not a bound; input units)\n"
+                   : "error against the original surface (input units)\n");
         const std::vector<LevelQuality> quality = levelQuality(s.build->nodes);
         for (size_t l = 0; l < quality.size(); ++l) {
             const LevelQuality& q = quality[l];

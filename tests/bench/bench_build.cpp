@@ -2,10 +2,12 @@
 // subdivided twice: 1.6 M) and a ~17 M triangle single generated terrain mesh (one PLY, so the
 // out-of-core read and block split are measured too), runs the build in a child process and prints input triangles per CPU-second, wall time, peak RSS
 // (the child's ru_maxrss) and output bytes per input triangle, then per level the largest and the
-// mean two-sided geometric error the build measured (error.cpp; input units).
+// mean geometric error the build stored (error.cpp's two-sided distance, or with --bottom-up-error
+// simplifier meshoptimizer's estimate; input units).
 // Reference (nxsbuild, same kind of machine): 43-58 k tri/CPU-s, 30.5 B/tri, ~430 MB RSS.
 //   hlod_bench_build [--dir DIR] [--sizes 1,17] [--simplifier meshopt|openmesh|both]
-//                    [--mode top-down|bottom-up|both] [-j N] [--memory-limit BYTES]
+//                    [--mode top-down|bottom-up|both] [--bottom-up-error bound|exact|simplifier]
+//                    [-j N] [--memory-limit BYTES]
 #include "pipeline/pipeline.h"
 #include "tests/support/child_usage.h"
 
@@ -104,14 +106,14 @@ struct Result {
     std::string errors;  // per level, from the build's measures
 };
 
-Result runChild(const std::string& input, const std::string& output, Simplifier simplifier, BuildMode mode, int jobs,
-                uint64_t memoryLimit) {
+Result runChild(const std::string& input, const std::string& output, Simplifier simplifier, BuildMode mode,
+                BottomUpError error, int jobs, uint64_t memoryLimit) {
     const test::ChildUsage child = test::runInChild([&] {
         std::ostringstream log;
         Progress progress(log, false);
         BuildRequest r;
         r.input = input, r.output = output;
-        r.options.simplifier = simplifier, r.options.jobs = jobs, r.options.mode = mode;
+        r.options.simplifier = simplifier, r.options.jobs = jobs, r.options.mode = mode, r.options.bottomUpError = error;
         if (memoryLimit) r.options.memoryLimit = memoryLimit;
         const BuildSummary s = runBuild(r, progress);
         std::ofstream(output + ".tris") << s.inputTriangles;
@@ -135,22 +137,36 @@ Result runChild(const std::string& input, const std::string& output, Simplifier 
     return res;
 }
 
+int usage(const char* why, int status = 2) {
+    std::fprintf(status ? stderr : stdout, "hlod_bench_build: %s\nusage: hlod_bench_build [--dir DIR] [--sizes 1,17] [--simplifier meshopt|openmesh|both]\n"
+                         "  [--mode top-down|bottom-up|both] [--bottom-up-error bound|exact|simplifier] [-j N] [--memory-limit BYTES]\n", why);
+    return status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::string dir = (fs::temp_directory_path() / "hlod-bench").string(), sizes = "1,17", which = "both", modes = "top-down";
+    std::string errorName = "bound";
     int jobs = 0;
     uint64_t memoryLimit = 0;  // bytes; 0 = the build's default (1 GiB)
-    for (int i = 1; i + 1 < argc; i += 2) {
+    for (int i = 1; i < argc; i += 2) {
         const std::string a = argv[i];
+        if (a == "-h" || a == "--help") return usage("builds the inputs (written into DIR when absent) and prints figures", 0);
+        if (i + 1 == argc) return usage((a + " needs a value").c_str());
         if (a == "--dir") dir = argv[i + 1];
         else if (a == "--sizes") sizes = argv[i + 1];
         else if (a == "--simplifier") which = argv[i + 1];
         else if (a == "--mode") modes = argv[i + 1];
+        else if (a == "--bottom-up-error") errorName = argv[i + 1];
         else if (a == "-j") jobs = std::atoi(argv[i + 1]);
         else if (a == "--memory-limit") memoryLimit = std::strtoull(argv[i + 1], nullptr, 10);
+        else return usage(("unknown option " + a).c_str());
     }
-    std::printf("%-22s %-9s %-9s %12s %9s %9s %14s %10s %8s\n", "input", "simplify", "mode", "input tris", "wall s", "CPU s",
+    if (errorName != "bound" && errorName != "exact" && errorName != "simplifier") return usage("bad --bottom-up-error");
+    const BottomUpError error = errorName == "exact" ? BottomUpError::Exact
+                                : errorName == "simplifier" ? BottomUpError::Simplifier : BottomUpError::Bound;
+    std::printf("%-22s %-9s %-20s %12s %9s %9s %14s %10s %8s\n", "input", "simplify", "mode", "input tris", "wall s", "CPU s",
                 "tri/CPU-s", "peak RSS", "B/tri");
     std::stringstream list(sizes);
     for (std::string item; std::getline(list, item, ',');) {
@@ -162,9 +178,12 @@ int main(int argc, char** argv) {
             if (!isMeshopt && size > 1 && which == "both") continue;  // ~50 k tri/s: 1 M only
             for (BuildMode mode : {BuildMode::TopDown, BuildMode::BottomUp}) {
                 if (modes != "both" && modes != buildModeName(mode)) continue;
-                const Result r = runChild(input, dir + "/out.hlod", s, mode, jobs, memoryLimit);
-                std::printf("%-22s %-9s %-9s %12llu %9.1f %9.1f %14.0f %7.0f MB %8.2f\n%s", fs::path(input).filename().c_str(),
-                            isMeshopt ? "meshopt" : "openmesh", buildModeName(mode), static_cast<unsigned long long>(r.triangles),
+                const bool bottomUp = mode == BuildMode::BottomUp;
+                if (bottomUp && !isMeshopt && error == BottomUpError::Simplifier) continue;  // refused: meshopt only
+                const std::string modeName = std::string(buildModeName(mode)) + (bottomUp ? std::string("/") + bottomUpErrorName(error) : "");
+                const Result r = runChild(input, dir + "/out.hlod", s, mode, error, jobs, memoryLimit);
+                std::printf("%-22s %-9s %-20s %12llu %9.1f %9.1f %14.0f %7.0f MB %8.2f\n%s", fs::path(input).filename().c_str(),
+                            isMeshopt ? "meshopt" : "openmesh", modeName.c_str(), static_cast<unsigned long long>(r.triangles),
                             r.wall, r.cpu, r.cpu > 0 ? r.triangles / r.cpu : 0.0, r.peakRss / 1e6,
                             r.triangles ? double(r.bytes) / r.triangles : 0.0, r.errors.c_str());
             }

@@ -89,16 +89,54 @@ TEST(Codec, RejectsLatticesBeyondExactFloatQuantization) {
     EXPECT_THROW(encodeGeometry(nan, {}), std::runtime_error);
 }
 
-// Draco splits a vertex shared by two fans (a bowtie) into two: the record counts 6 vertices.
+// The record's counts are the encoder's (not a decode of the blob): they must be the decoded
+// mesh's in every case where Draco's output differs from its input. A bowtie (a vertex shared by
+// two fans) is split into two vertices; an unused vertex and a face with a repeated index are
+// dropped; a texture seam (one position, two texture coordinates) and per-vertex normals and
+// colours; every compression level (0 is Draco's sequential coder, the others edgebreaker).
 TEST(Codec, CountsAreThoseOfTheDecodedMesh) {
     MeshData bowtie;
     bowtie.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0};
     bowtie.indices = {0, 1, 2, 0, 3, 4};
-    const EncodedBlob blob = encodeGeometry(bowtie, {});
-    const MeshData decoded = decodeGeometry(blob.bytes, "bowtie");
-    EXPECT_EQ(decoded.vertexCount(), 6u);
-    EXPECT_EQ(blob.info.vertices, decoded.vertexCount());
-    EXPECT_EQ(blob.info.triangles, decoded.triangleCount());
+    MeshData unused = gridMesh(3);
+    unused.positions.insert(unused.positions.end(), {5, 5, 5});
+    unused.texcoords.insert(unused.texcoords.end(), {0.5f, 0.5f});
+    MeshData degenerate = gridMesh(3);
+    degenerate.indices.insert(degenerate.indices.end(), {0, 0, 5, 1, 2, 1});
+    MeshData seam = gridMesh(4);
+    seam.texcoords.clear();
+    for (size_t v = 0; v < seam.vertexCount(); ++v) {
+        seam.texcoords.insert(seam.texcoords.end(), {seam.positions[3 * v] * 0.25f, seam.positions[3 * v + 1] * 0.25f});
+        seam.normals.insert(seam.normals.end(), {0, 0, 1});
+        seam.colors.insert(seam.colors.end(), {uint8_t(v * 9), 100, 200, 255});
+    }
+    const uint32_t n = uint32_t(seam.vertexCount());  // vertex 0's position again, other attributes
+    seam.positions.insert(seam.positions.end(), seam.positions.begin(), seam.positions.begin() + 3);
+    seam.texcoords.insert(seam.texcoords.end(), {0.9f, 0.9f});
+    seam.normals.insert(seam.normals.end(), {0, 1, 0});
+    seam.colors.insert(seam.colors.end(), {1, 2, 3, 255});
+    for (uint32_t& i : seam.indices)
+        if (i == 0) i = n;
+    seam.indices.insert(seam.indices.end(), {0, 1, 6});
+    const std::vector<std::pair<const char*, const MeshData*>> meshes = {
+        {"bowtie", &bowtie}, {"unused", &unused}, {"degenerate", &degenerate}, {"seam", &seam}};
+    for (int level : {0, 1, 7, 10})
+        for (const auto& [name, mesh] : meshes) {
+            DracoOptions o;
+            o.compressionLevel = level;
+            const EncodedBlob blob = encodeGeometry(*mesh, o);
+            const MeshData decoded = decodeGeometry(blob.bytes, name);
+            EXPECT_EQ(blob.info.vertices, decoded.vertexCount()) << name << " level " << level;
+            EXPECT_EQ(blob.info.triangles, decoded.triangleCount()) << name << " level " << level;
+            if (level != 7) continue;
+            if (mesh == &bowtie) {
+                EXPECT_EQ(decoded.vertexCount(), 6u);
+            } else if (mesh == &unused) {
+                EXPECT_EQ(decoded.vertexCount(), mesh->vertexCount() - 1);
+            } else if (mesh == &degenerate) {
+                EXPECT_EQ(decoded.triangleCount(), mesh->triangleCount() - 2);
+            }
+        }
 }
 
 }  // namespace

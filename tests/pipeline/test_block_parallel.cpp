@@ -1,6 +1,6 @@
 // The nodes of one block built in parallel (build_tree.cpp: a top-down level's nodes, a bottom-up
 // node's children's subtrees): a single-block build of several levels gives the same database
-// bytes and the same per-node report at any -j, top-down and bottom-up, textured (the block's
+// bytes and the same per-node report at any -j, top-down and bottom-up (with either error), textured (the block's
 // texture cache shared by the nodes) and not; several blocks at once with more cores than one
 // block keeps busy, under a memory gate that admits one block at a time, finish with the same bytes.
 #include "helpers.h"
@@ -75,6 +75,18 @@ TEST(BlockParallel, TexturedSingleBlockByteIdenticalForAnyJobsBottomUp) {
     scan.chunks = 12, scan.chartCells = 2;
     const ChunkedScan input = writeChunkedScan(dir.path.string(), "facade", facadeMesh(100), scan);
     expectSameForAnyJobs(input.obj, dir, oneBlock(BuildMode::BottomUp));
+}
+
+// --bottom-up-error simplifier: no distance measured, the estimates of the children's subtrees
+// combined in child order.
+TEST(BlockParallel, TexturedSingleBlockByteIdenticalForAnyJobsSimplifierError) {
+    TempDir dir;
+    ChunkedScanOptions scan;
+    scan.chunks = 12, scan.chartCells = 2;
+    const ChunkedScan input = writeChunkedScan(dir.path.string(), "facade", facadeMesh(100), scan);
+    BuildOptions o = oneBlock(BuildMode::BottomUp);
+    o.bottomUpError = BottomUpError::Simplifier;
+    expectSameForAnyJobs(input.obj, dir, o);
 }
 
 TEST(BlockParallel, UntexturedSingleBlockByteIdenticalForAnyJobs) {

@@ -5,7 +5,11 @@
 // the bound too where the children are leaves, the original triangles).
 // Both builds of one block simplify the same nodes (the error does not steer the simplification),
 // so their nodes compare one to one. Top-down keeps the exact measure whatever the option.
+// --bottom-up-error simplifier stores the children's largest error plus meshoptimizer's own
+// estimate: no distance is measured, so it is only checked for what it promises (monotone up the
+// tree, in input units, another figure than the bound's, meshopt only).
 #include "helpers.h"
+#include "tests/support/run_hlod.h"
 
 #include <algorithm>
 
@@ -18,9 +22,10 @@ struct BlockBuild {
     std::vector<NodeRecord> records;  // emission order = the local index of stats
 };
 
-BlockBuild buildTerrainBlock(BuildMode mode, BottomUpError error, int positionBits = 14) {
+BlockBuild buildTerrainBlock(BuildMode mode, BottomUpError error, int positionBits = 14, float scale = 1) {
     Piece block = terrain(64);
     block.mesh.texcoords.clear();
+    for (float& x : block.mesh.positions) x *= scale;
     BuildOptions o;
     o.constants.desiredTris = 100;
     o.mode = mode;
@@ -138,6 +143,81 @@ TEST(BottomUpError, IsRecordedInTheMetadata) {
     o.bottomUpError = BottomUpError::Exact;
     EXPECT_EQ(find(buildMeta("in.ply", o), "tree.error"), "exact");
     EXPECT_NE(find(buildMeta("in.ply", o), "command").find("--mode bottom-up --bottom-up-error exact"), std::string::npos);
+    o.bottomUpError = BottomUpError::Simplifier;
+    EXPECT_EQ(find(buildMeta("in.ply", o), "tree.error"), "simplifier");
+    EXPECT_NE(find(buildMeta("in.ply", o), "command").find("--mode bottom-up --bottom-up-error simplifier"), std::string::npos);
+}
+
+// The same nodes as the bound's build (the error does not steer the simplification), every
+// non-leaf node with a positive estimate in all three fields alike, every child's at most its
+// parent's before the build's propagation (the children's largest + a non-negative estimate),
+// and other figures than the bound's.
+TEST(BottomUpError, SimplifierEstimateGrowsUpTheTreeAndDiffersFromTheBound) {
+    const BlockBuild s = buildTerrainBlock(BuildMode::BottomUp, BottomUpError::Simplifier);
+    const BlockBuild b = buildTerrainBlock(BuildMode::BottomUp, BottomUpError::Bound);
+    ASSERT_EQ(s.records.size(), 341u);
+    ASSERT_EQ(b.records.size(), s.records.size());
+    size_t inner = 0, differ = 0, grows = 0;
+    std::vector<bool> leaf(s.records.size(), true);
+    for (size_t i = 1; i < s.records.size(); ++i) leaf[s.records[i].parentLocal] = false;
+    for (size_t i = 0; i < s.records.size(); ++i) {
+        ASSERT_EQ(s.stats.triangles[i], b.stats.triangles[i]) << "node " << i;
+        ASSERT_EQ(s.records[i].node.blobs.size(), b.records[i].node.blobs.size()) << "node " << i;
+        for (size_t k = 0; k < s.records[i].node.blobs.size(); ++k)
+            EXPECT_EQ(s.records[i].node.blobs[k].bytes, b.records[i].node.blobs[k].bytes) << "node " << i;
+        const SurfaceError& e = s.stats.measured[i];
+        if (leaf[i]) {
+            EXPECT_EQ(e.max, 0.0) << "leaf " << i;
+            continue;
+        }
+        ++inner;
+        EXPECT_GT(e.max, 0.0) << "node " << i;
+        EXPECT_EQ(e.oneSided, e.max) << "node " << i;
+        EXPECT_EQ(e.mean, e.max) << "node " << i;
+        differ += std::abs(e.max - b.stats.measured[i].max) > 1e-3 * b.stats.measured[i].max;
+    }
+    for (size_t i = 1; i < s.records.size(); ++i) {
+        const uint32_t parent = s.records[i].parentLocal;
+        EXPECT_LE(s.stats.measured[i].max, s.stats.measured[parent].max) << "node " << i;
+        EXPECT_LE(s.records[i].node.geometricError, s.records[parent].node.geometricError) << "node " << i;
+        grows += !leaf[i] && s.stats.measured[i].max < s.stats.measured[parent].max;
+    }
+    EXPECT_EQ(inner, 85u);
+    EXPECT_EQ(differ, inner);   // not the bound's figures
+    EXPECT_GT(grows, inner / 2);  // each level adds its own simplification's estimate
+}
+
+// meshoptimizer reports its error relative to the positions' extent; the node stores it in input
+// units: the block scaled by 8 (exact in floating point: the same division, lattice and collapses)
+// stores 8 times the errors.
+TEST(BottomUpError, SimplifierEstimateIsInInputUnits) {
+    const BlockBuild a = buildTerrainBlock(BuildMode::BottomUp, BottomUpError::Simplifier);
+    const BlockBuild b = buildTerrainBlock(BuildMode::BottomUp, BottomUpError::Simplifier, 14, 8);
+    ASSERT_EQ(a.records.size(), b.records.size());
+    for (size_t i = 0; i < a.records.size(); ++i) {
+        ASSERT_EQ(a.stats.triangles[i], b.stats.triangles[i]) << "node " << i;
+        EXPECT_NEAR(b.stats.measured[i].max, 8 * a.stats.measured[i].max, 1e-9 * b.stats.measured[i].max) << "node " << i;
+    }
+    EXPECT_GT(a.stats.measured[0].max, 0.0);
+}
+
+// OpenMesh's decimater reports no error of its own: the combination is a usage error (exit 2).
+TEST(BottomUpError, SimplifierEstimateNeedsMeshoptimizer) {
+    BuildOptions o;
+    o.mode = BuildMode::BottomUp;
+    o.bottomUpError = BottomUpError::Simplifier;
+    o.simplifier = Simplifier::OpenMesh;
+    EXPECT_THROW(buildBlock(terrain(8), {}, 0, o, nullptr, [](NodeRecord&&) {}), std::invalid_argument);
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(8).mesh, true);
+    const RunResult r = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--mode", "bottom-up", "--bottom-up-error",
+                                 "simplifier", "--simplifier", "openmesh"});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("hlod build: --bottom-up-error simplifier needs --simplifier meshopt"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("t.hlod")));
+    const RunResult ok = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--mode", "bottom-up", "--bottom-up-error",
+                                  "simplifier", "--set", "c_desiredTris=20"});
+    EXPECT_EQ(ok.exitCode, 0) << ok.outAndErr();
 }
 
 }  // namespace
