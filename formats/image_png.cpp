@@ -35,8 +35,9 @@ public:
         if (refuseAlpha && alpha) throw ImageNeedsPlugin("a PNG with alpha");
     }
 
+    // After an error libpng's state is undefined: every later read fails with the same message.
     void read(uint32_t count, uint32_t keep, uint8_t* out) override {
-        if (!decode(count, keep, out)) throw ImageError(message_);
+        if (failed_ || !decode(count, keep, out)) failed_ = true, throw ImageError(message_);
     }
 
 private:
@@ -106,7 +107,8 @@ private:
     bool decodeBand(uint32_t first) {
         if (first > 0) {
             bool alpha = false;
-            if (source_.file && std::fseek(source_.file, start_, SEEK_SET) != 0) return message_ = "cannot seek", false;
+            if (source_.file && (start_ < 0 || std::fseek(source_.file, start_, SEEK_SET) != 0))
+                return message_ = "cannot seek back to re-read an interlaced PNG", false;
             offset_ = 0;
             if (!open(alpha)) return false;
         }
@@ -149,7 +151,7 @@ private:
     size_t bandBytes_;
     size_t offset_ = 0;
     std::string message_;
-    bool sixteen_ = false, interlaced_ = false;
+    bool sixteen_ = false, interlaced_ = false, failed_ = false;
     int passes_ = 1;
     uint32_t next_ = 0, bandStart_ = 0;
     std::vector<uint8_t> row_, band_;

@@ -21,7 +21,7 @@
 // times instead of once per level. Its geometric error is by default an upper bound from the
 // children (bottomUp), without a pass over the original triangles; --bottom-up-error exact
 // measures against the original piece as top-down does; --bottom-up-error simplifier adds the
-// simplifier's own error estimate to the children's, measuring no distance at all (as Nexus).
+// simplifier's own error estimate to the children's, measuring no distance at all.
 #include "pipeline/pipeline.h"
 #include "pipeline/tbb_sync.h"
 #include "pipeline/texture_charts.h"
@@ -247,11 +247,12 @@ Piece joinPieces(const std::vector<SimplifiedNode>& parts, bool& geometryOnly) {
 // BottomUpError::Simplifier: the node's error is its children's largest plus the error its
 // simplifier reports for simplifying them (SimplifiedNode::error: meshoptimizer's quadric error,
 // an area-weighted root mean square of distances to the merged triangles' planes, in input
-// units), in all three fields; no distance is measured. This is Nexus's choice (Ponchio, 2008,
-// PhD thesis "Multiresolution structures for interactive visualization of very large 3D
-// datasets", the error of a patch from its simplifier's quadric estimate and its children's;
-// section numbers not checked offline): like for like with Nexus's speed, but an estimate, NOT a
-// bound of the distance to the original; pipeline/BUILD_SPEED.md compares it with the exact measure.
+// units), in all three fields; no distance is measured. Nexus's nxsbuild measures none either
+// (Ponchio, 2008, PhD thesis "Multiresolution structures for interactive visualization of very
+// large 3D datasets"; its source stores a patch's root-mean-square edge length after simplifying,
+// src/nxsbuild/mesh.cpp edgeLengthError, made no smaller than its children's). An estimate, NOT a
+// bound of the distance to the original: a hole patch (simplify.cpp) is new surface whose distance
+// to the original is never counted; pipeline/BUILD_SPEED.md compares it with the exact measure.
 // The children's subtrees are independent: TBB tasks, their results taken in child order.
 struct BottomUpNode {
     NodeOut out;

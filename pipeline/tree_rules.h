@@ -31,11 +31,17 @@ inline const char* buildModeName(BuildMode m) { return m == BuildMode::TopDown ?
 enum class BottomUpError {
     Bound,       // default: two-sided distance to its children's simplified surface + their largest error
     Exact,       // two-sided distance to its original piece, as top-down (a pass over the original per level)
-    Simplifier,  // the children's largest error + the simplifier's own estimate (meshopt only; Nexus's
-                 // choice): no distance measured, not a bound of the distance to the original
+    Simplifier,  // the children's largest error + the simplifier's own estimate (meshopt only): no
+                 // distance measured, not a bound of the distance to the original
 };
 inline const char* bottomUpErrorName(BottomUpError e) {
     return e == BottomUpError::Bound ? "bound" : e == BottomUpError::Exact ? "exact" : "simplifier";
+}
+// The value of a --bottom-up-error name; false for an unknown name.
+inline bool parseBottomUpError(const std::string& name, BottomUpError& out) {
+    for (const BottomUpError e : {BottomUpError::Bound, BottomUpError::Exact, BottomUpError::Simplifier})
+        if (name == bottomUpErrorName(e)) return out = e, true;
+    return false;
 }
 // The smallest hole the geometric error must see, as a fraction of the node's extent (issue #16;
 // build_tree.cpp samples at half of it).

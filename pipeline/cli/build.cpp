@@ -27,7 +27,7 @@ struct BuildArgs {
     std::string simplifier = "meshopt";
     std::string leafRule = "below-one";
     std::string mode = "top-down";
-    std::string bottomUpError = "bound";
+    std::string bottomUpError;  // empty: not given (bound)
     std::string planes = "balanced";
     std::string blocks;  // "A:B" shard selection
     ProgressOptions progress;
@@ -91,9 +91,9 @@ int runBuildCommand(BuildArgs& a) {
     o.simplifier = a.simplifier == "openmesh" ? Simplifier::OpenMesh : Simplifier::Meshopt;
     o.leafRule = a.leafRule == "stop-before" ? LeafRule::StopBefore : LeafRule::BelowOne;
     o.mode = a.mode == "bottom-up" ? BuildMode::BottomUp : BuildMode::TopDown;
-    o.bottomUpError = a.bottomUpError == "exact"        ? BottomUpError::Exact
-                      : a.bottomUpError == "simplifier" ? BottomUpError::Simplifier
-                                                        : BottomUpError::Bound;
+    if (!a.bottomUpError.empty() && o.mode != BuildMode::BottomUp)  // a subcommand takes only what it uses
+        throw std::invalid_argument("--bottom-up-error needs --mode bottom-up (top-down measures against the original)");
+    if (!a.bottomUpError.empty()) parseBottomUpError(a.bottomUpError, o.bottomUpError);  // CLI11 checked the name
     o.planes = a.planes == "even" ? Planes::Even : Planes::Balanced;
     if (!a.blocks.empty()) parseBlockRange(a.blocks, a.request);
     printConstants(std::cout, o.constants, kUsedByBuild);
@@ -147,7 +147,7 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_option("--bottom-up-error", a->bottomUpError,
                     "with --mode bottom-up: bound (default: distance to the children's simplified surface + their "
                     "error, an upper bound), exact (distance to the original, slower) or simplifier (the children's "
-                    "error + meshoptimizer's own quadric estimate, as Nexus: fastest, measures no distance, NOT a bound: "
+                    "error + meshoptimizer's own quadric estimate: fastest, measures no distance (nor does nxsbuild), NOT a bound: "
                     "below the exact distance on 87-93 % of the nodes (Lucy, a terrain), as low as 1 % of it, and up to "
                     "9.6 x above it at the roots; needs --simplifier meshopt); pipeline/BUILD_SPEED.md")
         ->check(CLI::IsMember({"bound", "exact", "simplifier"}));

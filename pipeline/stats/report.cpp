@@ -211,7 +211,8 @@ void printStats(std::ostream& os, const Stats& s) {
         const std::vector<LevelQuality> quality = levelQuality(s.build->nodes);
         for (size_t l = 0; l < quality.size(); ++l) {
             const LevelQuality& q = quality[l];
-            os << fmt("  level %zu: two-sided mean %.3g max %.3g (one-sided max %.3g)", l, q.errorMean, q.errorMax, q.oneSidedMax);
+            if (s.treeError == "simplifier") os << fmt("  level %zu: estimate mean %.3g max %.3g", l, q.errorMean, q.errorMax);
+            else os << fmt("  level %zu: two-sided mean %.3g max %.3g (one-sided max %.3g)", l, q.errorMean, q.errorMax, q.oneSidedMax);
             if (q.baked) os << fmt(", %llu of %llu nodes baked, PSNR min %.1f mean %.1f dB", (unsigned long long)q.baked,
                                    (unsigned long long)q.nodes, q.psnrMin, q.psnrMean);
             if (q.fidelitySamples)

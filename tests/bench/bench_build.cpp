@@ -163,9 +163,8 @@ int main(int argc, char** argv) {
         else if (a == "--memory-limit") memoryLimit = std::strtoull(argv[i + 1], nullptr, 10);
         else return usage(("unknown option " + a).c_str());
     }
-    if (errorName != "bound" && errorName != "exact" && errorName != "simplifier") return usage("bad --bottom-up-error");
-    const BottomUpError error = errorName == "exact" ? BottomUpError::Exact
-                                : errorName == "simplifier" ? BottomUpError::Simplifier : BottomUpError::Bound;
+    BottomUpError error = BottomUpError::Bound;
+    if (!parseBottomUpError(errorName, error)) return usage("bad --bottom-up-error");
     std::printf("%-22s %-9s %-20s %12s %9s %9s %14s %10s %8s\n", "input", "simplify", "mode", "input tris", "wall s", "CPU s",
                 "tri/CPU-s", "peak RSS", "B/tri");
     std::stringstream list(sizes);

@@ -214,10 +214,27 @@ TEST(BottomUpError, SimplifierEstimateNeedsMeshoptimizer) {
                                  "simplifier", "--simplifier", "openmesh"});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.err.find("hlod build: --bottom-up-error simplifier needs --simplifier meshopt"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir.file("t.hlod")));
     const RunResult ok = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--mode", "bottom-up", "--bottom-up-error",
                                   "simplifier", "--set", "c_desiredTris=20"});
     EXPECT_EQ(ok.exitCode, 0) << ok.outAndErr();
+    const RunResult stats = runHlod({"stats", dir.file("t.hlod")});
+    EXPECT_NE(stats.out.find("level 0: estimate mean"), std::string::npos) << "no two-sided distance claimed: " << stats.out;
+}
+
+// --bottom-up-error belongs to --mode bottom-up: given with top-down (the default mode) it is a
+// usage error, exit 2, one line, no database; every value, even the default's name.
+TEST(BottomUpError, OptionNeedsBottomUpMode) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(8).mesh, true);
+    for (const char* value : {"bound", "exact", "simplifier"}) {
+        const RunResult r = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--bottom-up-error", value});
+        EXPECT_EQ(r.exitCode, 2) << value;
+        EXPECT_NE(r.err.find("--bottom-up-error needs --mode bottom-up"), std::string::npos) << r.err;
+        EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("t.hlod")));
+    }
 }
 
 }  // namespace

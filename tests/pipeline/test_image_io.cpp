@@ -237,12 +237,12 @@ TEST(ImageIo, OtherFormatsGoThroughThePlugin) {
 TEST(ImageIo, InterlacedPngDecodesInBands) {
     TempDir dir;
     const uint32_t w = 37, h = 23;
-    for (const auto& [type, depth] : {std::pair{PNG_COLOR_TYPE_RGB, 8}, std::pair{PNG_COLOR_TYPE_GRAY, 16}}) {
-        const std::string file = dir.file("i" + std::to_string(depth) + ".png");
+    for (const auto& [type, depth] : {std::pair{PNG_COLOR_TYPE_RGB, 8}, std::pair{PNG_COLOR_TYPE_GRAY, 16}, std::pair{PNG_COLOR_TYPE_GRAY, 2}}) {
+        const std::string file = dir.file("i" + std::to_string(type) + "_" + std::to_string(depth) + ".png");
         writePngVariant(file, w, h, type, depth, true);
         const Image expected = readWithOpenImageIO(file);
         const std::vector<uint8_t> bytes = readFile(file);
-        const size_t rowBytes = size_t(w) * expected.channels * depth / 8;
+        const size_t rowBytes = size_t(w) * expected.channels * (depth == 16 ? 2 : 1);  // decoded rows
         for (const size_t band : {size_t(1), 3 * rowBytes, 5 * rowBytes + 1, 100 * rowBytes}) {
             SCOPED_TRACE(file + ", band " + std::to_string(band));
             const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.c_str(), "rb"), &std::fclose);
@@ -279,6 +279,7 @@ TEST(ImageIo, TruncatedInterlacedPngIsAnError) {
     const std::unique_ptr<ImageRows> rows = openPng({nullptr, half}, false, 8 * 64 * 3);
     std::vector<uint8_t> texels(64 * 64 * 3);
     EXPECT_THROW(rows->read(64, 3, texels.data()), ImageError) << "in bands of 8 rows";
+    EXPECT_THROW(rows->read(1, 3, texels.data()), ImageError) << "and every read after the error";
 }
 
 // Without the plugin a TGA texture is unusable, with a one-line reason naming the plugin path
