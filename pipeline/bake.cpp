@@ -186,15 +186,18 @@ private:
     std::optional<Tree::Point_and_primitive_id> hint_;
 };
 
-struct Sample {
-    float x, y;  // atlas texel coordinates
-    Rgb colour;
+// A baked texel: its index in the atlas and its sub-samples' source colours (row by row).
+struct BakedTexel {
+    uint32_t at;
+    Rgb colour[kSuper * kSuper];
 };
 
-// Bakes the chart's covered texels into `atlas`, marking them 1 in `covered` and adding their
-// sub-samples to `samples`.
+// Sub-sample (sx, sy)'s atlas coordinate on one axis of texel t.
+float subSample(int t, int s) { return static_cast<float>(t + (s + 0.5) / kSuper); }
+
+// Bakes the chart's covered texels into `atlas`, marking them 1 in `covered` and adding them to `baked`.
 void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLayout& l, const ChartPlacement& r, OriginalSurface& surface,
-               std::vector<uint8_t>& covered, Image& atlas, std::vector<Sample>& samples) {
+               std::vector<uint8_t>& covered, Image& atlas, std::vector<BakedTexel>& baked) {
     const double ox = r.x + kChartGutter, oy = r.y + kChartGutter;
     for (size_t j = 0; j < chart.triangles.size(); ++j) {
         const double* uv = &chart.uv[6 * j];
@@ -222,12 +225,13 @@ void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLa
             const size_t at = size_t(y) * atlas.width + x;
             covered[at] = 1;
             const uint32_t nearest = surface.closest(lift(x + 0.5, y + 0.5), normal);
+            BakedTexel& texel = baked.emplace_back();
+            texel.at = static_cast<uint32_t>(at);
             Rgb sum;
             for (int sy = 0; sy < kSuper; ++sy)
                 for (int sx = 0; sx < kSuper; ++sx) {
                     const double qx = x + (sx + 0.5) / kSuper, qy = y + (sy + 0.5) / kSuper;
-                    const Rgb c = surface.colour(nearest, lift(qx, qy));
-                    samples.push_back({float(qx), float(qy), c});
+                    const Rgb c = texel.colour[sy * kSuper + sx] = surface.colour(nearest, lift(qx, qy));
                     for (int k = 0; k < 3; ++k) sum.c[k] += c.c[k];
                 }
             for (int k = 0; k < 3; ++k)
@@ -323,18 +327,22 @@ BakedTexture bakeTexture(const MeshData& input, const std::vector<BakeSource>& o
     // sub-samples are held at a time (summed in the same order).
     OriginalSurface surface(original);
     std::vector<uint8_t> covered(size_t(l.width) * l.height, 0);
-    std::vector<Sample> samples;
+    std::vector<BakedTexel> baked;
     double squared = 0;
     size_t sampleCount = 0;
     for (uint32_t c = 0; c < charts.size(); ++c) {
-        samples.clear();
-        bakeChart(simplified, charts[c], l, l.places[c], surface, covered, out.image, samples);
+        baked.clear();
+        bakeChart(simplified, charts[c], l, l.places[c], surface, covered, out.image, baked);
         dilate(l, c, covered, out.image);
-        for (const Sample& s : samples) {
-            const Rgb baked = bilinear(out.image, s.x, s.y);
-            for (int k = 0; k < 3; ++k) squared += double(baked.c[k] - s.colour.c[k]) * (baked.c[k] - s.colour.c[k]);
+        for (const BakedTexel& t : baked) {
+            const int x = static_cast<int>(t.at % out.image.width), y = static_cast<int>(t.at / out.image.width);
+            for (int sy = 0; sy < kSuper; ++sy)
+                for (int sx = 0; sx < kSuper; ++sx) {
+                    const Rgb shown = bilinear(out.image, subSample(x, sx), subSample(y, sy)), &source = t.colour[sy * kSuper + sx];
+                    for (int k = 0; k < 3; ++k) squared += double(shown.c[k] - source.c[k]) * (shown.c[k] - source.c[k]);
+                }
         }
-        sampleCount += samples.size();
+        sampleCount += baked.size() * kSuper * kSuper;
     }
     for (uint8_t v : covered) out.coveredTexels += v == 1;  // baked (2: filled)
     out.psnr = psnrDb(squared, 3 * sampleCount);
