@@ -14,6 +14,8 @@
 #include <type_traits>
 #include <vector>
 
+#include <sys/mman.h>
+
 #include <jpeglib.h>
 #include <jerror.h>
 
@@ -142,6 +144,62 @@ struct VectorDestination {
 };
 static_assert(std::is_standard_layout_v<VectorDestination>);  // `manager` first: self() casts its address
 
+// The whole-image coefficient arrays of an encoder with optimised Huffman tables (libjpeg keeps
+// every DCT block until the tables are known: 6 B per texel at 4:4:4), in one anonymous mapping
+// of our own, advised to use transparent huge pages: through malloc each encode faulted its
+// arrays in 4 KiB pages (~3 M page faults and ~4 CPU-s on the textured facade of
+// pipeline/MEMORY.md). The same coefficients, so the same bytes. libjpeg's own methods are
+// replaced in its memory manager (public method pointers); realize_virt_arrays still realises
+// its other arrays (none when compressing).
+class CoefficientArrays {
+public:
+    void install(jpeg_compress_struct& cinfo) {
+        cinfo.client_data = this;
+        realize_ = cinfo.mem->realize_virt_arrays;
+        cinfo.mem->request_virt_barray = [](j_common_ptr c, int, boolean, JDIMENSION blocksPerRow, JDIMENSION rows, JDIMENSION) {
+            CoefficientArrays& self = *static_cast<CoefficientArrays*>(c->client_data);
+            self.arrays_.push_back({blocksPerRow, rows, {}});
+            return reinterpret_cast<jvirt_barray_ptr>(self.arrays_.size());  // index + 1
+        };
+        cinfo.mem->realize_virt_arrays = [](j_common_ptr c) {
+            CoefficientArrays& self = *static_cast<CoefficientArrays*>(c->client_data);
+            self.realize_(c);
+            if (!self.realize()) ERREXIT(c, JERR_OUT_OF_MEMORY);
+        };
+        cinfo.mem->access_virt_barray = [](j_common_ptr c, jvirt_barray_ptr array, JDIMENSION first, JDIMENSION rows, boolean) {
+            Array& a = static_cast<CoefficientArrays*>(c->client_data)->arrays_.at(reinterpret_cast<size_t>(array) - 1);
+            if (a.rowPointers.empty() || first + rows > a.rows) ERREXIT(c, JERR_BAD_VIRTUAL_ACCESS);
+            return a.rowPointers.data() + first;
+        };
+    }
+    ~CoefficientArrays() {
+        if (memory_ != MAP_FAILED) munmap(memory_, bytes_);
+    }
+
+private:
+    struct Array {
+        JDIMENSION blocksPerRow, rows;
+        std::vector<JBLOCKROW> rowPointers;
+    };
+    bool realize() {
+        constexpr size_t kHugePage = size_t{1} << 21;
+        for (const Array& a : arrays_) bytes_ += size_t(a.blocksPerRow) * a.rows * sizeof(JBLOCK);
+        if (bytes_ == 0) return true;
+        bytes_ = (bytes_ + kHugePage - 1) / kHugePage * kHugePage;
+        memory_ = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);  // zeroed: pre_zero holds
+        if (memory_ == MAP_FAILED) return false;
+        madvise(memory_, bytes_, MADV_HUGEPAGE);  // advice: without it, 4 KiB pages as before
+        JBLOCKROW next = static_cast<JBLOCKROW>(memory_);
+        for (Array& a : arrays_)
+            for (JDIMENSION r = 0; r < a.rows; ++r, next += a.blocksPerRow) a.rowPointers.push_back(next);
+        return true;
+    }
+    void (*realize_)(j_common_ptr) = nullptr;
+    std::vector<Array> arrays_;
+    void* memory_ = MAP_FAILED;
+    size_t bytes_ = 0;
+};
+
 }  // namespace
 
 std::unique_ptr<ImageRows> openJpeg(const ImageSource& source) { return std::make_unique<JpegRows>(source); }
@@ -151,12 +209,14 @@ std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420,
     JpegFailure failure{};
     cinfo.err = &failure.manager;
     installFailure(failure);
-    VectorDestination destination;  // before the setjmp: a longjmp must not skip its destructor
+    VectorDestination destination;  // before the setjmp: a longjmp must not skip their destructors
+    CoefficientArrays coefficients;
     if (setjmp(failure.jump)) {
         jpeg_destroy_compress(&cinfo);
         throw std::runtime_error(std::string("encodeTexture: ") + failure.message);
     }
     jpeg_create_compress(&cinfo);
+    coefficients.install(cinfo);
     cinfo.dest = &destination.manager;
     cinfo.image_width = image.width;
     cinfo.image_height = image.height;

@@ -91,14 +91,13 @@ void closestWeights(const Point& a, const Point& b, const Point& c, const Point&
 Rgb bilinear(const Image& image, double x, double y) {
     x = std::clamp(x - 0.5, 0.0, image.width - 1.0), y = std::clamp(y - 0.5, 0.0, image.height - 1.0);
     const uint32_t x0 = static_cast<uint32_t>(x), y0 = static_cast<uint32_t>(y);
-    const uint32_t x1 = std::min(x0 + 1, image.width - 1), y1 = std::min(y0 + 1, image.height - 1);
-    const double fx = x - x0, fy = y - y0;
-    const uint32_t nc = image.channels;
+    const double fx = x - x0, fy = y - y0, gx = 1 - fx, gy = 1 - fy;
+    const size_t nc = image.channels, right = x0 + 1 < image.width ? nc : 0, down = y0 + 1 < image.height ? size_t(image.width) * nc : 0;
+    const uint8_t* t = &image.pixels[(size_t(y0) * image.width + x0) * nc];
     Rgb out;
-    for (int k = 0; k < 3; ++k) {
-        const uint32_t ch = nc >= 3 ? k : 0;
-        auto at = [&](uint32_t px, uint32_t py) { return double(image.pixels[(size_t(py) * image.width + px) * nc + ch]); };
-        out.c[k] = static_cast<float>((at(x0, y0) * (1 - fx) + at(x1, y0) * fx) * (1 - fy) + (at(x0, y1) * (1 - fx) + at(x1, y1) * fx) * fy);
+    for (size_t k = 0; k < 3; ++k, t += nc >= 3) {
+        const double a = t[0], b = t[right], c = t[down], d = t[down + right];
+        out.c[k] = static_cast<float>((a * gx + b * fx) * gy + (c * gx + d * fx) * fy);
     }
     return out;
 }
@@ -187,15 +186,18 @@ private:
     std::optional<Tree::Point_and_primitive_id> hint_;
 };
 
-struct Sample {
-    float x, y;  // atlas texel coordinates
-    Rgb colour;
+// A baked texel: its index in the atlas and its sub-samples' source colours (row by row).
+struct BakedTexel {
+    uint32_t at;
+    Rgb colour[kSuper * kSuper];
 };
 
-// Bakes the chart's covered texels into `atlas`, marking them 1 in `covered` and adding their
-// sub-samples to `samples`.
+// Sub-sample (sx, sy)'s atlas coordinate on one axis of texel t.
+float subSample(int t, int s) { return static_cast<float>(t + (s + 0.5) / kSuper); }
+
+// Bakes the chart's covered texels into `atlas`, marking them 1 in `covered` and adding them to `baked`.
 void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLayout& l, const ChartPlacement& r, OriginalSurface& surface,
-               std::vector<uint8_t>& covered, Image& atlas, std::vector<Sample>& samples) {
+               std::vector<uint8_t>& covered, Image& atlas, std::vector<BakedTexel>& baked) {
     const double ox = r.x + kChartGutter, oy = r.y + kChartGutter;
     for (size_t j = 0; j < chart.triangles.size(); ++j) {
         const double* uv = &chart.uv[6 * j];
@@ -223,12 +225,13 @@ void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLa
             const size_t at = size_t(y) * atlas.width + x;
             covered[at] = 1;
             const uint32_t nearest = surface.closest(lift(x + 0.5, y + 0.5), normal);
+            BakedTexel& texel = baked.emplace_back();
+            texel.at = static_cast<uint32_t>(at);
             Rgb sum;
             for (int sy = 0; sy < kSuper; ++sy)
                 for (int sx = 0; sx < kSuper; ++sx) {
                     const double qx = x + (sx + 0.5) / kSuper, qy = y + (sy + 0.5) / kSuper;
-                    const Rgb c = surface.colour(nearest, lift(qx, qy));
-                    samples.push_back({float(qx), float(qy), c});
+                    const Rgb c = texel.colour[sy * kSuper + sx] = surface.colour(nearest, lift(qx, qy));
                     for (int k = 0; k < 3; ++k) sum.c[k] += c.c[k];
                 }
             for (int k = 0; k < 3; ++k)
@@ -317,19 +320,32 @@ BakedTexture bakeTexture(const MeshData& input, const std::vector<BakeSource>& o
             }
         for (uint32_t v : touched) copyOf[v] = kNone;
     }
-    // Baking, then the gutters.
+    // Baking, then the gutters, then the error, chart by chart: a chart's baked and filled texels
+    // and the texels its sub-samples' bilinear taps read (within kChartGutter of its triangles)
+    // are all in its own blocks, which no other chart writes, so each chart is final once it is
+    // filled (the same texels as baking every chart before filling any), and only one chart's
+    // sub-samples are held at a time (summed in the same order).
     OriginalSurface surface(original);
     std::vector<uint8_t> covered(size_t(l.width) * l.height, 0);
-    std::vector<Sample> samples;
-    for (size_t c = 0; c < charts.size(); ++c) bakeChart(simplified, charts[c], l, l.places[c], surface, covered, out.image, samples);
-    for (uint8_t v : covered) out.coveredTexels += v;
-    for (uint32_t c = 0; c < charts.size(); ++c) dilate(l, c, covered, out.image);
+    std::vector<BakedTexel> baked;
     double squared = 0;
-    for (const Sample& s : samples) {
-        const Rgb baked = bilinear(out.image, s.x, s.y);
-        for (int k = 0; k < 3; ++k) squared += double(baked.c[k] - s.colour.c[k]) * (baked.c[k] - s.colour.c[k]);
+    size_t sampleCount = 0;
+    for (uint32_t c = 0; c < charts.size(); ++c) {
+        baked.clear();
+        bakeChart(simplified, charts[c], l, l.places[c], surface, covered, out.image, baked);
+        dilate(l, c, covered, out.image);
+        for (const BakedTexel& t : baked) {
+            const int x = static_cast<int>(t.at % out.image.width), y = static_cast<int>(t.at / out.image.width);
+            for (int sy = 0; sy < kSuper; ++sy)
+                for (int sx = 0; sx < kSuper; ++sx) {
+                    const Rgb shown = bilinear(out.image, subSample(x, sx), subSample(y, sy)), &source = t.colour[sy * kSuper + sx];
+                    for (int k = 0; k < 3; ++k) squared += double(shown.c[k] - source.c[k]) * (shown.c[k] - source.c[k]);
+                }
+        }
+        sampleCount += baked.size() * kSuper * kSuper;
     }
-    out.psnr = psnrDb(squared, 3 * samples.size());
+    for (uint8_t v : covered) out.coveredTexels += v == 1;  // baked (2: filled)
+    out.psnr = psnrDb(squared, 3 * sampleCount);
     return out;
 }
 

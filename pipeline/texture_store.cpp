@@ -78,17 +78,17 @@ void halveRows(const uint8_t* in, size_t rowBytes, uint32_t width, uint32_t pair
             }
 }
 
-// Adds w x the horizontal box filter of one row of source texels (from column sx0) to `sum`.
+// The horizontal box filter of one row of source texels (from column sx0) into `filtered`.
 template <uint32_t NC>
-void filterRow(const uint8_t* row, const Spans& across, uint32_t sx0, float w, float* sum) {
+void filterRow(const uint8_t* row, const Spans& across, uint32_t sx0, float* filtered) {
     for (const Span& s : across.spans) {
         const uint8_t* texel = row + size_t(s.first - sx0) * NC;
         const float* weight = &across.weights[s.weight];
-        float filtered[NC] = {};
+        float f[NC] = {};
         for (uint32_t i = 0; i < s.count; ++i, texel += NC)
-            for (uint32_t c = 0; c < NC; ++c) filtered[c] += weight[i] * texel[c];
-        for (uint32_t c = 0; c < NC; ++c) sum[c] += w * filtered[c];
-        sum += NC;
+            for (uint32_t c = 0; c < NC; ++c) f[c] += weight[i] * texel[c];
+        for (uint32_t c = 0; c < NC; ++c) filtered[c] = f[c];
+        filtered += NC;
     }
 }
 
@@ -150,29 +150,32 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
     }
     const Spans across = spans(from.width, scaledWidth, x0, x1), down = spans(from.height, scaledHeight, y0, y1);
     const uint32_t sx0 = across.spans.front().first, sx1 = across.spans.back().first + across.spans.back().count;
-    // The last kCachedRows source rows read (by row modulo kCachedRows): consecutive output rows
-    // share rows, which are then read once.
+    // The last kCachedRows source rows read, filtered horizontally (by row modulo kCachedRows):
+    // consecutive output rows share rows, which are then read and filtered once.
     constexpr uint32_t kCachedRows = 4;
-    const size_t rowBytes = size_t(sx1 - sx0) * nc;
-    std::vector<uint8_t> cache(rowBytes * kCachedRows);
+    const size_t filteredSize = size_t(out.width) * nc;
+    std::vector<uint8_t> row(size_t(sx1 - sx0) * nc);
+    std::vector<float> cache(filteredSize * kCachedRows);
     uint32_t cachedY[kCachedRows];
     std::fill_n(cachedY, kCachedRows, UINT32_MAX);
-    const auto sourceRow = [&](uint32_t y) {
-        uint8_t* slot = &cache[(y % kCachedRows) * rowBytes];
-        if (cachedY[y % kCachedRows] != y) source.rows(y, y + 1, sx0, sx1, slot, level), cachedY[y % kCachedRows] = y;
+    const auto filteredRow = [&](uint32_t y) {
+        float* slot = &cache[(y % kCachedRows) * filteredSize];
+        if (cachedY[y % kCachedRows] == y) return slot;
+        source.rows(y, y + 1, sx0, sx1, row.data(), level), cachedY[y % kCachedRows] = y;
+        if (nc == 3) filterRow<3>(row.data(), across, sx0, slot);
+        else if (nc == 1) filterRow<1>(row.data(), across, sx0, slot);
+        else if (nc == 2) filterRow<2>(row.data(), across, sx0, slot);
+        else filterRow<4>(row.data(), across, sx0, slot);  // Image: 1 to 4 channels
         return slot;
     };
-    std::vector<float> sum(size_t(out.width) * nc);
+    std::vector<float> sum(filteredSize);
     for (uint32_t oy = 0; oy < out.height; ++oy) {
         std::fill(sum.begin(), sum.end(), 0.0f);
         const Span& vertical = down.spans[oy];
         for (uint32_t k = 0; k < vertical.count; ++k) {
-            const uint8_t* row = sourceRow(vertical.first + k);
+            const float* filtered = filteredRow(vertical.first + k);
             const float w = down.weights[vertical.weight + k];
-            if (nc == 3) filterRow<3>(row, across, sx0, w, sum.data());
-            else if (nc == 1) filterRow<1>(row, across, sx0, w, sum.data());
-            else if (nc == 2) filterRow<2>(row, across, sx0, w, sum.data());
-            else filterRow<4>(row, across, sx0, w, sum.data());  // Image: 1 to 4 channels
+            for (size_t i = 0; i < filteredSize; ++i) sum[i] += w * filtered[i];
         }
         uint8_t* o = &out.pixels[size_t(oy) * out.width * nc];
         for (size_t i = 0; i < sum.size(); ++i) o[i] = static_cast<uint8_t>(std::clamp(sum[i], 0.0f, 255.0f) + 0.5f);  // half up
