@@ -408,6 +408,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     TextureStore textures((fs::path(temp.path) / "textures").string());  // each texture file decoded once, read by rectangles
     BuildOptions blockOptions = options;  // a grid's blocks share one position lattice: no cracks between them
     blockOptions.textures = &textures;
+    blockOptions.tempDir = temp.path;  // a bottom-up block's finished nodes wait there (blob_spill.h)
     if (blockOptions.draco.positionStep <= 0) blockOptions.draco.positionStep = inputs.positionStep;
     blockOptions.up = up.axis;
     blockOptions.read.imageDir = (fs::path(temp.path) / "gltf-images").string();

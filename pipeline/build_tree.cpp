@@ -22,6 +22,7 @@
 // children (bottomUp), without a pass over the original triangles; --bottom-up-error exact
 // measures against the original piece as top-down does; --bottom-up-error simplifier adds the
 // simplifier's own error estimate to the children's, measuring no distance at all.
+#include "pipeline/blob_spill.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/tbb_sync.h"
 #include "pipeline/texture_charts.h"
@@ -254,13 +255,17 @@ Piece joinPieces(const std::vector<SimplifiedNode>& parts, bool& geometryOnly) {
 // bound of the distance to the original: a hole patch (simplify.cpp) is new surface whose distance
 // to the original is never counted; pipeline/BUILD_SPEED.md compares it with the exact measure.
 // The children's subtrees are independent: TBB tasks, their results taken in child order.
+// A finished node's blobs wait in `spill` (blob_spill.h) until the block is emitted.
 struct BottomUpNode {
     NodeOut out;
     std::vector<uint32_t> children;
+    std::vector<std::pair<uint64_t, uint64_t>> parked;  // its blobs in the spill
 };
 struct BottomUpTree {  // the nodes of a block, in the order they finish (emitted breadth-first by children)
+    explicit BottomUpTree(const std::string& dir) : spill(dir) {}
     std::mutex mutex;
     std::vector<BottomUpNode> nodes;
+    BlobSpill spill;
 };
 uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions& options, uint32_t blockIndex,
                   BlockTextures& textures, Progress* progress, BottomUpTree& tree, SimplifiedNode& result) {
@@ -303,6 +308,7 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
         }
     }
     if (progress) progress->advance(piece.mesh.triangleCount());
+    tree.spill.park(node.out.record.node.blobs, node.parked);
     const std::lock_guard lock(tree.mutex);
     tree.nodes.push_back(std::move(node));
     return static_cast<uint32_t>(tree.nodes.size() - 1);
@@ -377,7 +383,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     const double rootFactor = static_cast<double>(welded.mesh.triangleCount()) / c.desiredTris;  // §3.2 hlod0
     std::vector<uint32_t> parentOf;
     if (options.mode == BuildMode::BottomUp) {
-        BottomUpTree tree;
+        BottomUpTree tree(options.tempDir);
         SimplifiedNode root;
         const uint32_t rootId = tbb::this_task_arena::isolate(
             [&] { return bottomUp(std::move(welded), rootFactor, 0, options, blockIndex, textures, progress, tree, root); });
@@ -388,8 +394,10 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
             order.pop_front();
             NodeOut& out = nodes[id].out;
             out.record.parentLocal = parentLocal;
+            tree.spill.restore(out.record.node.blobs, nodes[id].parked);
             const uint32_t self = recordNode(stats, parentOf, out, parentLocal);
             emit(std::move(out.record));
+            out.record = {};  // its blobs go now: an emit that only reads the record leaves them whole
             for (uint32_t child : nodes[id].children) order.push_back({child, self});
         }
     } else {
