@@ -26,7 +26,7 @@ echo "run-sample: main command OK (outputs under out/city/)"
 
 # ThreadSanitizer: the threaded loader and player tests (the render thread, the loading thread
 # and their shared queue), and the build's nodes of one block built in parallel (build_tree.cpp:
-# their shared texture cache, progress and ordered records), rebuilt with -fsanitize=thread; any
+# their shared texture cache, progress, ordered records and spilled blobs), rebuilt with -fsanitize=thread; any
 # reported race fails the script. Only the player and pipeline test executables are built.
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHLOD_TSAN=ON -DHLOD_BENCH=OFF >/dev/null
 cmake --build build-tsan -j "$jobs" --target test_player test_pipeline
@@ -34,7 +34,7 @@ TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
   build-tsan/tests/player/test_player --gtest_filter='Loader*:PlayerEndToEnd.ThreadedLoaderHoldsTarget'
 # (libtbb is not instrumented: pipeline/tbb_sync.h and scripts/tsan.supp; ~2.5 minutes on 2 cores)
 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/scripts/tsan.supp" \
-  build-tsan/tests/pipeline/test_pipeline --gtest_filter='BlockParallel.*'
+  build-tsan/tests/pipeline/test_pipeline --gtest_filter='BlockParallel.*:BlobSpill.*'
 
 # libFuzzer smoke run of every reader (tests/fuzz/README.md, scripts/fuzz.sh): the database
 # skeleton and blobs, PLY, OBJ, MTL, glTF, GLB, camera path, constants and calibration files,
