@@ -43,8 +43,23 @@ namespace fs = std::filesystem;
 // above the process's ~128 MiB baseline (the model: 196 + 77 = 273 MB); before, the model said
 // 5.7 GB (6 B per source texel, every atlas decoded and downsampled whole) for 4.6 GB measured.
 // The per-texel figure is fitted on that one generated input.
+// A node's texture work (its atlas, the baker's per-chart sub-samples, the JPEG coding, the
+// rectangles read from the pyramid) scales with the node's texel budget, not the block's: the
+// source texels of its piece over its factor (build_tree.cpp), at every level about the block's
+// texels x c_desiredTris / its triangles (nodeTexels), so a block of few triangles on many
+// texels costs more than the two terms above. Fitted on generated inputs (pipeline/MEMORY.md "The
+// gate's model, checked"): the facade's 55 x 4K atlases on 122,500 triangles (6.8 Mtexel a node)
+// peaked at 23.4 B per node texel beyond them at -j 1, rounded up to 25; on 490,000 triangles
+// (1.7 Mtexel a node) the model is then 1.66x the measured peak.
 constexpr uint64_t kBytesPerBlockTriangle = 400;
 constexpr uint64_t kSourceTexelsPerByte = 12;
+constexpr uint64_t kBytesPerNodeTexel = 25;
+
+// Texel budget of one node of a block (a block of at most c_desiredTris triangles is one node).
+uint64_t nodeTexels(uint64_t triangles, uint64_t texels, double desiredTris) {
+    if (triangles <= desiredTris) return texels;
+    return static_cast<uint64_t>(static_cast<double>(texels) * desiredTris / static_cast<double>(triangles));
+}
 
 std::string extensionOf(const fs::path& p) {
     std::string ext = p.extension().string();
@@ -216,7 +231,7 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
         mesh = readMesh(source.file, read);
         enforceTextures(mesh.stats.textureProblems, options);
     }
-    const uint64_t workingSet = blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh));
+    const uint64_t workingSet = blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh), options.constants.desiredTris);
     const GateTicket ticket(gate, workingSet);
     // The block's nodes run on 1 + extra.nodes threads (build_tree.cpp), each extra one on a
     // further working set of the block the gate grants beside what is in use (pipeline/MEMORY.md "Jobs").
@@ -322,8 +337,8 @@ uint64_t MemoryGate::peak() const {
     return peak_;
 }
 
-uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels) {
-    return triangles * kBytesPerBlockTriangle + texels / kSourceTexelsPerByte;
+uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels, double desiredTris) {
+    return triangles * kBytesPerBlockTriangle + texels / kSourceTexelsPerByte + nodeTexels(triangles, texels, desiredTris) * kBytesPerNodeTexel;
 }
 
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {

@@ -365,8 +365,9 @@ private:
     mutable std::mutex mutex_;
     std::condition_variable freed_;
 };
-// Working set of buildBlock for a block (measured, see build.cpp) plus its source textures.
-uint64_t blockWorkingSet(uint64_t triangles, uint64_t textureTexels);
+// Working set of buildBlock for a block (measured, see build.cpp): its triangles, its source
+// textures and the texture work of one node (c_desiredTris of its triangles' share of the texels).
+uint64_t blockWorkingSet(uint64_t triangles, uint64_t textureTexels, double desiredTris);
 uint64_t textureTexels(const std::string& path);  // from the image header alone; 0 when unreadable
 
 // One node of a block, encoded and ready for the writer. parentLocal indexes the block's
