@@ -11,11 +11,6 @@
 
 namespace hlod {
 
-namespace {
-
-
-}  // namespace
-
 EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality, bool chroma420) {
     if (codec != Codec::Jpeg && codec != Codec::Png) throw std::runtime_error("encodeTexture: not an image codec");
     bool channelsOk = codec == Codec::Jpeg ? (image.channels == 1 || image.channels == 3)

@@ -1,5 +1,6 @@
 // Database: opens a file, checks header and skeleton (parse.cpp), keeps the skeleton in memory
 // and reads each blob with one positioned read (pread), verified by its XXH3-64 checksum.
+#include "formats/fd_io.h"
 #include "formats/layout.h"
 
 #include <cerrno>
@@ -23,14 +24,9 @@ struct Database::Impl {
 namespace {
 
 void preadAll(int fd, uint64_t offset, std::span<uint8_t> out, const std::string& path) {
-    size_t done = 0;
-    while (done < out.size()) {
-        ssize_t n = ::pread(fd, out.data() + done, out.size() - done, off_t(offset + done));
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) throw FormatError(path + ": read error: " + std::strerror(errno));
-        if (n == 0) throw FormatError(path + ": unexpected end of file (was it truncated while open?)");
-        done += size_t(n);
-    }
+    const int error = preadFully(fd, out.data(), out.size(), offset);
+    if (error == kEndOfFile) throw FormatError(path + ": unexpected end of file (was it truncated while open?)");
+    if (error) throw FormatError(path + ": read error: " + std::strerror(error));
 }
 
 }  // namespace

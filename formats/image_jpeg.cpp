@@ -158,7 +158,11 @@ public:
         realize_ = cinfo.mem->realize_virt_arrays;
         cinfo.mem->request_virt_barray = [](j_common_ptr c, int, boolean, JDIMENSION blocksPerRow, JDIMENSION rows, JDIMENSION) {
             CoefficientArrays& self = *static_cast<CoefficientArrays*>(c->client_data);
-            self.arrays_.push_back({blocksPerRow, rows, {}});
+            try {  // no C++ exception crosses libjpeg's C frames
+                self.arrays_.push_back({blocksPerRow, rows, {}});
+            } catch (const std::bad_alloc&) {
+                ERREXIT(c, JERR_OUT_OF_MEMORY);
+            }
             return reinterpret_cast<jvirt_barray_ptr>(self.arrays_.size());  // index + 1
         };
         cinfo.mem->realize_virt_arrays = [](j_common_ptr c) {
@@ -167,9 +171,11 @@ public:
             if (!self.realize()) ERREXIT(c, JERR_OUT_OF_MEMORY);
         };
         cinfo.mem->access_virt_barray = [](j_common_ptr c, jvirt_barray_ptr array, JDIMENSION first, JDIMENSION rows, boolean) {
-            Array& a = static_cast<CoefficientArrays*>(c->client_data)->arrays_.at(reinterpret_cast<size_t>(array) - 1);
-            if (a.rowPointers.empty() || first + rows > a.rows) ERREXIT(c, JERR_BAD_VIRTUAL_ACCESS);
-            return a.rowPointers.data() + first;
+            std::vector<Array>& arrays = static_cast<CoefficientArrays*>(c->client_data)->arrays_;
+            const size_t index = reinterpret_cast<size_t>(array) - 1;
+            if (index >= arrays.size() || arrays[index].rowPointers.empty() || first + rows > arrays[index].rows)
+                ERREXIT(c, JERR_BAD_VIRTUAL_ACCESS);
+            return arrays[index].rowPointers.data() + first;
         };
     }
     ~CoefficientArrays() {
@@ -181,17 +187,25 @@ private:
         JDIMENSION blocksPerRow, rows;
         std::vector<JBLOCKROW> rowPointers;
     };
+    // Small images (below two huge pages) map their exact size in 4 KiB pages: a huge page
+    // would zero 2 MiB, and with THP defrag on madvise may stall in compaction, for a few KiB.
     bool realize() {
         constexpr size_t kHugePage = size_t{1} << 21;
+        if (memory_ != MAP_FAILED) return true;  // realised once
         for (const Array& a : arrays_) bytes_ += size_t(a.blocksPerRow) * a.rows * sizeof(JBLOCK);
         if (bytes_ == 0) return true;
-        bytes_ = (bytes_ + kHugePage - 1) / kHugePage * kHugePage;
+        const bool huge = bytes_ >= 2 * kHugePage;
+        if (huge) bytes_ = (bytes_ + kHugePage - 1) / kHugePage * kHugePage;
         memory_ = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);  // zeroed: pre_zero holds
         if (memory_ == MAP_FAILED) return false;
-        madvise(memory_, bytes_, MADV_HUGEPAGE);  // advice: without it, 4 KiB pages as before
-        JBLOCKROW next = static_cast<JBLOCKROW>(memory_);
-        for (Array& a : arrays_)
-            for (JDIMENSION r = 0; r < a.rows; ++r, next += a.blocksPerRow) a.rowPointers.push_back(next);
+        if (huge) madvise(memory_, bytes_, MADV_HUGEPAGE);  // advice: without it (THP off), 4 KiB pages as before
+        try {
+            JBLOCKROW next = static_cast<JBLOCKROW>(memory_);
+            for (Array& a : arrays_)
+                for (JDIMENSION r = 0; r < a.rows; ++r, next += a.blocksPerRow) a.rowPointers.push_back(next);
+        } catch (const std::bad_alloc&) {
+            return false;
+        }
         return true;
     }
     void (*realize_)(j_common_ptr) = nullptr;

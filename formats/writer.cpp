@@ -1,6 +1,7 @@
 // Writer: streams each node's blobs to a temporary file as nodes arrive, then writes the
 // skeleton LAST and the header over the placeholder at offset 0, fsyncs, renames into place
 // and fsyncs the directory (FORMAT.md §Atomic writing). Links follow thesis §3.3 / Fig. 3.1.
+#include "formats/fd_io.h"
 #include "formats/layout.h"
 #include "formats/temp_files.h"
 
@@ -21,12 +22,9 @@ std::runtime_error ioError(const std::string& path, const char* what) {
 }
 
 void writeAll(int fd, uint64_t offset, std::span<const uint8_t> bytes, const std::string& path) {
-    size_t done = 0;
-    while (done < bytes.size()) {
-        ssize_t n = ::pwrite(fd, bytes.data() + done, bytes.size() - done, off_t(offset + done));
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) throw ioError(path, "write failed");
-        done += size_t(n);
+    if (const int error = pwriteFully(fd, bytes.data(), bytes.size(), offset)) {
+        errno = error;
+        throw ioError(path, "write failed");
     }
 }
 

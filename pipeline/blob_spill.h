@@ -29,7 +29,7 @@ public:
     void restore(std::vector<EncodedBlob>& blobs, const std::vector<std::pair<uint64_t, uint64_t>>& parked) const;
 
 private:
-    std::string path_;
+    std::string name_;
     int fd_ = -1;
     std::atomic<uint64_t> end_{0};
 };

@@ -298,7 +298,7 @@ struct BuildOptions {
     double blockSize = 0;          // block side in input units; overrides blockTriangles when > 0
     uint64_t memoryLimit = 1ull << 30;
     int jobs = 0;                  // 0 = all cores
-    std::string tempDir;           // empty = next to the output
+    std::string tempDir;           // runBuild: empty = next to the output; buildBlock: runBuild's own folder (empty: the system's)
     ReadOptions read;              // --allow-outside-input
     bool strict = false;           // --strict: a TextureProblem is fatal (InputError, exit 2)
     std::string up;                // --up y|z; empty: by the input's format (chooseUpAxis)

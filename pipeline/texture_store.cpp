@@ -17,6 +17,7 @@
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 
+#include "formats/fd_io.h"
 #include "formats/image_io.h"
 
 #include <fcntl.h>
@@ -111,13 +112,9 @@ void TextureSource::rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uin
             std::memcpy(out, l.pixels + offset, rowBytes);
             continue;
         }
-        for (size_t done = 0; done < rowBytes;) {
-            const ssize_t n = pread(file, out + done, rowBytes - done, static_cast<off_t>(l.offset + offset + done));
-            if (n <= 0)
-                throw std::runtime_error("texture store: cannot read back a decoded texture (" +
-                                         std::string(n == 0 ? "unexpected end of the temporary file" : std::strerror(errno)) + ")");
-            done += static_cast<size_t>(n);
-        }
+        if (const int error = preadFully(file, out, rowBytes, l.offset + offset))
+            throw std::runtime_error("texture store: cannot read back a decoded texture (" +
+                                     std::string(error == kEndOfFile ? "unexpected end of the temporary file" : std::strerror(error)) + ")");
     }
 }
 
@@ -231,11 +228,8 @@ struct TextureStore::Impl {
             files.push_back(source.file);
         }
         const auto write = [&](const uint8_t* bytes, size_t size, uint64_t offset) {
-            for (size_t done = 0; done < size;) {  // a short write (a full disk) says why on the next call
-                const ssize_t n = pwrite(source.file, bytes + done, size - done, static_cast<off_t>(offset + done));
-                if (n <= 0) throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(n == 0 ? ENOSPC : errno) + ")");
-                done += static_cast<size_t>(n);
-            }
+            if (const int error = pwriteFully(source.file, bytes, size, offset))
+                throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(error) + ")");
         };
         const size_t rowBytes = size_t(source.width) * source.channels;
         std::vector<uint8_t> strip(rowBytes * kStripRows);

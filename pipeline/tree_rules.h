@@ -38,7 +38,7 @@ inline const char* bottomUpErrorName(BottomUpError e) {
     return e == BottomUpError::Bound ? "bound" : e == BottomUpError::Exact ? "exact" : "simplifier";
 }
 // The value of a --bottom-up-error name; false for an unknown name.
-inline bool parseBottomUpError(const std::string& name, BottomUpError& out) {
+[[nodiscard]] inline bool parseBottomUpError(const std::string& name, BottomUpError& out) {
     for (const BottomUpError e : {BottomUpError::Bound, BottomUpError::Exact, BottomUpError::Simplifier})
         if (name == bottomUpErrorName(e)) return out = e, true;
     return false;

@@ -93,7 +93,8 @@ int runBuildCommand(BuildArgs& a) {
     o.mode = a.mode == "bottom-up" ? BuildMode::BottomUp : BuildMode::TopDown;
     if (!a.bottomUpError.empty() && o.mode != BuildMode::BottomUp)  // a subcommand takes only what it uses
         throw std::invalid_argument("--bottom-up-error needs --mode bottom-up (top-down measures against the original)");
-    if (!a.bottomUpError.empty()) parseBottomUpError(a.bottomUpError, o.bottomUpError);  // CLI11 checked the name
+    if (!a.bottomUpError.empty() && !parseBottomUpError(a.bottomUpError, o.bottomUpError))  // CLI11 checked it already
+        throw std::invalid_argument("--bottom-up-error: unknown value " + a.bottomUpError);
     o.planes = a.planes == "even" ? Planes::Even : Planes::Balanced;
     if (!a.blocks.empty()) parseBlockRange(a.blocks, a.request);
     printConstants(std::cout, o.constants, kUsedByBuild);

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
+#include <csignal>
 #include <filesystem>
 #include <random>
 #include <thread>
@@ -86,6 +89,34 @@ TEST(BlobSpill, AFolderThatCannotHoldItIsAnErrorNamingIt) {
         EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
         EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
     }
+}
+
+// A write the file system refuses (here the process's file-size limit, as a full disk would):
+// one line naming the folder and the option that moves it.
+TEST(BlobSpill, AFailedWriteIsAnErrorNamingTheFolder) {
+    const TempDir dir;
+    BlobSpill spill(dir.path.string());
+    std::mt19937 rng(3);
+    std::vector<EncodedBlob> blobs = randomBlobs(rng, {4096});
+    std::vector<std::pair<uint64_t, uint64_t>> parked;
+    rlimit old{};
+    ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+    const auto oldSignal = std::signal(SIGXFSZ, SIG_IGN);  // a write past the limit then fails with EFBIG
+    rlimit small = old;
+    small.rlim_cur = 1024;
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+    std::string what;
+    try {
+        spill.park(blobs, parked);
+    } catch (const std::runtime_error& e) {
+        what = e.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, oldSignal);
+    EXPECT_EQ(what.rfind(dir.path.string() + ": ", 0), 0u) << what;
+    EXPECT_NE(what.find("write failed"), std::string::npos) << what;
+    EXPECT_NE(what.find("--temp-dir"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
 }
 
 }  // namespace

@@ -197,6 +197,23 @@ TEST(ImageIo, NodeTexturesDecodeToWhatOpenImageIOGave) {
 }
 
 // The city generator's JPEG (pipeline/synth, samples/city) is OpenImageIO's writer's, byte for byte.
+// The optimised-table encoder keeps every DCT block in arrays of our own (image_jpeg.cpp
+// CoefficientArrays: exact-size pages below 4 MiB, huge pages above): its coefficients are the
+// standard-table encoder's, so the two files decode to the same texels, for grey, 4:4:4 and
+// 4:2:0, odd sides, small and large; and it is smaller.
+TEST(ImageIo, OptimisedTablesKeepTheCoefficients) {
+    for (const auto& [w, h] : {std::pair{17u, 9u}, std::pair{61u, 35u}, std::pair{1031u, 777u}})
+        for (const uint32_t channels : {1u, 3u})
+            for (const bool chroma420 : {false, true}) {
+                SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(channels) + (chroma420 ? " 4:2:0" : ""));
+                const Image image{w, h, channels, busyTexels(w, h, channels)};
+                const std::vector<uint8_t> optimised = encodeJpeg(image, 85, chroma420, true, false);
+                const std::vector<uint8_t> standard = encodeJpeg(image, 85, chroma420, false, false);
+                EXPECT_LT(optimised.size(), standard.size());
+                EXPECT_TRUE(decodeTexture(optimised, Codec::Jpeg, "o").pixels == decodeTexture(standard, Codec::Jpeg, "s").pixels);
+            }
+}
+
 TEST(ImageIo, GeneratorJpegIsOpenImageIOsByteForByte) {
     TempDir dir;
     for (const uint32_t channels : {1u, 3u}) {
