@@ -11,7 +11,7 @@
 // covers, a function of that texel alone, so a rectangle's texels equal those of the whole
 // downsampled image (downsampleTexture) and no whole atlas, source or downsampled, is held.
 // Reading the level instead of the source makes a node's filter cost proportional to its own
-// texels, not the source texels under them (pipeline/MEMORY.md "Source texels per CPU-second").
+// texels, not the source texels under them (pipeline/TEXTURE_SPEED.md).
 // Without a folder (buildBlock outside runBuild) the decoded sources and pyramids stay in
 // memory, one block's at a time.
 #include "pipeline/pipeline.h"
