@@ -21,7 +21,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <mutex>
 #include <optional>
 #include <set>
 
@@ -33,33 +32,6 @@ namespace hlod {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Working set of buildBlock: per input triangle (the piece, its per-material copies, the
-// simplified meshes, the CGAL tree of the error measure, the children's pieces) and per source
-// texel the block's materials use. Since issue #14 no source texture is held (texture_store.cpp:
-// decoded once to a temporary file, read by the rectangles of a node's charts), so a texel costs
-// only through the node atlases, baked regions and JPEG coding: 1/12 byte. Measured (pipeline/
-// MEMORY.md): a 490,000-triangle block with 55 x 4K JPEG atlases (923 Mtexel) peaked 233 MB
-// above the process's ~128 MiB baseline (the model: 196 + 77 = 273 MB); before, the model said
-// 5.7 GB (6 B per source texel, every atlas decoded and downsampled whole) for 4.6 GB measured.
-// The per-texel figure is fitted on that one generated input.
-// A node's texture work (its atlas, the baker's per-chart sub-samples, the JPEG coding, the
-// rectangles read from the pyramid) scales with the node's texel budget, not the block's: the
-// source texels of its piece over its factor (build_tree.cpp), at every level about the block's
-// texels x c_desiredTris / its triangles (nodeTexels), so a block of few triangles on many
-// texels costs more than the two terms above. Fitted on generated inputs (pipeline/MEMORY.md "The
-// gate's model, checked"): the facade's 55 x 4K atlases on 122,500 triangles (6.8 Mtexel a node)
-// peaked at 23.4 B per node texel beyond them at -j 1, rounded up to 25; on 490,000 triangles
-// (1.7 Mtexel a node) the model is then 1.66x the measured peak.
-constexpr uint64_t kBytesPerBlockTriangle = 400;
-constexpr uint64_t kSourceTexelsPerByte = 12;
-constexpr uint64_t kBytesPerNodeTexel = 25;
-
-// Texel budget of one node of a block (a block of at most c_desiredTris triangles is one node).
-uint64_t nodeTexels(uint64_t triangles, uint64_t texels, double desiredTris) {
-    if (triangles <= desiredTris) return texels;
-    return static_cast<uint64_t>(static_cast<double>(texels) * desiredTris / static_cast<double>(triangles));
-}
 
 std::string extensionOf(const fs::path& p) {
     std::string ext = p.extension().string();
@@ -91,9 +63,10 @@ struct TempDir {
 // The automatic block size does not depend on --memory-limit, so the database does not either:
 // the triangles whose working set fills a quarter of the default 1 GiB limit (671,088). A
 // smaller limit only admits fewer blocks at once (MemoryGate).
-constexpr uint64_t kAutoBlockTriangles = (uint64_t{1} << 30) / (4 * kBytesPerBlockTriangle);
-
-uint64_t blockTarget(const BuildOptions& o) { return o.blockTriangles ? o.blockTriangles : kAutoBlockTriangles; }
+uint64_t blockTarget(const BuildOptions& o) {
+    const uint64_t automatic = (uint64_t{1} << 30) / (4 * blockWorkingSet(1, 0, 1));  // an untextured triangle's share
+    return o.blockTriangles ? o.blockTriangles : automatic;
+}
 
 bool isStreamable(const std::string& input) {
     const std::string ext = extensionOf(input);
@@ -302,43 +275,6 @@ UpChoice chooseUpAxis(const std::string& input, const std::string& requested) {
     if (gltf && other) throw InputError(input + ": folder mixes glTF (y up) and OBJ/PLY (z up) meshes; give --up y or --up z");
     if (gltf) return {"y", "glTF is y-up"};
     return {"z", "OBJ/PLY: z up by convention; --up y for a y-up scan"};
-}
-
-void MemoryGate::acquire(uint64_t bytes) {
-    std::unique_lock lock(mutex_);
-    freed_.wait(lock, [&] { return used_ == 0 || used_ + bytes <= limit_; });
-    used_ += bytes;
-    peak_ = std::max(peak_, used_);
-}
-
-bool MemoryGate::tryAcquire(uint64_t bytes) {
-    const std::lock_guard lock(mutex_);
-    if (used_ + bytes > limit_) return false;
-    used_ += bytes;
-    peak_ = std::max(peak_, used_);
-    return true;
-}
-
-void MemoryGate::release(uint64_t bytes) {
-    {
-        const std::lock_guard lock(mutex_);
-        used_ -= bytes;
-    }
-    freed_.notify_all();
-}
-
-uint64_t MemoryGate::inUse() const {
-    const std::lock_guard lock(mutex_);
-    return used_;
-}
-
-uint64_t MemoryGate::peak() const {
-    const std::lock_guard lock(mutex_);
-    return peak_;
-}
-
-uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels, double desiredTris) {
-    return triangles * kBytesPerBlockTriangle + texels / kSourceTexelsPerByte + nodeTexels(triangles, texels, desiredTris) * kBytesPerNodeTexel;
 }
 
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {

@@ -348,7 +348,7 @@ uint64_t currentRss();  // bytes
 uint64_t peakRss();     // bytes
 std::string formatBytes(uint64_t bytes);
 
-// build.cpp: admits blocks into the parallel build while their estimated working sets fit
+// memory_gate.cpp: admits blocks into the parallel build while their estimated working sets fit
 // --memory-limit together; a block larger than the limit alone waits until it runs by itself.
 // A block builds nodes in parallel on further working sets it obtains with tryAcquire.
 class MemoryGate {
@@ -365,7 +365,7 @@ private:
     mutable std::mutex mutex_;
     std::condition_variable freed_;
 };
-// Working set of buildBlock for a block (measured, see build.cpp): its triangles, its source
+// Working set of buildBlock for a block (measured, see memory_gate.cpp): its triangles, its source
 // textures and the texture work of one node (c_desiredTris of its triangles' share of the texels).
 uint64_t blockWorkingSet(uint64_t triangles, uint64_t textureTexels, double desiredTris);
 uint64_t textureTexels(const std::string& path);  // from the image header alone; 0 when unreadable
