@@ -90,6 +90,21 @@ void reportRead(const std::string& input, const ReadStats& stats, Progress& prog
         progress.message(input + ": dropped " + std::to_string(stats.degenerateDropped) + " degenerate triangles");
 }
 
+// The parsed arrays (RawMesh: 12 B a position, 40 B a triangle) of a PLY or OBJ stay in memory
+// when at most kRawBytesPerFileByte x its file size fits the split's share of the limit: a binary
+// PLY triangle of 13 B becomes 40 B (3.1 x), a text one less; a binary polygon of n corners
+// (1 + 4n B) becomes n - 2 triangles, 7.3 x at n = 8, under 10 x for any n. So the arrays and
+// the split's cell buffers (another limit/4) stay within half the limit, whatever the polygons.
+// Writing them out was ~5 % of a fast bottom-up build of a 30 MB PLY (pipeline/BUILD_SPEED.md
+// "Round 5"). A glTF's geometry may be compressed (Draco, meshopt: 10 x and more): it spills.
+constexpr uint64_t kRawBytesPerFileByte = 8;
+bool rawFitsInMemory(const std::string& input, uint64_t budget) {
+    const std::string ext = extensionOf(input);
+    std::error_code ec;
+    const uint64_t bytes = fs::file_size(input, ec);
+    return !ec && (ext == ".ply" || ext == ".obj") && bytes <= budget / kRawBytesPerFileByte;
+}
+
 // One PLY, OBJ or glTF mesh, out of core: parsed once into spill files, then streamed to the
 // grid; a glTF's embedded images wait, still encoded, in TEMP/gltf-images for the texture store.
 SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
@@ -98,7 +113,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
     SplitInputs in;
     {
         RawMesh raw;
-        raw.spillTo(rawDir);
+        if (!rawFitsInMemory(input, options.memoryLimit / 4)) raw.spillTo(rawDir);
         raw.progress = &progress;
         progress.beginStage("read", fs::file_size(input), "B");
         const std::string ext = extensionOf(input);
