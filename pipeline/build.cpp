@@ -93,8 +93,8 @@ void reportRead(const std::string& input, const ReadStats& stats, Progress& prog
 // The parsed arrays (RawMesh: 12 B a position, 40 B a triangle) of a PLY or OBJ stay in memory
 // when at most kRawBytesPerFileByte x its file size fits the split's share of the limit: a binary
 // PLY triangle of 13 B becomes 40 B (3.1 x), a text one less; a binary polygon of n corners
-// (1 + 4n B) becomes n - 2 triangles, 7.3 x at n = 8, under 10 x for any n. So the arrays and
-// the split's cell buffers (another limit/4) stay within half the limit, whatever the polygons.
+// (1 + 4n B) becomes n - 2 triangles, 7.3 x at n = 8, under 10 x for any n. So the arrays (at
+// most 10/8 of limit/4) and the split's cell buffers (limit/4) stay within 57 % of the limit.
 // Writing them out was ~5 % of a fast bottom-up build of a 30 MB PLY (pipeline/BUILD_SPEED.md
 // "Round 5"). A glTF's geometry may be compressed (Draco, meshopt: 10 x and more): it spills.
 constexpr uint64_t kRawBytesPerFileByte = 8;

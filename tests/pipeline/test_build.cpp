@@ -136,7 +136,7 @@ TEST_F(TerrainBuild, ByteIdenticalForAnyJobs) {
     EXPECT_EQ(readFile(file("j1.hlod")), readFile(file("j2.hlod")));
     EXPECT_EQ(readFile(file("j1.hlod")), readFile(file("j3.hlod")));
     BuildOptions tight = smallOptions(2);
-    tight.memoryLimit = 1;  // the gate admits one block at a time; split buffers flush at their minimum
+    tight.memoryLimit = 1;  // one block at a time; split buffers flush at their minimum; the parse spills to files (in memory above)
     build(file("terrain.ply"), file("tight.hlod"), tight);
     EXPECT_EQ(readFile(file("j1.hlod")), readFile(file("tight.hlod")));
 }

@@ -147,7 +147,8 @@ TEST(Chunked, BuildOfChunkedFacadeValidates) {
 }
 
 // Issue #14: a textured input gives the same bytes for any --memory-limit and -j (the grid and
-// the textures, read by rectangles through the build's texture store, depend on neither).
+// the textures, read by rectangles through the build's texture store, depend on neither). At
+// 64 KiB the parsed OBJ spills to files; at 1 and 4 GiB it stays in memory (build.cpp rawFitsInMemory).
 TEST(Chunked, TexturedBuildByteIdenticalForAnyMemoryLimitAndJobs) {
     TempDir dir;
     ChunkedScanOptions options;
