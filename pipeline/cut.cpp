@@ -246,13 +246,14 @@ std::vector<Piece> dividePiece(const Piece& piece, uint32_t count, Planes placem
     const std::vector<float> planes = placement == Planes::Even ? evenPlanes(lo[axis], hi[axis], count)
                                                                 : divisionPlanes(piece.mesh, axis, count);
     std::vector<Piece> pieces;
-    Piece rest = piece;
+    Piece rest;
+    const Piece* above = &piece;  // the part above the planes so far (the piece itself: not copied)
     for (float plane : planes) {
-        CutResult cut = cutPiece(rest, axis, plane);
+        CutResult cut = cutPiece(*above, axis, plane);
         if (cut.below.mesh.triangleCount() > 0) pieces.push_back(std::move(cut.below));
-        rest = std::move(cut.above);
+        rest = std::move(cut.above), above = &rest;
     }
-    if (rest.mesh.triangleCount() > 0) pieces.push_back(std::move(rest));
+    if (above->mesh.triangleCount() > 0) pieces.push_back(above == &piece ? piece : std::move(rest));
     return pieces;
 }
 
