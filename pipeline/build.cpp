@@ -61,12 +61,11 @@ struct TempDir {
 };
 
 // The automatic block size does not depend on --memory-limit, so the database does not either:
-// the triangles whose working set fills a quarter of the default 1 GiB limit (671,088). A
-// smaller limit only admits fewer blocks at once (MemoryGate).
-uint64_t blockTarget(const BuildOptions& o) {
-    const uint64_t automatic = (uint64_t{1} << 30) / (4 * blockWorkingSet(1, 0, 1));  // an untextured triangle's share
-    return o.blockTriangles ? o.blockTriangles : automatic;
-}
+// the triangles whose working set filled a quarter of the default 1 GiB limit when it was chosen
+// (400 B a triangle, memory_gate.cpp). A literal: refitting the gate's model must not move every
+// database's grid. A smaller limit only admits fewer blocks at once (MemoryGate).
+constexpr uint64_t kAutoBlockTriangles = 671'088;
+uint64_t blockTarget(const BuildOptions& o) { return o.blockTriangles ? o.blockTriangles : kAutoBlockTriangles; }
 
 bool isStreamable(const std::string& input) {
     const std::string ext = extensionOf(input);
@@ -90,21 +89,6 @@ void reportRead(const std::string& input, const ReadStats& stats, Progress& prog
         progress.message(input + ": dropped " + std::to_string(stats.degenerateDropped) + " degenerate triangles");
 }
 
-// The parsed arrays (RawMesh: 12 B a position, 40 B a triangle) of a PLY or OBJ stay in memory
-// when at most kRawBytesPerFileByte x its file size fits the split's share of the limit: a binary
-// PLY triangle of 13 B becomes 40 B (3.1 x), a text one less; a binary polygon of n corners
-// (1 + 4n B) becomes n - 2 triangles, 7.3 x at n = 8, under 10 x for any n. So the arrays (at
-// most 10/8 of limit/4) and the split's cell buffers (limit/4) stay within 57 % of the limit.
-// Writing them out was ~5 % of a fast bottom-up build of a 30 MB PLY (pipeline/BUILD_SPEED.md
-// "Round 5"). A glTF's geometry may be compressed (Draco, meshopt: 10 x and more): it spills.
-constexpr uint64_t kRawBytesPerFileByte = 8;
-bool rawFitsInMemory(const std::string& input, uint64_t budget) {
-    const std::string ext = extensionOf(input);
-    std::error_code ec;
-    const uint64_t bytes = fs::file_size(input, ec);
-    return !ec && (ext == ".ply" || ext == ".obj") && bytes <= budget / kRawBytesPerFileByte;
-}
-
 // One PLY, OBJ or glTF mesh, out of core: parsed once into spill files, then streamed to the
 // grid; a glTF's embedded images wait, still encoded, in TEMP/gltf-images for the texture store.
 SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
@@ -113,7 +97,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
     SplitInputs in;
     {
         RawMesh raw;
-        if (!rawFitsInMemory(input, options.memoryLimit / 4)) raw.spillTo(rawDir);
+        raw.spillBeyond(options.memoryLimit / 4, rawDir);  // in memory while the arrays fit limit/4
         raw.progress = &progress;
         progress.beginStage("read", fs::file_size(input), "B");
         const std::string ext = extensionOf(input);

@@ -191,7 +191,7 @@ std::vector<float> divisionPlanes(const MeshData& m, int axis, uint32_t count) {
     for (uint32_t k = 1; k < count; ++k) {
         const size_t at = static_cast<size_t>(double(n) * k / count);
         std::nth_element(copy.begin() + from, copy.begin() + at, copy.end());
-        quantiles.push_back(copy[at]), from = at;
+        quantiles.push_back(copy[at] + 0.0f), from = at;  // + 0: a tie of -0 and +0 gives +0, whichever nth_element puts there
     }
     for (int i = 1; i < kCandidates; ++i) evens.push_back(lo + (hi - lo) * static_cast<float>(i) / kCandidates);
     std::vector<float> smallestFrom(kCandidates, std::numeric_limits<float>::infinity());  // by the evens below it
@@ -253,7 +253,9 @@ std::vector<Piece> dividePiece(const Piece& piece, uint32_t count, Planes placem
         if (cut.below.mesh.triangleCount() > 0) pieces.push_back(std::move(cut.below));
         rest = std::move(cut.above), above = &rest;
     }
-    if (above->mesh.triangleCount() > 0) pieces.push_back(above == &piece ? piece : std::move(rest));
+    if (above->mesh.triangleCount() == 0) return pieces;
+    if (above == &piece) pieces.push_back(piece);  // no plane: the piece whole
+    else pieces.push_back(std::move(rest));
     return pieces;
 }
 

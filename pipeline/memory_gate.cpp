@@ -15,7 +15,7 @@ namespace {
 // decoded once to a temporary file, read by the rectangles of a node's charts), so a texel costs
 // only through the node atlases, baked regions and JPEG coding: 1/12 byte. Measured (pipeline/
 // MEMORY.md): a 490,000-triangle block with 55 x 4K JPEG atlases (923 Mtexel) peaked 233 MB
-// above the process's ~128 MiB baseline (the model: 196 + 77 = 273 MB); before, the model said
+// above the process's baseline of then, ~128 MiB (OpenImageIO linked; now ~10 MiB) (the model: 196 + 77 = 273 MB); before, the model said
 // 5.7 GB (6 B per source texel, every atlas decoded and downsampled whole) for 4.6 GB measured.
 // The per-texel figure is fitted on that one generated input.
 // A node's texture work (its atlas, the baker's per-chart sub-samples, the JPEG coding, the

@@ -66,9 +66,9 @@ struct SourceMesh {
 class Progress;
 
 // raw_mesh.cpp: a PLY, OBJ or glTF mesh as parsed, before welding. The arrays live in memory (a block
-// file) or spill to disk (a single large input is never held whole), from
-// where split_stream.cpp routes the triangles to per-block files in one pass. Adding an
-// attribute checks it is finite (InputError naming the vertex).
+// file; a single input while they fit a budget) or spill to disk (a single large input is never
+// held whole), from where split_stream.cpp routes the triangles to per-block files in one pass.
+// Adding an attribute checks it is finite (InputError naming the vertex).
 struct RawTriangle {
     uint32_t position[3], texcoord[3], normal[3];  // indices into the arrays (PLY: all = position)
     uint32_t material;                              // into materials; kNone = the default material
@@ -83,9 +83,14 @@ struct RawMesh {
     std::vector<Material> materials;
     ReadStats stats;
     Progress* progress = nullptr;  // advanced by the bytes read
+    uint64_t spillBudget = UINT64_MAX;  // spillBeyond
+    std::string spillDir;
 
-    void spillTo(const std::string& dir);  // before parsing: keep the arrays in files under dir
+    void spillTo(const std::string& dir);  // keep the arrays in files under dir (before parsing, or midway)
+    // Keep the arrays in memory while they hold at most `budget` bytes, then in files under dir.
+    void spillBeyond(uint64_t budget, const std::string& dir) { spillBudget = budget, spillDir = dir; }
     void addPosition(const float p[3], const std::string& name);
+    void addTriangle(const RawTriangle& t);
     void addTexcoord(float u, float v, const std::string& name);
     void addNormal(const float n[3], const std::string& name);
     void seal();  // parsing done

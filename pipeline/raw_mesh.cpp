@@ -1,7 +1,8 @@
 // The parsed-but-not-welded mesh shared by the PLY and OBJ readers: attributes
 // are checked as they arrive, triangles keep their per-corner attribute indices, and the whole
 // thing either becomes an indexed SourceMesh (a block file) or is streamed to the block grid
-// straight from its spill files (split_stream.cpp), so a large input is never held whole.
+// from memory or, beyond a budget, from its spill files (split_stream.cpp), so a large input is
+// never held whole.
 #include "pipeline/pipeline.h"
 
 #include <sys/stat.h>
@@ -93,9 +94,26 @@ void RawMesh::spillTo(const std::string& dir) {
     triangles.spillTo((d / "triangles.raw").string());
 }
 
+namespace {
+// spillBeyond: the arrays go to files once memory holds more than the budget (checked as positions
+// and triangles arrive; colours grow with positions, texture coordinates and normals at most so).
+void spillWhenOver(RawMesh& raw) {
+    if (raw.spillDir.empty() || raw.positions.spilled()) return;
+    const uint64_t held = raw.positions.heldBytes() + raw.texcoords.heldBytes() + raw.normals.heldBytes() +
+                          raw.colors.heldBytes() + raw.triangles.heldBytes();
+    if (held > raw.spillBudget) raw.spillTo(raw.spillDir);
+}
+}  // namespace
+
+void RawMesh::addTriangle(const RawTriangle& t) {
+    triangles.push(&t, 1);
+    spillWhenOver(*this);
+}
+
 void RawMesh::addPosition(const float p[3], const std::string& name) {
     checkFinite(p, 3, positionCount(), "coordinate", name);
     positions.push(p, 3);
+    spillWhenOver(*this);
     bounds.min = {std::min(bounds.min.x, p[0]), std::min(bounds.min.y, p[1]), std::min(bounds.min.z, p[2])};
     bounds.max = {std::max(bounds.max.x, p[0]), std::max(bounds.max.y, p[1]), std::max(bounds.max.z, p[2])};
 }

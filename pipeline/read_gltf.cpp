@@ -291,7 +291,7 @@ void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m,
             tri.position[k] = tri.texcoord[k] = tri.normal[k] = base + i;
         }
         tri.material = material;
-        raw.triangles.push(&tri, 1);
+        raw.addTriangle(tri);
     }
 }
 

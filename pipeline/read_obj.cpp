@@ -115,7 +115,7 @@ private:
             else n[k] = index(l, vn, raw_.normals.size() / 3);
             if (corners >= 2) {
                 RawTriangle tri{{p[0], p[1], p[2]}, {t[0], t[1], t[2]}, {n[0], n[1], n[2]}, material_};
-                raw_.triangles.push(&tri, 1);
+                raw_.addTriangle(tri);
             }
         }
         if (corners < 3) corrupt(l, "face with fewer than 3 vertices");

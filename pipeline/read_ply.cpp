@@ -265,7 +265,7 @@ void readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
                 t.material = 0;
                 const uint32_t corners[3] = {polygon[0], polygon[k - 1], polygon[k]};
                 for (int c = 0; c < 3; ++c) t.position[c] = t.texcoord[c] = t.normal[c] = corners[c];
-                raw.triangles.push(&t, 1);
+                raw.addTriangle(t);
             }
         }
     }

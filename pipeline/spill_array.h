@@ -27,12 +27,17 @@ public:
         if (file_) std::fclose(file_);
     }
 
-    // Spill to `path` (created, truncated) instead of memory; call before the first push.
+    // Spill to `path` (created, truncated) instead of memory, before the first push or midway:
+    // what memory holds so far is written out first and its memory returned.
     void spillTo(const std::string& path) {
         path_ = path;
         file_ = std::fopen(path.c_str(), "w+b");
         if (!file_) throw std::runtime_error(path + ": cannot create temporary file (" + std::strerror(errno) + ")");
+        if (!buffer_.empty()) flush();
+        std::vector<T>().swap(buffer_);
     }
+    bool spilled() const { return file_ != nullptr; }
+    size_t heldBytes() const { return buffer_.capacity() * sizeof(T); }  // in memory, reserved included
 
     void push(const T* values, size_t n) {
         buffer_.insert(buffer_.end(), values, values + n);

@@ -1,5 +1,6 @@
-// Out-of-core block split: the input is streamed once into per-block temporary storage and never
-// held whole. One pass over the parsed triangles (read from the RawMesh spill files) copies
+// Out-of-core block split: the input is streamed once into per-block temporary storage and not
+// held whole beyond the parse's budget. One pass over the parsed triangles (in memory, or read
+// from the RawMesh spill files) copies
 // each triangle to every grid cell its bounds reach, through per-cell buffers of bounded total
 // size flushed to one file per cell. Each cell is then welded and clipped to its rectangle by the
 // same Fig. 3.2 plane cuts, in the same order, as splitByGrid, so the blocks are those of the

@@ -80,7 +80,8 @@ private:
     }
     size_t filterBit(const CellKey& k) const {  // another mix than hash(): independent of the slot
         const uint64_t h = (uint64_t(k.x) * 0xD6E8FEB86659FD93ull + uint64_t(k.y)) * 0xA0761D6478BD642Full + uint64_t(k.z);
-        return size_t((h * 0xE7037ED1A0B428DBull) >> 32) & (64 * occupied_.size() - 1);
+        const uint64_t m = h * 0xE7037ED1A0B428DBull;
+        return size_t(m ^ (m >> 32)) & (64 * occupied_.size() - 1);
     }
     std::vector<Slot> slots_;
     std::vector<uint64_t> occupied_;

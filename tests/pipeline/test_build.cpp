@@ -179,7 +179,7 @@ TEST(MemoryGate, AdmitsBlocksWhileTheyFitAndALargeOneAlone) {
     gate.release(500);
     EXPECT_EQ(blockWorkingSet(1000, 0, 900), 1000 * blockWorkingSet(1, 0, 900));
     EXPECT_GT(blockWorkingSet(0, 1000, 900), 0u);
-    // The same source texels on fewer triangles: each node's texel budget is larger (build.cpp).
+    // The same source texels on fewer triangles: each node's texel budget is larger (memory_gate.cpp).
     const auto textureCost = [](uint64_t triangles) { return blockWorkingSet(triangles, 923'000'000, 900) - blockWorkingSet(triangles, 0, 900); };
     EXPECT_GT(textureCost(122'500), textureCost(490'000));
     EXPECT_GT(textureCost(490'000), textureCost(4'900'000));

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -67,6 +68,35 @@ TEST(StreamSplit, GivesTheBlocksOfTheInMemorySplitForAnyBufferSize) {
             EXPECT_TRUE(triangles(got) == triangles(expected[cell.cell])) << "cell " << cell.cell << ", buffer " << buffer;
         }
         EXPECT_EQ(stats.degenerateDropped, 0u);
+    }
+}
+
+// Issue #14: the parsed arrays stay in memory while they fit the budget and spill midway beyond
+// it (spillBeyond), with the same contents as a parse spilled from the start.
+TEST(RawMeshSpill, StaysInMemoryWithinItsBudgetAndSpillsMidwayBeyondIt) {
+    Fixture f;
+    const auto parse = [&](RawMesh& raw) {
+        parsePly(f.dir.file("t.ply"), raw);
+        raw.seal();
+    };
+    const std::string dir = f.dir.file("raw");
+    std::filesystem::create_directories(dir);
+    RawMesh atOnce;
+    atOnce.spillTo(dir + "/.."), parse(atOnce);  // the reference: spilled before the first push
+    const uint64_t bytes = atOnce.positions.size() * sizeof(float) + atOnce.triangles.size() * sizeof(RawTriangle);
+    RawMesh within, beyond;
+    within.spillBeyond(4 * bytes, dir), parse(within);
+    EXPECT_FALSE(within.positions.spilled());
+    EXPECT_FALSE(std::filesystem::exists(dir + "/positions.raw"));
+    beyond.spillBeyond(bytes / 3, dir), parse(beyond);
+    EXPECT_TRUE(atOnce.positions.spilled());
+    EXPECT_TRUE(beyond.positions.spilled() && beyond.triangles.spilled());
+    EXPECT_EQ(std::filesystem::file_size(dir + "/positions.raw"), atOnce.positions.size() * sizeof(float));
+    for (const RawMesh* raw : {&within, &beyond}) {
+        ASSERT_EQ(raw->positions.size(), atOnce.positions.size());
+        ASSERT_EQ(raw->triangles.size(), atOnce.triangles.size());
+        EXPECT_EQ(std::memcmp(raw->positions.data(), atOnce.positions.data(), atOnce.positions.size() * sizeof(float)), 0);
+        EXPECT_EQ(std::memcmp(raw->triangles.data(), atOnce.triangles.data(), atOnce.triangles.size() * sizeof(RawTriangle)), 0);
     }
 }
 
