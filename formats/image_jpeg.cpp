@@ -199,10 +199,6 @@ private:
         memory_ = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);  // zeroed: pre_zero holds
         if (memory_ == MAP_FAILED) return false;
         if (huge) madvise(memory_, bytes_, MADV_HUGEPAGE);  // advice: without it (THP off), 4 KiB pages as before
-        // Every page is written (each block of each array), so fault them in at once: one call
-        // instead of a fault per 4 KiB page of the small arrays (~0.5 M faults on the facade,
-        // pipeline/TEXTURE_SPEED.md round 3). Advice too: before Linux 5.14 they fault as before.
-        madvise(memory_, bytes_, MADV_POPULATE_WRITE);
         try {
             JBLOCKROW next = static_cast<JBLOCKROW>(memory_);
             for (Array& a : arrays_)
