@@ -4,12 +4,16 @@
 // file in the build's temporary folder, followed by its mip pyramid (each level the box-filtered
 // halving of the one before, computed by strips from it read back: 1/3 more bytes); a node then
 // reads only the rows and columns under the rectangles its charts use (pread: the page cache
-// holds them, not the process). The thesis's downsampling by the node's factor (§3.2: "the
-// original texture data is down-sampled by this simplification factor as well") is a box filter
-// computed per rectangle from the pyramid level just finer than the node's size (a remaining
-// factor below 2 per side): each scaled texel is the area-weighted mean of the level's texels it
-// covers, a function of that texel alone, so a rectangle's texels equal those of the whole
-// downsampled image (downsampleTexture) and no whole atlas, source or downsampled, is held.
+// holds them, not the process). Each level lies in the file as 64 x 64-texel tiles (`Tiles`),
+// so a rectangle's rows within one band of 64 are one pread of the band's tiles it crosses, into
+// a buffer each thread keeps (at most a band of the widest level: as a decoded strip, 768 KiB for
+// 4K), where a file of whole rows took a pread per row (6.26 M calls on the facade of
+// TEXTURE_SPEED.md, 135 k tiled; its round 3). The thesis's downsampling by the node's factor
+// (§3.2: "the original texture data is down-sampled by this simplification factor as well") is
+// a box filter computed per rectangle from the pyramid level just finer than the node's size (a
+// remaining factor below 2 per side): each scaled texel is the area-weighted mean of the level's
+// texels it covers, a function of that texel alone, so a rectangle's texels equal those of the
+// whole downsampled image (downsampleTexture) and no whole atlas, source or downsampled, is held.
 // Reading the level instead of the source makes a node's filter cost proportional to its own
 // texels, not the source texels under them (pipeline/TEXTURE_SPEED.md).
 // Without a folder (buildBlock outside runBuild) the decoded sources and pyramids stay in
