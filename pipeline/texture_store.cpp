@@ -4,12 +4,16 @@
 // file in the build's temporary folder, followed by its mip pyramid (each level the box-filtered
 // halving of the one before, computed by strips from it read back: 1/3 more bytes); a node then
 // reads only the rows and columns under the rectangles its charts use (pread: the page cache
-// holds them, not the process). The thesis's downsampling by the node's factor (§3.2: "the
-// original texture data is down-sampled by this simplification factor as well") is a box filter
-// computed per rectangle from the pyramid level just finer than the node's size (a remaining
-// factor below 2 per side): each scaled texel is the area-weighted mean of the level's texels it
-// covers, a function of that texel alone, so a rectangle's texels equal those of the whole
-// downsampled image (downsampleTexture) and no whole atlas, source or downsampled, is held.
+// holds them, not the process). Each level lies in the file as 64 x 64-texel tiles (`Tiles`),
+// so a rectangle's rows within one band of 64 are one pread of the band's tiles it crosses, into
+// a buffer each thread keeps (at most a band of the widest level: as a decoded strip, 768 KiB for
+// 4K), where a file of whole rows took a pread per row (6.26 M calls on the facade of
+// TEXTURE_SPEED.md, 135 k tiled; its round 3). The thesis's downsampling by the node's factor
+// (§3.2: "the original texture data is down-sampled by this simplification factor as well") is
+// a box filter computed per rectangle from the pyramid level just finer than the node's size (a
+// remaining factor below 2 per side): each scaled texel is the area-weighted mean of the level's
+// texels it covers, a function of that texel alone, so a rectangle's texels equal those of the
+// whole downsampled image (downsampleTexture) and no whole atlas, source or downsampled, is held.
 // Reading the level instead of the source makes a node's filter cost proportional to its own
 // texels, not the source texels under them (pipeline/TEXTURE_SPEED.md).
 // Without a folder (buildBlock outside runBuild) the decoded sources and pyramids stay in
@@ -38,6 +42,27 @@ namespace hlod {
 namespace {
 
 constexpr int kStripRows = 64;  // scanlines decoded at once: 4096 x 64 x 3 = 768 KiB
+constexpr uint32_t kTile = 64;   // texels per side of the temporary file's tiles
+static_assert(kStripRows == int(kTile), "a decoded strip is one band of tiles");
+
+// A level's layout in the file: its bands of kTile rows one after the other, each band its tiles
+// of kTile columns left to right (the last ones narrower or shorter), each tile row by row. The
+// level takes width x height x channels bytes, as row by row.
+struct Tiles {
+    uint32_t width = 0, height = 0, channels = 0;
+    uint32_t bandRows(uint32_t band) const { return std::min(kTile, height - band * kTile); }
+    uint32_t tileWidth(uint32_t tx) const { return std::min(kTile, width - tx * kTile); }
+    uint64_t tile(uint32_t tx, uint32_t band) const {  // its first byte in the level
+        return (uint64_t(band) * kTile * width + uint64_t(tx) * kTile * bandRows(band)) * channels;
+    }
+    // Band `band`'s rows, row by row in `rows`, as tiles in `out` (bandRows x width x channels bytes).
+    void tile(uint32_t band, const uint8_t* rows, uint8_t* out) const {
+        const uint32_t n = bandRows(band);
+        for (uint32_t tx = 0; tx * kTile < width; ++tx)
+            for (uint32_t r = 0; r < n; ++r)
+                out = std::copy_n(rows + (size_t(r) * width + tx * kTile) * channels, size_t(tileWidth(tx)) * channels, out);
+    }
+};
 
 // The texels of one axis an output texel covers: source [first, first + count), their weights
 // at [weight, weight + count) of Spans::weights.
@@ -102,20 +127,62 @@ uint32_t scaledSide(uint32_t side, double factor) {
 
 uint32_t mipSide(uint32_t side) { return (side + 1) / 2; }
 
-void TextureSource::rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out, size_t level) const {
-    const TextureLevel& l = levels.at(level);
-    size_t rowBytes = size_t(x1 - x0) * channels;
-    if (x0 == 0 && x1 == l.width) rowBytes *= y1 - y0, y1 = std::min(y1, y0 + 1);  // whole rows: one read
-    for (uint32_t y = y0; y < y1; ++y, out += rowBytes) {
-        const size_t offset = (size_t(y) * l.width + x0) * channels;
-        if (l.pixels) {
-            std::memcpy(out, l.pixels + offset, rowBytes);
-            continue;
+namespace {
+
+// A level's columns [x0, x1) of rows [y0, y1) (in memory, or a band of tiles at a time from the
+// file, in one pread from the first tile's first row wanted to the last tile's last: the tiles
+// between them are contiguous), copied row by row.
+class LevelRows {
+public:
+    LevelRows(const TextureSource& source, size_t level, uint32_t x0, uint32_t x1, uint32_t y0, uint32_t y1)
+        : source_(source), level_(source.levels.at(level)), tiles_{level_.width, level_.height, source.channels}, x0_(x0), x1_(x1), y0_(y0),
+          y1_(y1) {}
+    void copy(uint32_t y, uint8_t* out) {
+        const uint32_t nc = source_.channels;
+        if (x1_ == x0_) return;
+        if (level_.pixels) {
+            std::memcpy(out, level_.pixels + (size_t(y) * level_.width + x0_) * nc, size_t(x1_ - x0_) * nc);
+            return;
         }
-        if (const int error = preadFully(file, out, rowBytes, l.offset + offset))
+        const uint32_t band = y / kTile, row = y % kTile;
+        if (band != band_ || owner_ != this) read(band);
+        for (uint32_t tx = x0_ / kTile; tx * kTile < x1_; ++tx) {
+            const uint32_t c0 = std::max(x0_, tx * kTile), c1 = std::min(x1_, tx * kTile + kTile), width = tiles_.tileWidth(tx);
+            const uint8_t* from = buffer_.data() + (tiles_.tile(tx, band) + (uint64_t(row) * width + c0 - tx * kTile) * nc - start_);
+            out = std::copy_n(from, size_t(c1 - c0) * nc, out);
+        }
+    }
+
+private:
+    void read(uint32_t band) {
+        const uint32_t nc = source_.channels, first = x0_ / kTile, last = (x1_ - 1) / kTile;
+        const uint32_t r0 = std::max(y0_, band * kTile) - band * kTile, r1 = std::min(y1_, band * kTile + tiles_.bandRows(band)) - band * kTile;
+        start_ = tiles_.tile(first, band) + uint64_t(r0) * tiles_.tileWidth(first) * nc;
+        const uint64_t end = tiles_.tile(last, band) + uint64_t(r1) * tiles_.tileWidth(last) * nc;
+        if (buffer_.size() < end - start_) buffer_.resize(end - start_);
+        if (const int error = preadFully(source_.file, buffer_.data(), end - start_, level_.offset + start_))
             throw std::runtime_error("texture store: cannot read back a decoded texture (" +
                                      std::string(error == kEndOfFile ? "unexpected end of the temporary file" : std::strerror(error)) + ")");
+        band_ = band, owner_ = this;
     }
+    // One band's bytes per thread, kept from rectangle to rectangle (no fresh pages per read).
+    static thread_local std::vector<uint8_t> buffer_;
+    static thread_local const LevelRows* owner_;  // whose band buffer_ holds
+    const TextureSource& source_;
+    const TextureLevel& level_;
+    const Tiles tiles_;
+    const uint32_t x0_, x1_, y0_, y1_;
+    uint32_t band_ = UINT32_MAX;
+    uint64_t start_ = 0;  // buffer_'s first byte in the level
+};
+thread_local std::vector<uint8_t> LevelRows::buffer_;
+thread_local const LevelRows* LevelRows::owner_ = nullptr;
+
+}  // namespace
+
+void TextureSource::rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out, size_t level) const {
+    LevelRows reader(*this, level, x0, x1, y0, y1);
+    for (uint32_t y = y0; y < y1; ++y, out += size_t(x1 - x0) * channels) reader.copy(y, out);
 }
 
 TextureSource textureView(const Image& image, const std::vector<Image>& mips) {
@@ -139,8 +206,9 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
     }
     if (from.width == 2 * scaledWidth && from.height == 2 * scaledHeight) {  // a halving (the pyramid's)
         std::vector<uint8_t> pair(size_t(x1 - x0) * 2 * nc * 2);
+        LevelRows rows(source, level, 2 * x0, 2 * x1, 2 * y0, 2 * y1);
         for (uint32_t oy = 0; oy < out.height; ++oy) {
-            source.rows(2 * (y0 + oy), 2 * (y0 + oy) + 2, 2 * x0, 2 * x1, pair.data(), level);
+            rows.copy(2 * (y0 + oy), pair.data()), rows.copy(2 * (y0 + oy) + 1, pair.data() + pair.size() / 2);
             halveRows(pair.data(), pair.size() / 2, out.width, 1, nc, &out.pixels[size_t(oy) * out.width * nc]);
         }
         return out;
@@ -152,13 +220,14 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
     constexpr uint32_t kCachedRows = 4;
     const size_t filteredSize = size_t(out.width) * nc;
     std::vector<uint8_t> row(size_t(sx1 - sx0) * nc);
+    LevelRows rows(source, level, sx0, sx1, down.spans.front().first, down.spans.back().first + down.spans.back().count);
     std::vector<float> cache(filteredSize * kCachedRows);
     uint32_t cachedY[kCachedRows];
     std::fill_n(cachedY, kCachedRows, UINT32_MAX);
     const auto filteredRow = [&](uint32_t y) {
         float* slot = &cache[(y % kCachedRows) * filteredSize];
         if (cachedY[y % kCachedRows] == y) return slot;
-        source.rows(y, y + 1, sx0, sx1, row.data(), level), cachedY[y % kCachedRows] = y;
+        rows.copy(y, row.data()), cachedY[y % kCachedRows] = y;
         if (nc == 3) filterRow<3>(row.data(), across, sx0, slot);
         else if (nc == 1) filterRow<1>(row.data(), across, sx0, slot);
         else if (nc == 2) filterRow<2>(row.data(), across, sx0, slot);
@@ -231,30 +300,40 @@ struct TextureStore::Impl {
             if (const int error = pwriteFully(source.file, bytes, size, offset))
                 throw std::runtime_error(file + ": cannot write a decoded texture (" + std::strerror(error) + ")");
         };
+        // A band of a level's rows (row by row in `rows`) written as its tiles, in one call.
+        std::vector<uint8_t> tiled;
+        const auto writeBand = [&](const TextureLevel& level, uint32_t band, const uint8_t* rows) {
+            const Tiles tiles{level.width, level.height, source.channels};
+            tiled.resize(size_t(tiles.bandRows(band)) * level.width * source.channels);
+            tiles.tile(band, rows, tiled.data());
+            write(tiled.data(), tiled.size(), level.offset + tiles.tile(0, band));
+        };
         const size_t rowBytes = size_t(source.width) * source.channels;
         std::vector<uint8_t> strip(rowBytes * kStripRows);
-        // Even sides: level 1 from the decoded strips (kStripRows is even), not read back.
+        // Even sides: level 1 from the decoded strips (kStripRows is even), not read back; its
+        // band of kTile rows gathered from two strips.
         const bool even = source.width % 2 == 0 && source.height % 2 == 0;
         const TextureLevel half{source.width / 2, source.height / 2, nullptr, uint64_t(rowBytes) * source.height};
-        std::vector<uint8_t> halved(even ? rowBytes / 2 * kStripRows / 2 : 0);
+        std::vector<uint8_t> halved(even ? rowBytes / 2 * kTile : 0);
         for (uint32_t y = 0; y < source.height; y += kStripRows) {
             const uint32_t end = std::min<uint32_t>(source.height, y + kStripRows);
             readTextureRows(*input, path, end - y, source.channels, strip.data());
-            write(strip.data(), rowBytes * (end - y), rowBytes * y);
+            writeBand(source.levels[0], y / kTile, strip.data());
             if (!even) continue;
-            halveRows(strip.data(), rowBytes, half.width, (end - y) / 2, source.channels, halved.data());
-            write(halved.data(), rowBytes / 2 * ((end - y) / 2), half.offset + rowBytes / 2 * (y / 2));
+            const uint32_t first = y / 2, pairs = (end - y) / 2;
+            halveRows(strip.data(), rowBytes, half.width, pairs, source.channels, &halved[rowBytes / 2 * (first % kTile)]);
+            if ((first + pairs) % kTile == 0 || first + pairs == half.height) writeBand(half, first / kTile, halved.data());
         }
         if (even) source.levels.push_back(half);
-        // The rest of the pyramid, each level filtered by strips from the one before, read back.
+        // The rest of the pyramid, each level filtered by bands from the one before, read back.
         for (TextureLevel last = source.levels.back(); last.width > 1 || last.height > 1; last = source.levels.back()) {
             const TextureLevel next{mipSide(last.width), mipSide(last.height), nullptr,
                                     last.offset + uint64_t(last.width) * last.height * source.channels};
             TextureSource previous = source;
             previous.levels = {last};
-            for (uint32_t y = 0; y < next.height; y += kStripRows) {
-                const Image rows = scaledRegion(previous, next.width, next.height, 0, y, next.width, std::min<uint32_t>(next.height, y + kStripRows));
-                write(rows.pixels.data(), rows.pixels.size(), next.offset + uint64_t(y) * next.width * source.channels);
+            for (uint32_t y = 0; y < next.height; y += kTile) {
+                const Image rows = scaledRegion(previous, next.width, next.height, 0, y, next.width, std::min<uint32_t>(next.height, y + kTile));
+                writeBand(next, y / kTile, rows.pixels.data());
             }
             source.levels.push_back(next);
         }

@@ -27,14 +27,14 @@ void readTextureRows(ImageRows& image, const std::string& path, uint32_t rows, u
 struct TextureLevel {
     uint32_t width = 0, height = 0;
     const uint8_t* pixels = nullptr;  // in memory, or
-    uint64_t offset = 0;              // the level's first byte in the source's file (width x height x channels, row by row)
+    uint64_t offset = 0;              // the level's first byte in the source's file (width x height x channels, in tiles: texture_store.cpp)
 };
 struct TextureSource {
     uint32_t width = 0, height = 0, channels = 0;  // level 0's
     int file = -1;                                 // the levels' file, or -1: in memory
     int jpegQuality = 0;  // the quality a JPEG source was written with (jpegQuality); 0: unknown
     std::vector<TextureLevel> levels;
-    // [x0, x1) of rows [y0, y1) of a level (pread from the file: safe from any thread)
+    // [x0, x1) of rows [y0, y1) of a level, row by row (pread from the file: safe from any thread)
     void rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out, size_t level = 0) const;
 };
 uint32_t mipSide(uint32_t side);  // a side of the next pyramid level: (side + 1) / 2

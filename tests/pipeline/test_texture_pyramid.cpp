@@ -107,6 +107,58 @@ TEST(TexturePyramid, StoreFileHoldsTheSamePyramidAsMemory) {
     }
 }
 
+// The temporary file's tiles (kTile = 64 texels a side, texture_store.cpp): any rectangle of any
+// level reads back as the in-memory pyramid's, across tile borders, for sides that are not
+// multiples of the tile (the last tiles narrower and shorter), a single row or column, 1 texel.
+TEST(TexturePyramid, StoreTilesReadBackAnyRectangleOfEveryLevel) {
+    TempDir dir;
+    const std::vector<std::pair<uint32_t, uint32_t>> sides = {{1, 1}, {1, 70}, {200, 1}, {64, 64}, {65, 63}, {130, 257}, {257, 130}};
+    for (const uint32_t channels : {1u, 3u})
+        for (const auto& [width, height] : sides) {
+            const std::string path = dir.file(std::to_string(width) + "x" + std::to_string(height) + "_" + std::to_string(channels) + ".png");
+            const Image source = noise(width, height, channels);
+            const EncodedBlob blob = encodeTexture(source, Codec::Png);
+            std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(blob.bytes.data()), std::streamsize(blob.bytes.size()));
+            TextureStore store(dir.file("store"));
+            const TextureSource file = store.open(path, nullptr);
+            ASSERT_EQ(file.channels, channels);
+            const std::vector<Image> mips = mipLevels(source);
+            std::vector<Image> levels = mips;
+            levels.insert(levels.begin(), source);
+            ASSERT_EQ(file.levels.size(), levels.size()) << width << " x " << height;
+            const TextureSource memory = textureView(source, mips);
+            for (size_t k = 0; k < levels.size(); ++k) {
+                const Image& level = levels[k];
+                const std::string what = std::to_string(width) + " x " + std::to_string(height) + " x " + std::to_string(channels) +
+                                         ", level " + std::to_string(k);
+                // Rectangles starting and ending on both sides of the tile borders 64 and 128.
+                const std::vector<uint32_t> cuts = {0, 1, 63, 64, 65, 127, 128, 129, 200};
+                for (const uint32_t x0 : cuts)
+                    for (const uint32_t xLast : cuts)
+                        for (const uint32_t y0 : cuts)
+                            for (const uint32_t yLast : cuts) {
+                                const uint32_t x1 = std::min(xLast + 1, level.width), y1 = std::min(yLast + 1, level.height);
+                                if (x0 >= x1 || y0 >= y1) continue;
+                                std::vector<uint8_t> got(size_t(x1 - x0) * (y1 - y0) * channels, 0), want;
+                                for (uint32_t y = y0; y < y1; ++y)
+                                    want.insert(want.end(), level.pixels.begin() + (size_t(y) * level.width + x0) * channels,
+                                                level.pixels.begin() + (size_t(y) * level.width + x1) * channels);
+                                file.rows(y0, y1, x0, x1, got.data(), k);
+                                ASSERT_EQ(got, want) << what << ", [" << x0 << ", " << x1 << ") x [" << y0 << ", " << y1 << ")";
+                            }
+            }
+            // A node's rectangles (a copy, a halving, the filter) from the file equal those from memory.
+            for (const double factor : {1.0, 4.0, 3.0, 17.0}) {
+                const uint32_t w = scaledSide(width, factor), h = scaledSide(height, factor);
+                for (const auto& [x0, y0] : {std::pair<uint32_t, uint32_t>{0, 0}, {w / 3, h / 2}, {w / 2, h / 3}}) {
+                    const uint32_t x1 = std::max(x0 + 1, w - w / 5), y1 = std::max(y0 + 1, h - h / 7);
+                    ASSERT_EQ(scaledRegion(file, w, h, x0, y0, x1, y1).pixels, scaledRegion(memory, w, h, x0, y0, x1, y1).pixels)
+                        << width << " x " << height << " x " << channels << ", factor " << factor << ", from " << x0 << ", " << y0;
+                }
+            }
+        }
+}
+
 // Every channel count the filter is specialised for filters each channel as a grey image alone.
 TEST(TexturePyramid, EachChannelFilteredAlone) {
     for (const uint32_t channels : {2u, 3u, 4u}) {
