@@ -16,6 +16,7 @@ namespace {
 
 constexpr uint32_t kLeafTriangles = 4;
 constexpr uint32_t kLeafPoints = 8;  // a group this small is queried point by point
+constexpr uint32_t kNoTriangle = ~0u;
 
 double sq(double v) { return v * v; }
 
@@ -105,6 +106,8 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
     struct Task { uint32_t node, lo, hi; };
     std::vector<Task> stack{{0, 0, count}};
     bvh.nodes.push_back({});
+    bvh.parent.push_back(0);
+    bvh.leaf.resize(count);
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
@@ -114,6 +117,7 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
             for (int k = 0; k < 3; ++k) node.lo[k] = std::min(node.lo[k], items[i].lo[k]), node.hi[k] = std::max(node.hi[k], items[i].hi[k]);
         if (task.hi - task.lo <= kLeafTriangles) {
             node.first = task.lo, node.count = task.hi - task.lo;
+            std::fill(bvh.leaf.begin() + task.lo, bvh.leaf.begin() + task.hi, task.node);
             continue;
         }
         int axis = 0;
@@ -125,6 +129,7 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
         const uint32_t left = static_cast<uint32_t>(bvh.nodes.size());
         node.first = left, node.count = 0;  // `node` is not used past here: push_back may move it
         bvh.nodes.push_back({}), bvh.nodes.push_back({});
+        bvh.parent.push_back(task.node), bvh.parent.push_back(task.node);
         stack.push_back({left, task.lo, mid}), stack.push_back({left + 1, mid, task.hi});
     }
     bvh.corners.resize(corners.size());
@@ -142,30 +147,47 @@ double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint
     double best = std::numeric_limits<double>::infinity();
     const size_t triangles = bvh.corners.size() / 9;
     if (triangles == 0) return best;
-    if (hint < triangles) best = triangleDistance2(&bvh.corners[9 * size_t(hint)], p);
     struct Entry {
         double boxD;
         uint32_t index;
     };
     Entry stack[64];  // not value-initialised (a pair's constructor zeroed 1 KB per query)
-    int top = 0;
-    stack[top++] = {boxDistance2(bvh.nodes[0], p), 0};
-    while (top > 0) {
-        const auto [boxD, index] = stack[--top];
-        if (boxD >= best) continue;
-        const TriangleBvh::Node& n = bvh.nodes[index];
-        if (n.count > 0) {
-            for (uint32_t t = n.first; t < n.first + n.count; ++t) {
-                const float* box = &bvh.boxes[6 * size_t(t)];
-                if (boxDistance2(box, box + 3, p) >= best) continue;  // its box first: ~3 x cheaper
-                if (const double d = triangleDistance2(&bvh.corners[9 * size_t(t)], p); d < best) best = d, hint = t;
+    uint32_t known = kNoTriangle;  // the hint, whose distance is already `best`
+    auto search = [&](uint32_t from, double fromD) {  // the subtree of node `from`, nearer children first
+        int top = 0;
+        stack[top++] = {fromD, from};
+        while (top > 0) {
+            const auto [boxD, index] = stack[--top];
+            if (boxD >= best) continue;
+            const TriangleBvh::Node& n = bvh.nodes[index];
+            if (n.count > 0) {
+                for (uint32_t t = n.first; t < n.first + n.count; ++t) {
+                    const float* box = &bvh.boxes[6 * size_t(t)];
+                    if (t == known || boxDistance2(box, box + 3, p) >= best) continue;  // its box first: ~3 x cheaper
+                    if (const double d = triangleDistance2(&bvh.corners[9 * size_t(t)], p); d < best) best = d, hint = t;
+                }
+                continue;
             }
-            continue;
+            const double dl = boxDistance2(bvh.nodes[n.first], p), dr = boxDistance2(bvh.nodes[n.first + 1], p);
+            const bool leftFirst = dl <= dr;  // the nearer child on top of the stack
+            if ((leftFirst ? dr : dl) < best) stack[top++] = {leftFirst ? dr : dl, leftFirst ? n.first + 1 : n.first};
+            if ((leftFirst ? dl : dr) < best) stack[top++] = {leftFirst ? dl : dr, leftFirst ? n.first : n.first + 1};
         }
-        const double dl = boxDistance2(bvh.nodes[n.first], p), dr = boxDistance2(bvh.nodes[n.first + 1], p);
-        const bool leftFirst = dl <= dr;  // the nearer child on top of the stack
-        if ((leftFirst ? dr : dl) < best) stack[top++] = {leftFirst ? dr : dl, leftFirst ? n.first + 1 : n.first};
-        if ((leftFirst ? dl : dr) < best) stack[top++] = {leftFirst ? dl : dr, leftFirst ? n.first : n.first + 1};
+    };
+    if (hint >= triangles) {
+        search(0, boxDistance2(bvh.nodes[0], p));
+        return best;
+    }
+    // From the hint's leaf up to the root, each sibling's subtree: every triangle not in the hint's
+    // leaf lies in exactly one of them, and the siblings nearest in the tree, searched first, are
+    // the ones likely near p (half the box tests of a descent from the root, whose every level
+    // tests both children).
+    best = triangleDistance2(&bvh.corners[9 * size_t(hint)], p), known = hint;
+    uint32_t node = bvh.leaf[hint];
+    search(node, 0);
+    for (; node != 0; node = bvh.parent[node]) {
+        const uint32_t sibling = node % 2 ? node + 1 : node - 1;  // children are pairs (odd, odd + 1)
+        if (const double d = boxDistance2(bvh.nodes[sibling], p); d < best) search(sibling, d);
     }
     return best;
 }

@@ -24,7 +24,9 @@ struct TriangleBvh {
     std::vector<double> corners;  // 9 per triangle, in leaf order
     std::vector<float> boxes;     // 6 per triangle (low, high corner; rounded outwards), in leaf order
     std::vector<uint32_t> input;  // per triangle in leaf order, its index in the input (`indices` / 3)
-    std::vector<Node> nodes;
+    std::vector<Node> nodes;      // the root first, then children in pairs (odd, odd + 1)
+    std::vector<uint32_t> parent; // per node (the root's: 0)
+    std::vector<uint32_t> leaf;   // per triangle in leaf order, its leaf node
     bool empty() const { return corners.empty(); }
 };
 
@@ -33,6 +35,7 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
 
 // Squared distance from p to the nearest triangle; `hint` (a triangle index from a previous
 // query, or any value) seeds the search and receives the nearest triangle. Infinity when empty.
+// With a valid hint the search climbs from the hint's leaf, searching each sibling subtree.
 double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint);
 
 // The nearest hit of the ray origin + t direction, 0 <= t < maxT, with a triangle whose normal
