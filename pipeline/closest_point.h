@@ -1,11 +1,12 @@
 // Closest-point queries on a triangle set (closest_point.cpp): a bounding volume hierarchy
 // (Ericson, "Real-Time Collision Detection" 2005, §6.2 top-down construction, median split on
-// the longest axis; §6.6 closest-point traversal, children nearest first) with Ericson's
-// §5.1.5 ClosestPtPointTriangle at the leaves; and the first hit of a ray with the triangles
-// facing a given direction (Möller & Trumbore 1997, "Fast, minimum storage ray-triangle
-// intersection", the test Ericson §5.3.6 gives with scalar triple products; boxes by the slab
-// test, Kay & Kajiya 1986, Ericson §5.3.3, with Ize 2013's margin, "Robust BVH ray traversal",
-// so rounding never culls a box the ray meets). It replaced CGAL's AABB tree in the geometric
+// the longest axis; §6.6 closest-point traversal, children nearest first; given a previous
+// answer as a hint, our choice: from the hint's leaf up, each sibling subtree in turn) with
+// Ericson's §5.1.5 ClosestPtPointTriangle at the leaves; and the first hit of a ray with the
+// triangles facing a given direction (Möller & Trumbore 1997, "Fast, minimum storage
+// ray-triangle intersection", the test Ericson §5.3.6 gives with scalar triple products; boxes
+// by the slab test, Kay & Kajiya 1986, "Ray tracing complex scenes", Ericson §5.3.3, with
+// Ize 2013's margin, "Robust BVH ray traversal" §3, so rounding never culls a box the ray meets). It replaced CGAL's AABB tree in the geometric
 // error (error.cpp; pipeline/BUILD_SPEED.md has the measurements: the same exact distances, ~10 x
 // cheaper per query on the node-sized meshes the build queries) and in the texture baker
 // (bake.cpp; pipeline/TEXTURE_SPEED.md, round 3).
