@@ -7,10 +7,12 @@
 //   within kChartGutter of a chart in its own blocks; width x height <= texelBudget.
 // - Baking: the centre of every texel a simplified triangle covers (or, for a triangle that covers
 //   no texel centre, the texel of its centroid) is lifted to the simplified surface and its
-//   closest original triangle found (CGAL AABB tree, the previous texel's answer as the hint);
-//   when that triangle faces away from the simplified one (the far side of a thin sheet), the
-//   nearest facing triangle along the simplified normal, both ways, within kFacingReach x the
-//   closest distance, replaces it (Sander et al. 2001 cast along the normal throughout).
+//   closest original triangle found (the bounding volume hierarchy of closest_point.h, Ericson
+//   2005 §6.6, the previous texel's answer as the hint); when that triangle faces away from the
+//   simplified one (the far side of a thin sheet), the nearest facing triangle along the
+//   simplified normal, both ways, within kFacingReach x the closest distance (rays in the same
+//   hierarchy, Möller & Trumbore 1997), replaces it (Sander et al. 2001 cast along the normal
+//   throughout).
 //   The texel's footprint, kSuper x kSuper sub-samples, is projected onto that triangle (clamped
 //   to it), and each sub-sample takes the source colour there: bilinear in the material's
 //   texture at the interpolated source UV (clamped to the edge), else the interpolated vertex
@@ -23,28 +25,19 @@
 //   It counts detail finer than the budget's texels and bilinear reconstruction; MSE 0 reads 100
 //   dB, no covered texel 0. pipeline/BAKE.md has the figures.
 #include "pipeline/chart.h"
+#include "pipeline/closest_point.h"
 #include "pipeline/pipeline.h"
 
 #include "formats/metrics.h"
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Simple_cartesian.h>
-
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <optional>
 
 namespace hlod {
 namespace {
 
-using Kernel = CGAL::Simple_cartesian<double>;
-using Point = Kernel::Point_3;
-using Vector = Kernel::Vector_3;
-using Triangle = Kernel::Triangle_3;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using Point = std::array<double, 3>;  // also a vector
 
 constexpr int kSuper = 2;   // sub-samples per texel side
 constexpr float kUntexturedGrey = 191;
@@ -55,23 +48,26 @@ struct Rgb {
 };
 
 Point vertex(const MeshData& m, uint32_t i) { return {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]}; }
+Point minus(const Point& a, const Point& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Point cross(const Point& a, const Point& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
 
 // Barycentric weights of the point of triangle abc closest to p (Ericson, "Real-Time Collision
 // Detection" 2005, ClosestPtPointTriangle).
 void closestWeights(const Point& a, const Point& b, const Point& c, const Point& p, double w[3]) {
-    const Vector ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = ab * ap, d2 = ac * ap;
+    const Point ab = minus(b, a), ac = minus(c, a), ap = minus(p, a);
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
     if (d1 <= 0 && d2 <= 0) return void((w[0] = 1, w[1] = 0, w[2] = 0));
-    const Vector bp = p - b;
-    const double d3 = ab * bp, d4 = ac * bp;
+    const Point bp = minus(p, b);
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
     if (d3 >= 0 && d4 <= d3) return void((w[0] = 0, w[1] = 1, w[2] = 0));
     const double vc = d1 * d4 - d3 * d2;
     if (vc <= 0 && d1 >= 0 && d3 <= 0) {
         const double v = d1 / (d1 - d3);
         return void((w[0] = 1 - v, w[1] = v, w[2] = 0));
     }
-    const Vector cp = p - c;
-    const double d5 = ab * cp, d6 = ac * cp;
+    const Point cp = minus(p, c);
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
     if (d6 >= 0 && d5 <= d6) return void((w[0] = 0, w[1] = 0, w[2] = 1));
     const double vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0) {
@@ -102,54 +98,40 @@ Rgb bilinear(const Image& image, double x, double y) {
     return out;
 }
 
-// The original triangles of every source in one AABB tree, with their colours.
+// The original triangles of every source in one bounding volume hierarchy (closest_point.h), with
+// their colours. A triangle is named by its place in the hierarchy's leaf order.
 class OriginalSurface {
 public:
     explicit OriginalSurface(const std::vector<BakeSource>& sources) : sources_(sources) {
-        for (uint32_t s = 0; s < sources.size(); ++s) {
-            if (!sources[s].mesh) continue;
-            const MeshData& m = *sources[s].mesh;
-            for (uint32_t t = 0; t < m.triangleCount(); ++t) {
-                const uint32_t* i = &m.indices[3 * t];
-                const Triangle tri(vertex(m, i[0]), vertex(m, i[1]), vertex(m, i[2]));
-                if (tri.is_degenerate()) continue;
-                triangles_.push_back(tri), owner_.push_back({s, t});
-                normals_.push_back(CGAL::cross_product(tri[1] - tri[0], tri[2] - tri[0]));
-            }
+        std::vector<float> positions;
+        std::vector<uint32_t> indices;
+        for (const BakeSource& source : sources) {
+            first_.push_back(static_cast<uint32_t>(indices.size() / 3));
+            if (!source.mesh) continue;
+            const uint32_t base = static_cast<uint32_t>(positions.size() / 3);
+            positions.insert(positions.end(), source.mesh->positions.begin(), source.mesh->positions.end());
+            for (uint32_t i : source.mesh->indices) indices.push_back(base + i);
         }
-        if (triangles_.empty()) return;
-        tree_.insert(triangles_.begin(), triangles_.end());
-        tree_.build();
-        // The previous answer is the hint: a k-d tree of hints took 7 of the 14.5 CPU-ms fixed cost
-        // of a node with 32 k original triangles (pipeline/BAKE.md).
-        tree_.do_not_accelerate_distance_queries();
+        bvh_ = buildTriangleBvh(positions, indices);  // zero-area triangles left out
     }
 
     // Index of the original triangle closest to p (on a simplified triangle of normal n); kNone
-    // when there is none. When that triangle faces away from n (the far side of a thin sheet or
+    // when there is none. The previous answer's triangle is the search's first bound (a k-d tree of
+    // hints took 7 of the 14.5 CPU-ms fixed cost of a node with 32 k original triangles,
+    // pipeline/BAKE.md). When that triangle faces away from n (the far side of a thin sheet or
     // wall), the nearest triangle facing n along the line p + t n within kFacingReach x the
     // closest distance is taken instead, if there is one.
-    uint32_t closest(const Point& p, const Vector& n) {
-        if (triangles_.empty()) return kNone;
-        if (hint_) {  // the previous answer's triangle, at its point closest to p: a tight first bound
-            const Triangle& last = *hint_->second;
-            double w[3];
-            closestWeights(last[0], last[1], last[2], p, w);
-            hint_->first = CGAL::barycenter(last[0], w[0], last[1], w[1], last[2], w[2]);
-            hint_ = tree_.closest_point_and_primitive(p, *hint_);
-        } else {
-            hint_ = tree_.closest_point_and_primitive(p);
-        }
-        const uint32_t found = static_cast<uint32_t>(hint_->second - triangles_.begin());
-        if (normals_[found] * n >= 0) return found;
-        double reach = kFacingReach * std::sqrt(CGAL::squared_distance(p, hint_->first));
-        auto away = [&](Primitive::Id id) { return normals_[id - triangles_.begin()] * n <= 0; };
-        for (const Vector& direction : {n, -n}) {
-            const auto hit = tree_.first_intersection(Kernel::Ray_3(p, direction), away);
-            const Point* q = hit ? boost::get<Point>(&hit->first) : nullptr;
-            if (q && std::sqrt(CGAL::squared_distance(p, *q)) < reach) reach = std::sqrt(CGAL::squared_distance(p, *q)), hint_ = {*q, hit->second};
-        }
-        return static_cast<uint32_t>(hint_->second - triangles_.begin());
+    uint32_t closest(const Point& p, const Point& n) {
+        if (bvh_.empty()) return kNone;
+        const double d2 = squaredDistance(bvh_, p.data(), hint_);
+        if (hint_ == kNone) return kNone;  // p not a number
+        if (dot(normal(hint_), n) >= 0) return hint_;
+        double reach = kFacingReach * std::sqrt(d2);
+        const double length = std::sqrt(dot(n, n));
+        const Point unit = {n[0] / length, n[1] / length, n[2] / length};
+        for (const Point& direction : {unit, Point{-unit[0], -unit[1], -unit[2]}})
+            if (const double t = firstHit(bvh_, p.data(), direction.data(), reach, n.data(), hint_); t < reach) reach = t;
+        return hint_;
     }
 
     // The source colour at the point of triangle `index` closest to p.
@@ -157,11 +139,12 @@ public:
         Rgb grey;
         std::fill_n(grey.c, 3, kUntexturedGrey);
         if (index == kNone) return grey;
-        const auto [s, t] = owner_[index];
+        const uint32_t input = bvh_.input[index];
+        const uint32_t s = static_cast<uint32_t>(std::upper_bound(first_.begin(), first_.end(), input) - first_.begin() - 1);
+        const uint32_t t = input - first_[s];
         const MeshData& m = *sources_[s].mesh;
-        const Triangle& tri = triangles_[index];
         double w[3];
-        closestWeights(tri[0], tri[1], tri[2], p, w);
+        closestWeights(corner(index, 0), corner(index, 1), corner(index, 2), p, w);
         const uint32_t* i = &m.indices[3 * t];
         const Image* image = sources_[s].texture;
         if (image && image->channels > 0 && image->pixels.size() == size_t(image->width) * image->height * image->channels &&
@@ -178,12 +161,16 @@ public:
     }
 
 private:
+    Point corner(uint32_t index, int k) const {
+        const double* v = &bvh_.corners[9 * size_t(index) + 3 * k];
+        return {v[0], v[1], v[2]};
+    }
+    Point normal(uint32_t index) const { return cross(minus(corner(index, 1), corner(index, 0)), minus(corner(index, 2), corner(index, 0))); }
+
     const std::vector<BakeSource>& sources_;
-    std::vector<Triangle> triangles_;
-    std::vector<std::pair<uint32_t, uint32_t>> owner_;  // (source, triangle)
-    std::vector<Vector> normals_;                       // not normalised
-    Tree tree_;
-    std::optional<Tree::Point_and_primitive_id> hint_;
+    std::vector<uint32_t> first_;  // per source, the input index of its first triangle
+    TriangleBvh bvh_;
+    uint32_t hint_ = kNone;  // the previous answer
 };
 
 // A baked texel: its index in the atlas and its sub-samples' source colours (row by row).
@@ -207,13 +194,13 @@ void bakeChart(const MeshData& simplified, const FlatChart& chart, const AtlasLa
         if (area == 0) continue;
         const uint32_t* vi = &simplified.indices[3 * chart.triangles[j]];
         const Point p[3] = {vertex(simplified, vi[0]), vertex(simplified, vi[1]), vertex(simplified, vi[2])};
-        const Vector normal = CGAL::cross_product(p[1] - p[0], p[2] - p[0]);
+        const Point normal = cross(minus(p[1], p[0]), minus(p[2], p[0]));
         auto lift = [&](double x, double y) {  // texel coordinates -> point of the simplified triangle's plane
             const double b1 = ((x - tx[0]) * (ty[2] - ty[0]) - (tx[2] - tx[0]) * (y - ty[0])) / area;
             const double b2 = ((tx[1] - tx[0]) * (y - ty[0]) - (x - tx[0]) * (ty[1] - ty[0])) / area;
-            return Point(p[0].x() + b1 * (p[1].x() - p[0].x()) + b2 * (p[2].x() - p[0].x()),
-                         p[0].y() + b1 * (p[1].y() - p[0].y()) + b2 * (p[2].y() - p[0].y()),
-                         p[0].z() + b1 * (p[1].z() - p[0].z()) + b2 * (p[2].z() - p[0].z()));
+            return Point{p[0][0] + b1 * (p[1][0] - p[0][0]) + b2 * (p[2][0] - p[0][0]),
+                         p[0][1] + b1 * (p[1][1] - p[0][1]) + b2 * (p[2][1] - p[0][1]),
+                         p[0][2] + b1 * (p[1][2] - p[0][2]) + b2 * (p[2][2] - p[0][2])};
         };
         auto inside = [&](double x, double y) {
             const double e[3] = {(tx[1] - tx[0]) * (y - ty[0]) - (x - tx[0]) * (ty[1] - ty[0]),

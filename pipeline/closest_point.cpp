@@ -1,7 +1,8 @@
 // Closest-point queries on a triangle set and the largest point-to-surface distance of a point
 // set (closest_point.h): Ericson, "Real-Time Collision Detection" (2005), §6.2 (top-down BVH,
 // median split), §6.6 (closest-point traversal) and §5.1.5 (closest point on a triangle); the
-// branch and bound over points is the Lipschitz bound of the header.
+// branch and bound over points is the Lipschitz bound of the header. The ray query: Möller &
+// Trumbore 1997 at the leaves, the slab test (Ericson §5.3.3) with Ize 2013's margin for boxes.
 #include "pipeline/closest_point.h"
 
 #include <algorithm>
@@ -15,6 +16,7 @@ namespace {
 
 constexpr uint32_t kLeafTriangles = 4;
 constexpr uint32_t kLeafPoints = 8;  // a group this small is queried point by point
+constexpr uint32_t kNoTriangle = ~0u;
 
 double sq(double v) { return v * v; }
 
@@ -67,6 +69,7 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
     TriangleBvh bvh;
     std::vector<double> corners;
     corners.reserve(3 * indices.size());  // 9 per triangle: growing by doubling could hold twice that
+    std::vector<uint32_t> input;          // per kept triangle, its index in the input
     for (size_t t = 0; t + 2 < indices.size(); t += 3) {
         double v[9];
         for (int j = 0; j < 3; ++j)
@@ -75,6 +78,7 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
         const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
         if (n[0] == 0 && n[1] == 0 && n[2] == 0) continue;  // zero area
         corners.insert(corners.end(), v, v + 9);
+        input.push_back(static_cast<uint32_t>(t / 3));
     }
     const uint32_t count = static_cast<uint32_t>(corners.size() / 9);
     if (count == 0) return bvh;
@@ -102,6 +106,8 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
     struct Task { uint32_t node, lo, hi; };
     std::vector<Task> stack{{0, 0, count}};
     bvh.nodes.push_back({});
+    bvh.parent.push_back(0);
+    bvh.leaf.resize(count);
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
@@ -111,6 +117,7 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
             for (int k = 0; k < 3; ++k) node.lo[k] = std::min(node.lo[k], items[i].lo[k]), node.hi[k] = std::max(node.hi[k], items[i].hi[k]);
         if (task.hi - task.lo <= kLeafTriangles) {
             node.first = task.lo, node.count = task.hi - task.lo;
+            std::fill(bvh.leaf.begin() + task.lo, bvh.leaf.begin() + task.hi, task.node);
             continue;
         }
         int axis = 0;
@@ -122,11 +129,14 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
         const uint32_t left = static_cast<uint32_t>(bvh.nodes.size());
         node.first = left, node.count = 0;  // `node` is not used past here: push_back may move it
         bvh.nodes.push_back({}), bvh.nodes.push_back({});
+        bvh.parent.push_back(task.node), bvh.parent.push_back(task.node);
         stack.push_back({left, task.lo, mid}), stack.push_back({left + 1, mid, task.hi});
     }
     bvh.corners.resize(corners.size());
     for (uint32_t i = 0; i < count; ++i) std::copy_n(corners.begin() + 9 * size_t(items[i].index), 9, bvh.corners.begin() + 9 * size_t(i));
     std::vector<double>().swap(corners);  // freed before the boxes: one triangle array less at the peak
+    bvh.input.resize(count);
+    for (uint32_t i = 0; i < count; ++i) bvh.input[i] = input[items[i].index];
     bvh.boxes.resize(6 * size_t(count));
     for (uint32_t i = 0; i < count; ++i)
         std::copy_n(items[i].lo, 3, bvh.boxes.begin() + 6 * size_t(i)), std::copy_n(items[i].hi, 3, bvh.boxes.begin() + 6 * size_t(i) + 3);
@@ -137,32 +147,119 @@ double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint
     double best = std::numeric_limits<double>::infinity();
     const size_t triangles = bvh.corners.size() / 9;
     if (triangles == 0) return best;
-    if (hint < triangles) best = triangleDistance2(&bvh.corners[9 * size_t(hint)], p);
     struct Entry {
         double boxD;
         uint32_t index;
     };
     Entry stack[64];  // not value-initialised (a pair's constructor zeroed 1 KB per query)
+    uint32_t known = kNoTriangle;  // the hint, whose distance is already `best`
+    auto search = [&](uint32_t from, double fromD) {  // the subtree of node `from`, nearer children first
+        int top = 0;
+        stack[top++] = {fromD, from};
+        while (top > 0) {
+            const auto [boxD, index] = stack[--top];
+            if (boxD >= best) continue;
+            const TriangleBvh::Node& n = bvh.nodes[index];
+            if (n.count > 0) {
+                for (uint32_t t = n.first; t < n.first + n.count; ++t) {
+                    const float* box = &bvh.boxes[6 * size_t(t)];
+                    if (t == known || boxDistance2(box, box + 3, p) >= best) continue;  // its box first: ~3 x cheaper
+                    if (const double d = triangleDistance2(&bvh.corners[9 * size_t(t)], p); d < best) best = d, hint = t;
+                }
+                continue;
+            }
+            const double dl = boxDistance2(bvh.nodes[n.first], p), dr = boxDistance2(bvh.nodes[n.first + 1], p);
+            const bool leftFirst = dl <= dr;  // the nearer child on top of the stack
+            if ((leftFirst ? dr : dl) < best) stack[top++] = {leftFirst ? dr : dl, leftFirst ? n.first + 1 : n.first};
+            if ((leftFirst ? dl : dr) < best) stack[top++] = {leftFirst ? dl : dr, leftFirst ? n.first : n.first + 1};
+        }
+    };
+    if (hint >= triangles) {
+        search(0, boxDistance2(bvh.nodes[0], p));
+        return best;
+    }
+    // From the hint's leaf up to the root, each sibling's subtree: every triangle not in the hint's
+    // leaf lies in exactly one of them, and the siblings nearest in the tree, searched first, are
+    // the ones likely near p (half the box tests of a descent from the root, whose every level
+    // tests both children).
+    best = triangleDistance2(&bvh.corners[9 * size_t(hint)], p), known = hint;
+    uint32_t node = bvh.leaf[hint];
+    search(node, 0);
+    for (; node != 0; node = bvh.parent[node]) {
+        const uint32_t sibling = node % 2 ? node + 1 : node - 1;  // children are pairs (odd, odd + 1)
+        if (const double d = boxDistance2(bvh.nodes[sibling], p); d < best) search(sibling, d);
+    }
+    return best;
+}
+
+double firstHit(const TriangleBvh& bvh, const double origin[3], const double direction[3], double maxT, const double facing[3],
+                uint32_t& hit) {
+    double best = maxT;  // only hits nearer than this count
+    bool found = false;
+    if (bvh.empty()) return std::numeric_limits<double>::infinity();
+    // Where the ray enters the box, or infinity when it misses it within [0, best]: the slab test
+    // (Kay & Kajiya 1986; Ericson §5.3.3), the exit scaled by 1 + 2 gamma_3 (Ize 2013, §3) so that
+    // rounding cannot make a box the ray meets look missed. An axis the ray is parallel to
+    // bounds nothing, the origin must lie in its slab.
+    constexpr double kExitMargin = 1 + 4 * std::numeric_limits<double>::epsilon();
+    auto enter = [&](const float lo[3], const float hi[3]) {
+        double tEnter = 0, tExit = best;
+        for (int k = 0; k < 3; ++k) {
+            if (direction[k] == 0) {
+                if (origin[k] < lo[k] || origin[k] > hi[k]) return std::numeric_limits<double>::infinity();
+                continue;
+            }
+            const double inverse = 1 / direction[k];
+            double t0 = (lo[k] - origin[k]) * inverse, t1 = (hi[k] - origin[k]) * inverse;
+            if (t0 > t1) std::swap(t0, t1);
+            tEnter = std::max(tEnter, t0), tExit = std::min(tExit, t1 * kExitMargin);
+        }
+        return tEnter <= tExit ? tEnter : std::numeric_limits<double>::infinity();
+    };
+    auto dot = [](const double* u, const double* v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
+    auto cross = [](const double* u, const double* v, double* out) {
+        out[0] = u[1] * v[2] - u[2] * v[1], out[1] = u[2] * v[0] - u[0] * v[2], out[2] = u[0] * v[1] - u[1] * v[0];
+    };
+    struct Entry {
+        double t;
+        uint32_t index;
+    };
+    Entry stack[64];
     int top = 0;
-    stack[top++] = {boxDistance2(bvh.nodes[0], p), 0};
+    if (const double t = enter(bvh.nodes[0].lo, bvh.nodes[0].hi); t < best) stack[top++] = {t, 0};
     while (top > 0) {
-        const auto [boxD, index] = stack[--top];
-        if (boxD >= best) continue;
+        const auto [t, index] = stack[--top];
+        if (t >= best) continue;
         const TriangleBvh::Node& n = bvh.nodes[index];
         if (n.count > 0) {
-            for (uint32_t t = n.first; t < n.first + n.count; ++t) {
-                const float* box = &bvh.boxes[6 * size_t(t)];
-                if (boxDistance2(box, box + 3, p) >= best) continue;  // its box first: ~3 x cheaper
-                if (const double d = triangleDistance2(&bvh.corners[9 * size_t(t)], p); d < best) best = d, hint = t;
+            for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+                const double* a = &bvh.corners[9 * size_t(i)];
+                double e1[3], e2[3], normal[3];
+                for (int k = 0; k < 3; ++k) e1[k] = a[3 + k] - a[k], e2[k] = a[6 + k] - a[k];
+                cross(e1, e2, normal);
+                if (dot(normal, facing) <= 0) continue;
+                // Möller & Trumbore 1997: barycentric u, v and the distance t by Cramer's rule.
+                double pv[3], tv[3], qv[3];
+                cross(direction, e2, pv);
+                const double det = dot(e1, pv);
+                if (det == 0) continue;  // the ray is parallel to the triangle's plane
+                const double inverse = 1 / det;
+                for (int k = 0; k < 3; ++k) tv[k] = origin[k] - a[k];
+                const double u = dot(tv, pv) * inverse;
+                if (u < 0 || u > 1) continue;
+                cross(tv, e1, qv);
+                const double v = dot(direction, qv) * inverse;
+                if (v < 0 || u + v > 1) continue;
+                if (const double th = dot(e2, qv) * inverse; th >= 0 && th < best) best = th, hit = i, found = true;
             }
             continue;
         }
-        const double dl = boxDistance2(bvh.nodes[n.first], p), dr = boxDistance2(bvh.nodes[n.first + 1], p);
-        const bool leftFirst = dl <= dr;  // the nearer child on top of the stack
-        if ((leftFirst ? dr : dl) < best) stack[top++] = {leftFirst ? dr : dl, leftFirst ? n.first + 1 : n.first};
-        if ((leftFirst ? dl : dr) < best) stack[top++] = {leftFirst ? dl : dr, leftFirst ? n.first : n.first + 1};
+        const double tl = enter(bvh.nodes[n.first].lo, bvh.nodes[n.first].hi), tr = enter(bvh.nodes[n.first + 1].lo, bvh.nodes[n.first + 1].hi);
+        const bool leftFirst = tl <= tr;  // the nearer child on top of the stack
+        if ((leftFirst ? tr : tl) < best) stack[top++] = {leftFirst ? tr : tl, leftFirst ? n.first + 1 : n.first};
+        if ((leftFirst ? tl : tr) < best) stack[top++] = {leftFirst ? tl : tr, leftFirst ? n.first : n.first + 1};
     }
-    return best;
+    return found ? best : std::numeric_limits<double>::infinity();
 }
 
 double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points, double& sum) {

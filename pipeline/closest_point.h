@@ -1,9 +1,15 @@
 // Closest-point queries on a triangle set (closest_point.cpp): a bounding volume hierarchy
 // (Ericson, "Real-Time Collision Detection" 2005, §6.2 top-down construction, median split on
-// the longest axis; §6.6 closest-point traversal, children nearest first) with Ericson's
-// §5.1.5 ClosestPtPointTriangle at the leaves. It replaces CGAL's AABB tree in the geometric
-// error (error.cpp; pipeline/BUILD_SPEED.md has the measurements): the same exact distances,
-// ~10 x cheaper per query on the node-sized meshes the build queries.
+// the longest axis; §6.6 closest-point traversal, children nearest first; given a previous
+// answer as a hint, our choice: from the hint's leaf up, each sibling subtree in turn) with
+// Ericson's §5.1.5 ClosestPtPointTriangle at the leaves; and the first hit of a ray with the
+// triangles facing a given direction (Möller & Trumbore 1997, "Fast, minimum storage
+// ray-triangle intersection", the test Ericson §5.3.6 gives with scalar triple products; boxes
+// by the slab test, Kay & Kajiya 1986, "Ray tracing complex scenes", Ericson §5.3.3, with
+// Ize 2013's margin, "Robust BVH ray traversal" §3, so rounding never culls a box the ray meets). It replaced CGAL's AABB tree in the geometric
+// error (error.cpp; pipeline/BUILD_SPEED.md has the measurements: the same exact distances, ~10 x
+// cheaper per query on the node-sized meshes the build queries) and in the texture baker
+// (bake.cpp; pipeline/TEXTURE_SPEED.md, round 3).
 #pragma once
 
 #include <cstdint>
@@ -18,7 +24,10 @@ struct TriangleBvh {
     };
     std::vector<double> corners;  // 9 per triangle, in leaf order
     std::vector<float> boxes;     // 6 per triangle (low, high corner; rounded outwards), in leaf order
-    std::vector<Node> nodes;
+    std::vector<uint32_t> input;  // per triangle in leaf order, its index in the input (`indices` / 3)
+    std::vector<Node> nodes;      // the root first, then children in pairs (odd, odd + 1)
+    std::vector<uint32_t> parent; // per node (the root's: 0)
+    std::vector<uint32_t> leaf;   // per triangle in leaf order, its leaf node
     bool empty() const { return corners.empty(); }
 };
 
@@ -27,7 +36,16 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
 
 // Squared distance from p to the nearest triangle; `hint` (a triangle index from a previous
 // query, or any value) seeds the search and receives the nearest triangle. Infinity when empty.
+// With a valid hint the search climbs from the hint's leaf, searching each sibling subtree.
 double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint);
+
+// The nearest hit of the ray origin + t direction, 0 <= t < maxT, with a triangle whose normal
+// (b - a) x (c - a) has a positive dot product with `facing` (edges and corners count as hits):
+// returns its t and puts the triangle (leaf order) in `hit`; infinity, `hit` unchanged, when
+// there is none (or the hierarchy is empty). Boxes farther along the ray than the nearest hit so
+// far (at first maxT) are not visited.
+double firstHit(const TriangleBvh& bvh, const double origin[3], const double direction[3], double maxT, const double facing[3],
+                uint32_t& hit);
 
 // Exact largest distance from the points (3 doubles each) to the triangles, by best-first branch
 // and bound over a k-d split of the points: the distance to a surface is 1-Lipschitz, so a group
