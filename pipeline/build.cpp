@@ -89,6 +89,17 @@ void reportRead(const std::string& input, const ReadStats& stats, Progress& prog
         progress.message(input + ": dropped " + std::to_string(stats.degenerateDropped) + " degenerate triangles");
 }
 
+// glibc raises its mmap threshold to the largest block freed (up to 32 MiB); after that a node's
+// large arrays come from the arenas, whose freed pages stay in the process (~50 MiB of Lucy's
+// peak), and so do the split's cell buffers once the parse has freed arrays held in memory (+16 MiB
+// on the 17 M terrain, whose parse spills midway). A fixed threshold maps and unmaps them
+// (pipeline/MEMORY.md "Jobs"). Not during the parse, nor in the split of a parse held in memory:
+// mapped cell buffers fault every page afresh (+0.3–0.5 CPU-s on Lucy 1.6 M for 6 MiB of peak).
+void fixMmapThreshold() {
+    constexpr int kMmapThreshold = 1 << 20;  // bytes: larger allocations are mapped, returned when freed
+    mallopt(M_MMAP_THRESHOLD, kMmapThreshold);
+}
+
 // One PLY, OBJ or glTF mesh, out of core: parsed once into spill files, then streamed to the
 // grid; a glTF's embedded images wait, still encoded, in TEMP/gltf-images for the texture store.
 SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
@@ -112,6 +123,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
         in.positionStep = gridPositionStep(raw.bounds, grid, options.draco.positionBits);
         in.grid = grid, in.bounds = raw.bounds;
+        if (raw.positions.spilled()) fixMmapThreshold();  // arrays held, then freed: the threshold rose
         progress.beginStage("split", raw.triangles.size());
         for (const CellFile& cell : streamSplit(raw, grid, tempDir, options.memoryLimit / 4, input, raw.stats, &progress))
             in.blocks.push_back({cell.file, true, cell.triangles});
@@ -237,7 +249,6 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
 // in parallel (build_tree.cpp), so one block keeps kCoresPerBlock cores busy and each further
 // kCoresPerBlock cores admit one more block (and its working set), within the memory gate.
 constexpr int kCoresPerBlock = 4;
-constexpr int kMmapThreshold = 1 << 20;  // bytes: larger allocations are mapped, returned when freed
 size_t blocksAtOnce(int cores) { return static_cast<size_t>(std::max(1, cores / kCoresPerBlock)); }
 
 // Triangles the §3.2 recursion will visit (each level goes over the block's originals), for
@@ -338,10 +349,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
     const SplitInputs inputs = work ? std::move(work->inputs) : findBlocks(input, options, temp.path, progress);
     malloc_trim(0);  // the split's freed buffers go back to the system, not to the main thread's heap alone
-    // glibc raises its mmap threshold to the largest block freed (up to 32 MiB); after that a node's
-    // large arrays come from the arenas, whose freed pages stay in the process (~50 MiB of Lucy's
-    // peak). A fixed threshold maps and unmaps them (pipeline/MEMORY.md "Jobs").
-    mallopt(M_MMAP_THRESHOLD, kMmapThreshold);
+    fixMmapThreshold();
     const uint32_t blockCount = static_cast<uint32_t>(inputs.blocks.size());
     const uint32_t first = std::min(request.firstBlock, blockCount), last = std::min(request.lastBlock, blockCount);
     if (first >= last) throw std::invalid_argument("no blocks selected (input has " + std::to_string(blockCount) + ")");

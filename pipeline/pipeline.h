@@ -87,7 +87,7 @@ struct RawMesh {
     std::string spillDir;
 
     void spillTo(const std::string& dir);  // keep the arrays in files under dir (before parsing, or midway)
-    // Keep the arrays in memory while they hold at most `budget` bytes, then in files under dir.
+    // Keep the arrays in memory while they touch at most `budget` bytes (capacity ≤ budget/2), then in files under dir.
     void spillBeyond(uint64_t budget, const std::string& dir) { spillBudget = budget, spillDir = dir; }
     void addPosition(const float p[3], const std::string& name);
     void addTriangle(const RawTriangle& t);

@@ -85,10 +85,10 @@ TEST(RawMeshSpill, StaysInMemoryWithinItsBudgetAndSpillsMidwayBeyondIt) {
     atOnce.spillTo(dir + "/.."), parse(atOnce);  // the reference: spilled before the first push
     const uint64_t bytes = atOnce.positions.size() * sizeof(float) + atOnce.triangles.size() * sizeof(RawTriangle);
     RawMesh within, beyond;
-    within.spillBeyond(4 * bytes, dir), parse(within);
+    within.spillBeyond(8 * bytes, dir), parse(within);  // capacity at most 2 x the bytes, spilled beyond budget / 2
     EXPECT_FALSE(within.positions.spilled());
     EXPECT_FALSE(std::filesystem::exists(dir + "/positions.raw"));
-    beyond.spillBeyond(bytes / 3, dir), parse(beyond);
+    beyond.spillBeyond(bytes / 2, dir), parse(beyond);
     EXPECT_TRUE(atOnce.positions.spilled());
     EXPECT_TRUE(beyond.positions.spilled() && beyond.triangles.spilled());
     EXPECT_EQ(std::filesystem::file_size(dir + "/positions.raw"), atOnce.positions.size() * sizeof(float));
