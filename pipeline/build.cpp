@@ -101,7 +101,8 @@ void fixMmapThreshold() {
 }
 
 // One PLY, OBJ or glTF mesh, out of core: parsed once (in memory within limit/4, beyond that into
-// spill files), then streamed to the grid; a glTF's embedded images wait, still encoded, in TEMP/gltf-images for the texture store.
+// spill files), then streamed to the grid; a glTF's embedded images wait, still encoded, in
+// TEMP/gltf-images for the texture store.
 SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
     const std::string rawDir = (fs::path(tempDir) / "raw").string();
     fs::create_directories(rawDir);
