@@ -1,8 +1,8 @@
 // Texture blobs: JPEG (default) or PNG (FORMAT.md §Texture blobs), through libjpeg-turbo and
-// libpng (formats/image_io.h). JPEG is baseline sequential, with Huffman tables optimised for the
-// image (optimize_coding: the same coefficients, so the same decoded texels, in ~7 % fewer bytes
-// than the standard tables OpenImageIO's writer used; pipeline/TEXTURE_SIZE.md). Dimensions are
-// checked before pixels are allocated.
+// libpng (formats/image_io.h). JPEG is baseline sequential, with Huffman tables fitted to the
+// image (formats/jpeg_tables.h: the same coefficients, so the same decoded texels, in ~7 % fewer
+// bytes than the standard tables OpenImageIO's writer used; pipeline/TEXTURE_SIZE.md). Dimensions
+// are checked before pixels are allocated.
 #include "formats/codec.h"
 #include "formats/image_io.h"
 #include "formats/layout.h"

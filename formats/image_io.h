@@ -76,9 +76,9 @@ std::unique_ptr<ImageRows> openImageFile(const std::string& path);
 std::string oiioPluginPath();
 
 // JPEG bytes of a 1- or 3-channel image: chroma halved per axis (4:2:0) or not (4:4:4), Huffman
-// tables optimised for the image or libjpeg's standard ones, with OpenImageIO's empty Exif
+// tables fitted to the image (formats/jpeg_tables.h) or libjpeg's standard ones, with OpenImageIO's empty Exif
 // segment or without; throws std::runtime_error "encodeTexture: ...".
-std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420, bool optimizeCoding, bool emptyExif);
+std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420, bool fittedTables, bool emptyExif);
 // PNG of the image as given (alpha not premultiplied), zlib's default level; throws
 // std::runtime_error.
 std::vector<uint8_t> encodePng(const Image& image);

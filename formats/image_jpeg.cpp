@@ -2,19 +2,20 @@
 // OpenImageIO's reader did (integer DCT, fancy upsampling, RGB or greyscale output), so the
 // texels are the ones it gave; any libjpeg warning (a truncated file's "premature end of data")
 // is an error, as OpenImageIO made it one. Encoding: baseline sequential at `quality`; node
-// textures optimise their Huffman tables (formats/codec_image.cpp), and writeJpegFile writes what
+// textures fit their Huffman tables to the image (formats/jpeg_tables.cpp, one pass; from
+// formats/codec_image.cpp), and writeJpegFile writes what
 // OpenImageIO's writer wrote (standard tables, 4:2:0, JFIF plus an empty Exif segment), byte
 // for byte (tests/data: Datasets.SampleCityIsExactlyTheGeneratorsOutput).
 #include "formats/image_io.h"
+#include "formats/jpeg_tables.h"
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstring>
 #include <fstream>
 #include <new>
 #include <type_traits>
 #include <vector>
-
-#include <sys/mman.h>
 
 #include <jpeglib.h>
 #include <jerror.h>
@@ -144,93 +145,44 @@ struct VectorDestination {
 };
 static_assert(std::is_standard_layout_v<VectorDestination>);  // `manager` first: self() casts its address
 
-// The whole-image coefficient arrays of an encoder with optimised Huffman tables (libjpeg keeps
-// every DCT block until the tables are known: 6 B per texel at 4:4:4), in one anonymous mapping
-// of our own, advised to use transparent huge pages: through malloc each encode faulted its
-// arrays in 4 KiB pages (~3 M page faults and ~4 CPU-s on the textured facade of
-// pipeline/MEMORY.md). The same coefficients, so the same bytes. libjpeg's own methods are
-// replaced in its memory manager (public method pointers); realize_virt_arrays still realises
-// its other arrays (none when compressing).
-class CoefficientArrays {
-public:
-    void install(jpeg_compress_struct& cinfo) {
-        cinfo.client_data = this;
-        realize_ = cinfo.mem->realize_virt_arrays;
-        cinfo.mem->request_virt_barray = [](j_common_ptr c, int, boolean, JDIMENSION blocksPerRow, JDIMENSION rows, JDIMENSION) {
-            CoefficientArrays& self = *static_cast<CoefficientArrays*>(c->client_data);
-            try {  // no C++ exception crosses libjpeg's C frames
-                self.arrays_.push_back({blocksPerRow, rows, {}});
-            } catch (const std::bad_alloc&) {
-                ERREXIT(c, JERR_OUT_OF_MEMORY);
-            }
-            return reinterpret_cast<jvirt_barray_ptr>(self.arrays_.size());  // index + 1
-        };
-        cinfo.mem->realize_virt_arrays = [](j_common_ptr c) {
-            CoefficientArrays& self = *static_cast<CoefficientArrays*>(c->client_data);
-            self.realize_(c);
-            if (!self.realize()) ERREXIT(c, JERR_OUT_OF_MEMORY);
-        };
-        cinfo.mem->access_virt_barray = [](j_common_ptr c, jvirt_barray_ptr array, JDIMENSION first, JDIMENSION rows, boolean) {
-            std::vector<Array>& arrays = static_cast<CoefficientArrays*>(c->client_data)->arrays_;
-            const size_t index = reinterpret_cast<size_t>(array) - 1;
-            if (index >= arrays.size() || arrays[index].rowPointers.empty() || first + rows > arrays[index].rows)
-                ERREXIT(c, JERR_BAD_VIRTUAL_ACCESS);
-            return arrays[index].rowPointers.data() + first;
-        };
+// Huffman tables fitted to the image. A small one (at most kSampledMcus MCUs) takes libjpeg's
+// exact optimisation: its two passes and whole-image coefficient arrays cost little there, and
+// its tables omit the symbols the image does not use. A larger one gets tables fitted to a sample
+// of its blocks (formats/jpeg_tables.cpp) in place of the standard ones jpeg_set_defaults gave,
+// and libjpeg codes it in one pass.
+void installFittedTables(jpeg_compress_struct& cinfo, const Image& image, bool chroma420) {
+    const uint32_t mcuSide = image.channels == 3 && chroma420 ? 16 : 8;
+    if (uint64_t((image.width + mcuSide - 1) / mcuSide) * ((image.height + mcuSide - 1) / mcuSide) <= kSampledMcus) {
+        cinfo.optimize_coding = TRUE;
+        return;
     }
-    ~CoefficientArrays() {
-        if (memory_ != MAP_FAILED) munmap(memory_, bytes_);
-    }
-
-private:
-    struct Array {
-        JDIMENSION blocksPerRow, rows;
-        std::vector<JBLOCKROW> rowPointers;
+    const JpegHuffmanTables tables = sampledHuffmanTables(image, cinfo.quant_tbl_ptrs[0]->quantval, cinfo.quant_tbl_ptrs[1]->quantval, chroma420);
+    const auto install = [](JHUFF_TBL* target, const HuffmanTable& table) {
+        std::copy(table.bits.begin(), table.bits.end(), target->bits);
+        std::copy(table.values.begin(), table.values.end(), target->huffval);
+        target->sent_table = FALSE;
     };
-    // Small images (below two huge pages) map their exact size in 4 KiB pages: a huge page
-    // would zero 2 MiB, and with THP defrag on madvise may stall in compaction, for a few KiB.
-    bool realize() {
-        constexpr size_t kHugePage = size_t{1} << 21;
-        if (memory_ != MAP_FAILED) return true;  // realised once
-        for (const Array& a : arrays_) bytes_ += size_t(a.blocksPerRow) * a.rows * sizeof(JBLOCK);
-        if (bytes_ == 0) return true;
-        const bool huge = bytes_ >= 2 * kHugePage;
-        if (huge) bytes_ = (bytes_ + kHugePage - 1) / kHugePage * kHugePage;
-        memory_ = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);  // zeroed: pre_zero holds
-        if (memory_ == MAP_FAILED) return false;
-        if (huge) madvise(memory_, bytes_, MADV_HUGEPAGE);  // advice: without it (THP off), 4 KiB pages as before
-        try {
-            JBLOCKROW next = static_cast<JBLOCKROW>(memory_);
-            for (Array& a : arrays_)
-                for (JDIMENSION r = 0; r < a.rows; ++r, next += a.blocksPerRow) a.rowPointers.push_back(next);
-        } catch (const std::bad_alloc&) {
-            return false;
-        }
-        return true;
+    for (int t = 0; t < 2; ++t) {
+        install(cinfo.dc_huff_tbl_ptrs[t], tables.dc[t]);
+        install(cinfo.ac_huff_tbl_ptrs[t], tables.ac[t]);
     }
-    void (*realize_)(j_common_ptr) = nullptr;
-    std::vector<Array> arrays_;
-    void* memory_ = MAP_FAILED;
-    size_t bytes_ = 0;
-};
+}
 
 }  // namespace
 
 std::unique_ptr<ImageRows> openJpeg(const ImageSource& source) { return std::make_unique<JpegRows>(source); }
 
-std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420, bool optimizeCoding, bool emptyExif) {
+std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420, bool fittedTables, bool emptyExif) {
     jpeg_compress_struct cinfo{};
     JpegFailure failure{};
     cinfo.err = &failure.manager;
     installFailure(failure);
     VectorDestination destination;  // before the setjmp: a longjmp must not skip their destructors
-    CoefficientArrays coefficients;
     if (setjmp(failure.jump)) {
         jpeg_destroy_compress(&cinfo);
         throw std::runtime_error(std::string("encodeTexture: ") + failure.message);
     }
     jpeg_create_compress(&cinfo);
-    coefficients.install(cinfo);
     cinfo.dest = &destination.manager;
     cinfo.image_width = image.width;
     cinfo.image_height = image.height;
@@ -238,12 +190,17 @@ std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420,
     cinfo.in_color_space = image.channels == 3 ? JCS_RGB : JCS_GRAYSCALE;
     jpeg_set_defaults(&cinfo);
     jpeg_set_quality(&cinfo, quality, TRUE);
-    cinfo.optimize_coding = optimizeCoding ? TRUE : FALSE;
     if (image.channels == 3) {
         // 4:4:4: 8 x 8 chroma blocks, which node atlases align their charts to
         cinfo.comp_info[0].h_samp_factor = cinfo.comp_info[0].v_samp_factor = chroma420 ? 2 : 1;
         for (int c = 1; c < 3; ++c) cinfo.comp_info[c].h_samp_factor = cinfo.comp_info[c].v_samp_factor = 1;
     }
+    if (fittedTables) try {
+            installFittedTables(cinfo, image, chroma420);
+        } catch (...) {  // bad_alloc: no libjpeg frame to cross, but cinfo to free
+            jpeg_destroy_compress(&cinfo);
+            throw;
+        }
     jpeg_start_compress(&cinfo, TRUE);
     if (emptyExif) jpeg_write_marker(&cinfo, JPEG_APP0 + 1, kEmptyExif, sizeof kEmptyExif);
     const size_t rowBytes = size_t(image.width) * image.channels;

@@ -6,6 +6,8 @@
 // encoder reads 0 (unknown), never a guess.
 #include "pipeline/texture_store.h"
 
+#include "formats/jpeg_tables.h"
+
 #include <algorithm>
 #include <array>
 #include <fstream>
@@ -22,17 +24,12 @@ constexpr std::array<int, 64> kLuminance = {16, 11, 10, 16, 24,  40,  51,  61,  
                                             14, 13, 16, 24, 40,  57,  69,  56,  14, 17, 22, 29, 51,  87,  80,  62,
                                             18, 22, 37, 56, 68,  109, 103, 77,  24, 35, 55, 64, 81,  104, 113, 92,
                                             49, 64, 78, 87, 103, 121, 120, 101, 72, 92, 95, 98, 112, 100, 103, 99};
-// Natural (row-major) index of the k-th coefficient in zig-zag order.
-constexpr std::array<int, 64> kZigZag = {0,  1,  8,  16, 9,  2,  3,  10, 17, 24, 32, 25, 18, 11, 4,  5,  12, 19, 26, 33, 40, 48,
-                                         41, 34, 27, 20, 13, 6,  7,  14, 21, 28, 35, 42, 49, 56, 57, 50, 43, 36, 29, 22, 15, 23,
-                                         30, 37, 44, 51, 58, 59, 52, 45, 38, 31, 39, 46, 53, 60, 61, 54, 47, 55, 62, 63};
-
 int qualityOf(const std::array<int, 64>& zigzagTable) {
     for (int q = 1; q <= 100; ++q) {
         const int scale = q < 50 ? 5000 / q : 200 - 2 * q;
         bool same = true;
         for (int k = 0; k < 64 && same; ++k)
-            same = zigzagTable[k] == std::clamp((kLuminance[kZigZag[k]] * scale + 50) / 100, 1, 255);
+            same = zigzagTable[k] == std::clamp((kLuminance[kJpegZigZag[k]] * scale + 50) / 100, 1, 255);
         if (same) return q;
     }
     return 0;
