@@ -151,8 +151,7 @@ static_assert(std::is_standard_layout_v<VectorDestination>);  // `manager` first
 // of its blocks (formats/jpeg_tables.cpp) in place of the standard ones jpeg_set_defaults gave,
 // and libjpeg codes it in one pass.
 void installFittedTables(jpeg_compress_struct& cinfo, const Image& image, bool chroma420) {
-    const uint32_t mcuSide = image.channels == 3 && chroma420 ? 16 : 8;
-    if (uint64_t((image.width + mcuSide - 1) / mcuSide) * ((image.height + mcuSide - 1) / mcuSide) <= kSampledMcus) {
+    if (jpegMcuCount(image, chroma420) <= kSampledMcus) {
         cinfo.optimize_coding = TRUE;
         return;
     }
@@ -197,9 +196,9 @@ std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420,
     }
     if (fittedTables) try {
             installFittedTables(cinfo, image, chroma420);
-        } catch (...) {  // bad_alloc: no libjpeg frame to cross, but cinfo to free
+        } catch (const std::bad_alloc&) {  // no libjpeg frame to cross, but cinfo to free
             jpeg_destroy_compress(&cinfo);
-            throw;
+            throw std::runtime_error("encodeTexture: out of memory");
         }
     jpeg_start_compress(&cinfo, TRUE);
     if (emptyExif) jpeg_write_marker(&cinfo, JPEG_APP0 + 1, kEmptyExif, sizeof kEmptyExif);

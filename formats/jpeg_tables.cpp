@@ -1,20 +1,20 @@
 // Huffman tables fitted to an image from a sample of its blocks: optimal prefix codes (Huffman
 // 1952) limited to 16 bits as JPEG requires (ITU T.81 Annex K.2, the procedure libjpeg's
-// jpeg_gen_optimal_table follows), from the symbol counts of 1,024 MCUs spread over the image.
+// jpeg_gen_optimal_table follows), from the symbol counts of 256 pairs of neighbouring MCUs spread over the image.
 //
 // Why: libjpeg's own optimisation (optimize_coding) runs two passes and keeps every quantised
 // DCT block of the image between them (6 B per texel at 4:4:4); its statistics pass is C code.
 // With tables given up front, libjpeg codes in one pass through its SIMD Huffman coder. The
 // coefficients (and so the decoded texels) are the same either way; only the codes' lengths
 // differ. The sample's counts come from a float DCT of our own (the quantised values of libjpeg's
-// integer DCT but for rounding ties), and every symbol the encoder can emit counts at least once,
+// integer DCT within ±1 near rounding boundaries), and every symbol the encoder can emit counts
+// at least once,
 // so a block the sample missed still has a code, only a longer one. pipeline/TEXTURE_SPEED.md
 // (round 4) measures the bytes against libjpeg's exact optimisation.
 #include "formats/jpeg_tables.h"
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <set>
 
@@ -122,8 +122,9 @@ void toYcc(const uint8_t* p, uint32_t channels, float (&ycc)[3]) {
 }
 
 // The blocks of one MCU in coding order (T.81 §A.2.3): factor² luma blocks, then Cb and Cr, each
-// chroma sample the mean of factor x factor texels; the image's edges replicated, as libjpeg
-// pads a partial MCU.
+// chroma sample the mean of factor x factor texels; the image's edges replicated (libjpeg pads
+// the texels so; at 4:2:0 it codes a luma block wholly beyond the edge as a dummy block, which
+// only the counts see differently).
 struct Mcu {
     uint32_t luma = 1, blocks = 1;
     float block[6][64];
@@ -199,18 +200,21 @@ HuffmanTable optimalHuffmanTable(const Counts& frequency) {
     return table;
 }
 
+uint64_t jpegMcuCount(const Image& image, bool chroma420) {
+    const uint32_t side = image.channels == 3 && chroma420 ? 16 : 8;
+    return uint64_t((image.width + side - 1) / side) * ((image.height + side - 1) / side);
+}
+
 JpegHuffmanTables sampledHuffmanTables(const Image& image, const uint16_t* luma, const uint16_t* chroma, bool chroma420) {
     Counts dc[2]{}, ac[2]{};
     const Quantisers quantisers[2] = {Quantisers(luma), Quantisers(chroma)};
     const uint32_t factor = image.channels == 3 && chroma420 ? 2 : 1;  // luma blocks per MCU side
     const uint32_t mcuColumns = (image.width + 8 * factor - 1) / (8 * factor);
-    const uint64_t mcus = uint64_t(mcuColumns) * ((image.height + 8 * factor - 1) / (8 * factor));
-    const bool all = mcus <= 2 * kSamplePairs;
-    const uint64_t pairs = all ? 1 : kSamplePairs;
-    for (uint64_t i = 0; i < pairs; ++i) {
-        const uint64_t first = all ? 0 : std::min(mcus - 2, uint64_t(std::fmod(0.5 + double(i) * kGoldenFraction, 1.0) * double(mcus - 1)));
+    const uint64_t mcus = jpegMcuCount(image, chroma420);
+    for (uint64_t i = 0; i < kSamplePairs; ++i) {
+        const uint64_t first = uint64_t(std::fmod(0.5 + double(i) * kGoldenFraction, 1.0) * double(mcus - 1));  // < mcus - 1, or 0
         int previous[3] = {};  // each component's last DC; none before the first MCU of a run
-        for (uint64_t index = first; index < (all ? mcus : first + 2); ++index) {
+        for (uint64_t index = first; index < std::min(mcus, first + 2); ++index) {  // one MCU when mcus = 1
             Mcu mcu(image, factor, mcuColumns, index);
             for (uint32_t b = 0; b < mcu.blocks; ++b) {
                 const uint32_t component = b < mcu.luma ? 0 : b - mcu.luma + 1, table = component == 0 ? 0 : 1;

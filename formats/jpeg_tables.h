@@ -36,9 +36,13 @@ inline constexpr uint64_t kSampledMcus = 4096;
 // and leaving the all-ones code unused (ITU T.81 Annex K.2).
 HuffmanTable optimalHuffmanTable(const std::array<uint64_t, 256>& frequency);
 
+// MCUs of an image (1 or 3 channels; 16 x 16 at 4:2:0, else 8 x 8).
+uint64_t jpegMcuCount(const Image& image, bool chroma420);
+
 // Tables for `image` (1 or 3 channels) quantised by `luma` / `chroma` (64 quantisers in natural
-// order): symbol counts from 1,024 of its MCUs (all of a smaller image), every symbol the encoder
-// can emit given a count of at least one, so every block has a code whether sampled or not.
+// order): symbol counts from 256 pairs of neighbouring MCUs (the same MCUs more than once in an
+// image of fewer than 512), every symbol the encoder can emit given a count of at least one, so
+// every block has a code whether sampled or not.
 JpegHuffmanTables sampledHuffmanTables(const Image& image, const uint16_t* luma, const uint16_t* chroma, bool chroma420);
 
 }  // namespace hlod

@@ -72,10 +72,11 @@ TEST(JpegTables, OptimalCodesArePrefixCodesOfAtMostSixteenBits) {
     EXPECT_EQ(lengths, (std::map<int, int>{{10, 1}, {20, 2}, {30, 3}, {40, 4}}));
 }
 
-// A large flat image with two 16 x 16 patches of noise: the sample (1,024 of its 16,384 or 65,536
-// MCUs) most likely holds only flat blocks' symbols, yet every symbol of the patches has a code
-// (taking out the count of one for every symbol makes this fail), and the file decodes to the
-// standard tables' texels.
+// A large flat image with two 16 x 16 patches of noise that the sample (512 of its 16,384 or
+// 65,536 MCUs) misses (checked when written: no sampled pair touches their MCUs), so the counts
+// hold only flat blocks' symbols; yet every symbol of the patches has a code (taking out the
+// count of one for every symbol makes this fail), and the file decodes to the standard tables'
+// texels.
 TEST(JpegTables, ABlockOutsideTheSampleStillHasACode) {
     for (const uint32_t channels : {1u, 3u})
         for (const bool chroma420 : {false, true}) {
@@ -89,10 +90,30 @@ TEST(JpegTables, ABlockOutsideTheSampleStillHasACode) {
                         state = state * 6364136223846793005ull + 1442695040888963407ull;
                         image.pixels[i] = uint8_t(state >> 56);
                     }
+            ASSERT_GT(jpegMcuCount(image, chroma420), kSampledMcus);  // the sampled path
             const std::vector<uint8_t> fitted = encodeJpeg(image, 95, chroma420, true, false);
             const std::vector<uint8_t> standard = encodeJpeg(image, 95, chroma420, false, false);
             EXPECT_TRUE(decodeTexture(fitted, Codec::Jpeg, "f").pixels == decodeTexture(standard, Codec::Jpeg, "s").pixels);
         }
+}
+
+// The sampled tables of images down to one MCU (sampled pairs overlapping, one MCU alone): a code
+// for every symbol a baseline encoder can emit, in every table.
+TEST(JpegTables, TinyImagesGetACodeForEverySymbol) {
+    std::array<uint16_t, 64> quantisers;
+    quantisers.fill(16);
+    for (const auto& [w, h] : {std::pair{1u, 1u}, std::pair{8u, 8u}, std::pair{17u, 9u}, std::pair{300u, 2u}})
+        for (const uint32_t channels : {1u, 3u})
+            for (const bool chroma420 : {false, true}) {
+                SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(channels) + (chroma420 ? " 4:2:0" : ""));
+                Image image{w, h, channels, std::vector<uint8_t>(size_t(w) * h * channels)};
+                for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = uint8_t(i * 37);
+                const JpegHuffmanTables tables = sampledHuffmanTables(image, quantisers.data(), quantisers.data(), chroma420);
+                for (int t = 0; t < 2; ++t) {
+                    EXPECT_EQ(codeLengths(tables.dc[t]).size(), 12u);
+                    EXPECT_EQ(codeLengths(tables.ac[t]).size(), 162u);
+                }
+            }
 }
 
 }  // namespace
