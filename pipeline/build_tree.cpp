@@ -152,7 +152,7 @@ NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, cons
             qualities[0] = std::min(qualities[0], textures.jpegQuality(material, options.jpegQuality));
     else
         for (size_t i = 0; i < parts.size(); ++i) {
-            images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh, options.jpegQuality);
+            images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh);
             qualities[i] = textures.jpegQuality(parts[i].material, options.jpegQuality);
         }
     out.record = packNode(parts, images, qualities, bounds, kNone, level, blockIndex, out.error.max, options);

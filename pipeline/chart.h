@@ -6,6 +6,7 @@
 #include "formats/db.h"
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace hlod {
@@ -44,6 +45,23 @@ struct AtlasLayout {
     std::vector<uint32_t> blockOwner;  // per block (width / 8 per row): chart index or kNone
 };
 AtlasLayout packCharts(const std::vector<FlatChart>& charts, uint64_t texelBudget);
+
+// A set of 8 x 8 texel blocks to pack: wb x hb, row-major, and (finishMask) per column its lowest
+// and highest occupied row (hb and -1 when empty) and the occupied count.
+struct BlockMask {
+    int wb = 0, hb = 0;
+    std::vector<uint8_t> blocks;
+    std::vector<int> bottom, top;
+    int count = 0;
+};
+void finishMask(BlockMask& m);
+// The masks' horizon packing (pack_charts.cpp, as packCharts packs its charts): each mask's
+// place in blocks, and the atlas's columns and rows.
+struct BlockPacking {
+    int columns = 0, rows = 0;
+    std::vector<std::pair<int, int>> at;
+};
+BlockPacking packMasks(const std::vector<BlockMask>& masks);
 
 // Whether triangle (x[3], y[3]) meets the box [x0, x1] x [y0, y1] (separating axes).
 bool triangleMeetsBox(const double x[3], const double y[3], double x0, double y0, double x1, double y1);

@@ -41,17 +41,9 @@ bool triangleMeetsBox(const double x[3], const double y[3], double x0, double y0
 
 namespace {
 
-// The blocks of one chart at a scale: wb x hb, row-major, and per column its lowest and highest
-// occupied row.
-struct Mask {
-    int wb = 0, hb = 0;
-    std::vector<uint8_t> blocks;
-    std::vector<int> bottom, top;
-    int count = 0;
-};
-
-Mask maskOf(const FlatChart& chart, double scale) {
-    Mask m;
+// The blocks of one chart at a scale.
+BlockMask maskOf(const FlatChart& chart, double scale) {
+    BlockMask m;
     m.wb = std::max(1, static_cast<int>(std::ceil((chart.width * scale + 2 * kChartGutter) / kJpegBlock)));
     m.hb = std::max(1, static_cast<int>(std::ceil((chart.height * scale + 2 * kChartGutter) / kJpegBlock)));
     m.blocks.assign(size_t(m.wb) * m.hb, 0);
@@ -71,21 +63,18 @@ Mask maskOf(const FlatChart& chart, double scale) {
                                      (j + 1) * kJpegBlock + reach))
                     m.blocks[size_t(j) * m.wb + i] = 1;
     }
-    m.bottom.assign(m.wb, m.hb), m.top.assign(m.wb, -1);
-    for (int j = 0; j < m.hb; ++j)
-        for (int i = 0; i < m.wb; ++i)
-            if (m.blocks[size_t(j) * m.wb + i]) m.bottom[i] = std::min(m.bottom[i], j), m.top[i] = std::max(m.top[i], j), ++m.count;
+    finishMask(m);
     if (m.count == 0) m.blocks[0] = 1, m.bottom[0] = m.top[0] = 0, m.count = 1;  // a chart too small to reach any block centre
     return m;
 }
 
 // Horizon packing at a width of `columns` blocks; returns the placements (in blocks) and height.
-int horizonPack(const std::vector<Mask>& masks, const std::vector<uint32_t>& order, int columns, std::vector<std::pair<int, int>>& at) {
+int horizonPack(const std::vector<BlockMask>& masks, const std::vector<uint32_t>& order, int columns, std::vector<std::pair<int, int>>& at) {
     std::vector<int> horizon(columns, 0);
     at.assign(masks.size(), {0, 0});
     int height = 0;
     for (uint32_t c : order) {
-        const Mask& m = masks[c];
+        const BlockMask& m = masks[c];
         long bestTop = -1, bestWaste = 0;
         int bestX = 0, bestY = 0;
         for (int x = 0; x + m.wb <= columns; ++x) {
@@ -106,28 +95,17 @@ int horizonPack(const std::vector<Mask>& masks, const std::vector<uint32_t>& ord
 }
 
 AtlasLayout packAt(const std::vector<FlatChart>& charts, double scale) {
-    std::vector<Mask> masks(charts.size());
-    long total = 0;
-    int widest = 1;
-    for (size_t c = 0; c < charts.size(); ++c) masks[c] = maskOf(charts[c], scale), total += masks[c].count, widest = std::max(widest, masks[c].wb);
-    std::vector<uint32_t> order(charts.size());
-    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return masks[a].count > masks[b].count; });
-    const double side = std::sqrt(double(total));
-    int bestColumns = 0, bestHeight = 0;
-    std::vector<std::pair<int, int>> at, bestAt;
-    for (int k = 0; k <= 8; ++k) {
-        const int columns = std::max(widest, static_cast<int>(std::ceil(side * (1 + k / 8.0))));
-        if (k > 0 && columns == std::max(widest, static_cast<int>(std::ceil(side * (1 + (k - 1) / 8.0))))) continue;
-        const int height = horizonPack(masks, order, columns, at);
-        if (bestColumns == 0 || long(columns) * height < long(bestColumns) * bestHeight) bestColumns = columns, bestHeight = height, bestAt = at;
-    }
+    std::vector<BlockMask> masks(charts.size());
+    for (size_t c = 0; c < charts.size(); ++c) masks[c] = maskOf(charts[c], scale);
+    const BlockPacking packing = packMasks(masks);
+    const int bestColumns = packing.columns, bestHeight = packing.rows;
+    const std::vector<std::pair<int, int>>& bestAt = packing.at;
     AtlasLayout l;
     l.scale = scale, l.width = bestColumns * kJpegBlock, l.height = bestHeight * kJpegBlock;
     l.blockOwner.assign(size_t(bestColumns) * bestHeight, kNone);
     l.places.resize(charts.size());
     for (size_t c = 0; c < charts.size(); ++c) {
-        const Mask& m = masks[c];
+        const BlockMask& m = masks[c];
         l.places[c] = {bestAt[c].first * kJpegBlock, bestAt[c].second * kJpegBlock, m.wb * kJpegBlock, m.hb * kJpegBlock};
         for (int j = 0; j < m.hb; ++j)
             for (int i = 0; i < m.wb; ++i)
@@ -138,6 +116,32 @@ AtlasLayout packAt(const std::vector<FlatChart>& charts, double scale) {
 }
 
 }  // namespace
+
+void finishMask(BlockMask& m) {
+    m.bottom.assign(m.wb, m.hb), m.top.assign(m.wb, -1), m.count = 0;
+    for (int j = 0; j < m.hb; ++j)
+        for (int i = 0; i < m.wb; ++i)
+            if (m.blocks[size_t(j) * m.wb + i]) m.bottom[i] = std::min(m.bottom[i], j), m.top[i] = std::max(m.top[i], j), ++m.count;
+}
+
+BlockPacking packMasks(const std::vector<BlockMask>& masks) {
+    long total = 0;
+    int widest = 1;
+    for (const BlockMask& m : masks) total += m.count, widest = std::max(widest, m.wb);
+    std::vector<uint32_t> order(masks.size());
+    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return masks[a].count > masks[b].count; });
+    const double side = std::sqrt(double(total));
+    BlockPacking best;
+    std::vector<std::pair<int, int>> at;
+    for (int k = 0; k <= 8; ++k) {
+        const int columns = std::max(widest, static_cast<int>(std::ceil(side * (1 + k / 8.0))));
+        if (k > 0 && columns == std::max(widest, static_cast<int>(std::ceil(side * (1 + (k - 1) / 8.0))))) continue;
+        const int height = horizonPack(masks, order, columns, at);
+        if (best.columns == 0 || long(columns) * height < long(best.columns) * best.rows) best.columns = columns, best.rows = height, best.at = at;
+    }
+    return best;
+}
 
 AtlasLayout packCharts(const std::vector<FlatChart>& charts, uint64_t texelBudget) {
     double area = 0;

@@ -3,17 +3,18 @@
 // downsampled so its texel count drops by the node's factor (sqrt(factor) per side) with a box
 // filter: the area-weighted average of the covered texels (texture_store.cpp, which reads only
 // the rectangles a node uses; stb_image_resize's box filter, used before issue #14, needed the
-// whole atlas decoded and downsampled in memory). A node
-// then keeps only the charts its triangles use: each connected set of triangles gets the
-// bounding rectangle of its texels plus one texel of margin (so bilinear filtering at a chart
-// border reads the source's own neighbours, never another chart), and the rectangles are
-// shelf-packed into one atlas. UVs move by one affine map per chart: exact. JPEG codes 8 x 8
-// blocks (chroma too at 4:4:4, formats/codec_image.cpp), so each chart is placed on a multiple
-// of 8 (at a leaf of a JPEG source re-coded at its own quality, its rectangle widened to the
-// source's 8 x 8 grid: the atlas's blocks are then the source's own) and padded to one with
-// copies of its edge texels: no block mixes two charts, and no chart's colour bleeds into another through the
-// compression. Blocks no triangle reaches are flattened to their mean (flattenUnusedBlocks).
-// pipeline/TEXTURE_SIZE.md has the measurements (issue #14).
+// whole atlas decoded and downsampled in memory). A node then keeps only the 8 x 8 blocks of that
+// downsampled texture (JPEG's blocks; formats/codec_image.cpp codes 4:4:4) that its triangles come
+// within kReach texels of, so that every texel a bilinear tap inside a triangle reads is kept.
+// Charts (connected sets of triangles) that reach a common block form one group, so a block is
+// stored once per node; each group keeps its blocks' relative places and is packed whole with the
+// baker's horizon packing (pack_charts.cpp, Lévy et al. 2002). UVs move by one translation per
+// group, a multiple of 8 texels: exact, and at a leaf (factor <= 1) the atlas's blocks are the
+// source's own 8 x 8 blocks, which a JPEG source re-codes at its own quality almost losslessly. No
+// block mixes two groups, so no colour bleeds between them through the compression. Before stop
+// 15 each chart kept its bounding rectangle (shelf-packed, unreached blocks flattened): 1.6 x the
+// texels on the generated facade, 2.9 x on the banana. pipeline/TEXTURE_SIZE.md has the
+// measurements (issue #14).
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 
@@ -23,8 +24,10 @@
 #include "pipeline/texture_charts.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <filesystem>
+#include <unordered_map>
 
 namespace hlod {
 
@@ -102,91 +105,9 @@ uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
 
 constexpr int kBlock = 8;  // JPEG block side
 
-int padded(int size) { return (size + kBlock - 1) / kBlock * kBlock; }
-
-struct Chart {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // texel rectangle in the scaled source, margin included
-    int ox = 0, oy = 0;                  // its place in the atlas (multiples of kBlock)
-    int width() const { return padded(x1 - x0); }
-    int height() const { return padded(y1 - y0); }
-};
-
-// Shelf packing of the padded rectangles, tallest first (ties by chart order, so
-// deterministic); returns the atlas size, a multiple of kBlock.
-std::pair<int, int> packCharts(std::vector<Chart>& charts) {
-    std::vector<uint32_t> order(charts.size());
-    double area = 0;
-    int widest = kBlock;
-    for (uint32_t i = 0; i < order.size(); ++i) {
-        order[i] = i;
-        area += double(charts[i].width()) * charts[i].height();
-        widest = std::max(widest, charts[i].width());
-    }
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return charts[a].height() > charts[b].height(); });
-    const int width = std::max(widest, padded(static_cast<int>(std::ceil(std::sqrt(area) * 1.1))));
-    int x = 0, y = 0, shelf = 0;
-    for (uint32_t i : order) {
-        Chart& c = charts[i];
-        if (x + c.width() > width) x = 0, y += shelf, shelf = 0;
-        c.ox = x, c.oy = y;
-        x += c.width();
-        shelf = std::max(shelf, c.height());
-    }
-    return {width, std::max(kBlock, y + shelf)};
-}
-
-// Copies the chart's rectangle (`texels`, cut from the scaled source) to its place and fills the
-// padding with its edge texels.
-void copyChart(const Image& texels, const Chart& c, Image& atlas) {
-    const size_t nc = texels.channels;
-    for (int y = 0; y < c.height(); ++y) {
-        const int sy = std::min(y, c.y1 - c.y0 - 1);
-        uint8_t* row = &atlas.pixels[(static_cast<size_t>(c.oy + y) * atlas.width + c.ox) * nc];
-        std::copy_n(&texels.pixels[static_cast<size_t>(sy) * texels.width * nc], static_cast<size_t>(c.x1 - c.x0) * nc, row);
-        for (int x = c.x1 - c.x0; x < c.width(); ++x) std::copy_n(row + (c.x1 - c.x0 - 1) * nc, nc, row + x * nc);
-    }
-}
-
 // Texels beyond a triangle that a block must still hold: a bilinear tap at a point of the
 // triangle reads texel centres within 1 texel of it (texels within 1.5), plus half a texel.
 constexpr double kReach = 2;
-
-// Sets every kBlock x kBlock block of `atlas` that no triangle of `mesh` (atlas UVs) comes within
-// kReach texels of to the block's mean colour: texels no triangle shows cost JPEG one DC
-// coefficient per channel (a few bits) instead of their detail, and the mean keeps the block's
-// mip level (issue #14: "charts store only what triangles use"; pipeline/TEXTURE_SIZE.md).
-void flattenUnusedBlocks(const MeshData& mesh, Image& atlas) {
-    const int wb = static_cast<int>(atlas.width) / kBlock, hb = static_cast<int>(atlas.height) / kBlock;
-    std::vector<uint8_t> used(size_t(wb) * hb, 0);
-    const auto blockOf = [](double v, int count) { return std::clamp(static_cast<int>(std::floor(v / kBlock)), 0, count - 1); };
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        double x[3], y[3];
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t v = mesh.indices[3 * t + k];
-            x[k] = double(mesh.texcoords[2 * v]) * atlas.width, y[k] = double(mesh.texcoords[2 * v + 1]) * atlas.height;
-        }
-        const int i0 = blockOf(std::min({x[0], x[1], x[2]}) - kReach, wb), i1 = blockOf(std::max({x[0], x[1], x[2]}) + kReach, wb);
-        const int j0 = blockOf(std::min({y[0], y[1], y[2]}) - kReach, hb), j1 = blockOf(std::max({y[0], y[1], y[2]}) + kReach, hb);
-        for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i)
-                if (!used[size_t(j) * wb + i])
-                    used[size_t(j) * wb + i] = triangleMeetsBox(x, y, i * kBlock - kReach, j * kBlock - kReach, (i + 1) * kBlock + kReach,
-                                                                (j + 1) * kBlock + kReach);
-    }
-    const size_t nc = atlas.channels;
-    for (int j = 0; j < hb; ++j)
-        for (int i = 0; i < wb; ++i) {
-            if (used[size_t(j) * wb + i]) continue;
-            uint32_t sum[4] = {0, 0, 0, 0};
-            const auto at = [&](int x, int y) { return &atlas.pixels[(size_t(j * kBlock + y) * atlas.width + i * kBlock + x) * nc]; };
-            for (int y = 0; y < kBlock; ++y)
-                for (int x = 0; x < kBlock; ++x)
-                    for (size_t c = 0; c < nc; ++c) sum[c] += at(x, y)[c];
-            for (int y = 0; y < kBlock; ++y)
-                for (int x = 0; x < kBlock; ++x)
-                    for (size_t c = 0; c < nc; ++c) at(x, y)[c] = static_cast<uint8_t>((sum[c] + kBlock * kBlock / 2) / (kBlock * kBlock));
-        }
-}
 
 // The texel rectangle [lo, hi) of UVs in [uvLo, uvHi] (clamped to [0, 1]) plus one texel of margin.
 void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
@@ -195,11 +116,82 @@ void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
     hi = std::max(hi, lo + 1);
 }
 
-// [lo, hi) widened to the source's kBlock grid (hi clamped to the source): at a leaf, whose
-// texels are the source's, the atlas's JPEG blocks are then the source's own blocks.
-void alignToBlocks(int& lo, int& hi, uint32_t size) {
-    lo = lo / kBlock * kBlock;
-    hi = std::min(static_cast<int>(size), padded(hi));
+// The kBlock x kBlock blocks of a node's scaled texture (columns per row) that one group of charts
+// reaches: charts that reach a common block are one group, so a block is stored once per node.
+struct BlockGroup {
+    int bx0 = INT_MAX, by0 = INT_MAX, bx1 = -1, by1 = -1;  // inclusive
+    std::vector<uint64_t> blocks;                           // by * columns + bx
+};
+
+// Every block that some triangle (texels: UVs clamped to [0, 1] x the scaled size) comes within
+// kReach texels of (triangleMeetsBox), grouped by the charts reaching it.
+std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
+                                      uint32_t height, std::vector<uint32_t>& groupOfChart) {
+    const int columns = static_cast<int>((width + kBlock - 1) / kBlock), rows = static_cast<int>((height + kBlock - 1) / kBlock);
+    std::vector<uint32_t> parent(charts);
+    for (uint32_t c = 0; c < charts; ++c) parent[c] = c;
+    std::unordered_map<uint64_t, uint32_t> owner;  // block -> a chart reaching it
+    const auto blockOf = [](double v, int count) { return std::clamp(static_cast<int>(std::floor(v / kBlock)), 0, count - 1); };
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        double x[3], y[3];
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = mesh.indices[3 * t + k];
+            x[k] = std::clamp(double(mesh.texcoords[2 * v]), 0.0, 1.0) * width;
+            y[k] = std::clamp(double(mesh.texcoords[2 * v + 1]), 0.0, 1.0) * height;
+        }
+        const uint32_t c = chart[mesh.indices[3 * t]];
+        const int i0 = blockOf(std::min({x[0], x[1], x[2]}) - kReach, columns), i1 = blockOf(std::max({x[0], x[1], x[2]}) + kReach, columns);
+        const int j0 = blockOf(std::min({y[0], y[1], y[2]}) - kReach, rows), j1 = blockOf(std::max({y[0], y[1], y[2]}) + kReach, rows);
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) {
+                if (!triangleMeetsBox(x, y, i * kBlock - kReach, j * kBlock - kReach, (i + 1) * kBlock + kReach, (j + 1) * kBlock + kReach))
+                    continue;
+                const auto [at, inserted] = owner.emplace(uint64_t(j) * columns + i, c);
+                if (!inserted) parent[std::max(findRoot(parent, at->second), findRoot(parent, c))] = std::min(findRoot(parent, at->second), findRoot(parent, c));
+            }
+    }
+    groupOfChart.assign(charts, kNone);
+    std::vector<BlockGroup> groups;
+    std::vector<std::pair<uint64_t, uint32_t>> blocks(owner.begin(), owner.end());
+    std::sort(blocks.begin(), blocks.end());  // groups numbered in block order: deterministic
+    for (const auto& [key, c] : blocks) {
+        uint32_t& g = groupOfChart[findRoot(parent, c)];
+        if (g == kNone) g = static_cast<uint32_t>(groups.size()), groups.emplace_back();
+        BlockGroup& group = groups[g];
+        const int bx = static_cast<int>(key % columns), by = static_cast<int>(key / columns);
+        group.blocks.push_back(key);
+        group.bx0 = std::min(group.bx0, bx), group.by0 = std::min(group.by0, by), group.bx1 = std::max(group.bx1, bx), group.by1 = std::max(group.by1, by);
+    }
+    for (uint32_t c = 0; c < charts; ++c) groupOfChart[c] = groupOfChart[findRoot(parent, c)];
+    return groups;
+}
+
+// Copies a group's blocks from the scaled texture to the atlas at block (ax, ay), a band of blocks
+// at a time (scaledRegion's texels do not depend on the rectangle asked for); blocks that run past
+// the texture's edge repeat its edge texels.
+void copyBlocks(const TextureSource& source, uint32_t width, uint32_t height, const BlockGroup& g, int ax, int ay, Image& atlas) {
+    const uint32_t columns = (width + kBlock - 1) / kBlock;
+    const size_t nc = atlas.channels;
+    for (size_t first = 0; first < g.blocks.size();) {  // sorted: one band (block row) at a time
+        size_t last = first;
+        while (last + 1 < g.blocks.size() && g.blocks[last + 1] / columns == g.blocks[first] / columns) ++last;
+        const uint32_t by = static_cast<uint32_t>(g.blocks[first] / columns);
+        const uint32_t x0 = static_cast<uint32_t>(g.blocks[first] % columns) * kBlock, y0 = by * kBlock;
+        const uint32_t x1 = std::min(width, static_cast<uint32_t>(g.blocks[last] % columns + 1) * kBlock), y1 = std::min(height, y0 + kBlock);
+        const Image band = scaledRegion(source, width, height, x0, y0, x1, y1);
+        for (size_t b = first; b <= last; ++b) {
+            const uint32_t bx = static_cast<uint32_t>(g.blocks[b] % columns);
+            for (uint32_t y = 0; y < kBlock; ++y) {
+                const uint32_t sy = std::min(y, band.height - 1);
+                uint8_t* row = &atlas.pixels[(size_t(ay + int(by) - g.by0) * kBlock + y) * atlas.width * nc + size_t(ax + int(bx) - g.bx0) * kBlock * nc];
+                for (uint32_t x = 0; x < kBlock; ++x) {
+                    const uint32_t sx = std::min(bx * kBlock + x - x0, band.width - 1);
+                    std::copy_n(&band.pixels[(size_t(sy) * band.width + sx) * nc], nc, row + x * nc);
+                }
+            }
+        }
+        first = last + 1;
+    }
 }
 
 }  // namespace
@@ -222,39 +214,34 @@ std::vector<uint32_t> uvCharts(const MeshData& mesh, uint32_t& count) {
     return chart;
 }
 
-Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, bool onSourceGrid) {
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
     uint32_t count = 0;
     const std::vector<uint32_t> chart = uvCharts(mesh, count);
-    const uint32_t scaledWidth = scaledSide(source.width, factor), scaledHeight = scaledSide(source.height, factor);
-    const double size[2] = {static_cast<double>(scaledWidth), static_cast<double>(scaledHeight)};
-    std::vector<float> lo(2 * count, 1), hi(2 * count, 0);
-    for (size_t v = 0; v < mesh.vertexCount(); ++v)
-        for (int a = 0; a < 2; ++a) {
-            const float c = std::clamp(mesh.texcoords[2 * v + a], 0.0f, 1.0f);
-            lo[2 * chart[v] + a] = std::min(lo[2 * chart[v] + a], c), hi[2 * chart[v] + a] = std::max(hi[2 * chart[v] + a], c);
-        }
-    std::vector<Chart> charts(count);
-    for (uint32_t c = 0; c < count; ++c) {
-        texelRange(lo[2 * c], hi[2 * c], size[0], charts[c].x0, charts[c].x1);
-        texelRange(lo[2 * c + 1], hi[2 * c + 1], size[1], charts[c].y0, charts[c].y1);
-        if (!onSourceGrid || factor > 1) continue;
-        alignToBlocks(charts[c].x0, charts[c].x1, scaledWidth);
-        alignToBlocks(charts[c].y0, charts[c].y1, scaledHeight);
+    const uint32_t width = scaledSide(source.width, factor), height = scaledSide(source.height, factor);
+    std::vector<uint32_t> groupOfChart;
+    const std::vector<BlockGroup> groups = reachedBlocks(mesh, chart, count, width, height, groupOfChart);
+    std::vector<BlockMask> masks(groups.size());
+    const uint64_t columns = (width + kBlock - 1) / kBlock;
+    for (size_t g = 0; g < groups.size(); ++g) {
+        BlockMask& m = masks[g];
+        m.wb = groups[g].bx1 - groups[g].bx0 + 1, m.hb = groups[g].by1 - groups[g].by0 + 1;
+        m.blocks.assign(size_t(m.wb) * m.hb, 0);
+        for (const uint64_t key : groups[g].blocks)
+            m.blocks[size_t(int(key / columns) - groups[g].by0) * m.wb + size_t(int(key % columns) - groups[g].bx0)] = 1;
+        finishMask(m);
     }
-    const auto [width, height] = packCharts(charts);
+    const BlockPacking packing = packMasks(masks);
     const uint32_t nc = source.channels;
-    Image atlas{static_cast<uint32_t>(width), static_cast<uint32_t>(height), nc, {}};
-    atlas.pixels.assign(static_cast<size_t>(width) * height * nc, 0);
-    for (const Chart& c : charts)
-        copyChart(scaledRegion(source, scaledWidth, scaledHeight, static_cast<uint32_t>(c.x0), static_cast<uint32_t>(c.y0),
-                               static_cast<uint32_t>(c.x1), static_cast<uint32_t>(c.y1)),
-                  c, atlas);
+    Image atlas{static_cast<uint32_t>(std::max(1, packing.columns) * kBlock), static_cast<uint32_t>(std::max(1, packing.rows) * kBlock), nc, {}};
+    atlas.pixels.assign(size_t(atlas.width) * atlas.height * nc, 0);
+    for (size_t g = 0; g < groups.size(); ++g) copyBlocks(source, width, height, groups[g], packing.at[g].first, packing.at[g].second, atlas);
     for (size_t v = 0; v < mesh.vertexCount(); ++v) {
-        const Chart& c = charts[chart[v]];
-        mesh.texcoords[2 * v] = static_cast<float>((mesh.texcoords[2 * v] * size[0] - c.x0 + c.ox) / width);
-        mesh.texcoords[2 * v + 1] = static_cast<float>((mesh.texcoords[2 * v + 1] * size[1] - c.y0 + c.oy) / height);
+        const uint32_t g = groupOfChart[chart[v]];
+        if (g == kNone) continue;  // a vertex of no triangle
+        const double dx = (packing.at[g].first - groups[g].bx0) * kBlock, dy = (packing.at[g].second - groups[g].by0) * kBlock;
+        mesh.texcoords[2 * v] = static_cast<float>((mesh.texcoords[2 * v] * double(width) + dx) / atlas.width);
+        mesh.texcoords[2 * v + 1] = static_cast<float>((mesh.texcoords[2 * v + 1] * double(height) + dy) / atlas.height);
     }
-    flattenUnusedBlocks(mesh, atlas);
     return atlas;
 }
 
@@ -292,9 +279,9 @@ int BlockTextures::jpegQuality(uint32_t material, int quality) {
     return s && s->jpegQuality > 0 ? std::min(quality, s->jpegQuality) : quality;
 }
 
-Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh, int quality) {
+Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh) {
     const TextureSource* s = source(material);
-    return s ? atlasTexture(*s, factor, mesh, s->jpegQuality > 0 && s->jpegQuality <= quality) : Image{};
+    return s ? atlasTexture(*s, factor, mesh) : Image{};
 }
 
 Image BlockTextures::region(uint32_t material, double factor, MeshData& mesh) {

@@ -70,9 +70,9 @@ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
-// The charts of `mesh` (one material's triangles) of `source` downsampled by factor, packed; UVs rewritten.
-// onSourceGrid: each chart's rectangle widened to the source's 8 x 8 grid (factor <= 1 only).
-Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, bool onSourceGrid = false);
+// The 8 x 8 blocks of `source` downsampled by factor that `mesh`'s triangles (one material's)
+// reach, packed; UVs rewritten (texture.cpp).
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh);
 // The textures of one block's materials: a texture file through `store` (nullptr: a store of
 // the block's own, in memory), an embedded image as it is. A texture that fails to decode is a
 // TextureProblem and its material untextured in this block, or, with `strict`, fatal. Thread-safe
@@ -83,11 +83,11 @@ public:
                   Progress* progress);
     const TextureSource* source(uint32_t material);  // nullptr: untextured
     // The JPEG quality of the material's node textures: `quality` (--jpeg-quality), or the source's
-    // own when it is a JPEG of a lower or equal quality; then a leaf's charts are on the source's
-    // 8 x 8 grid, where the source re-codes at its own quality almost losslessly (pipeline/TEXTURE_SIZE.md).
+    // own when it is a JPEG of a lower or equal quality: a leaf's blocks are the source's own 8 x 8
+    // blocks, which re-code at the source's quality almost losslessly (pipeline/TEXTURE_SIZE.md).
     int jpegQuality(uint32_t material, int quality);
-    // atlasTexture; width 0: untextured. `quality`: --jpeg-quality, for the rule above.
-    Image atlas(uint32_t material, double factor, MeshData& mesh, int quality);
+    // atlasTexture; width 0: untextured.
+    Image atlas(uint32_t material, double factor, MeshData& mesh);
     // The rectangle of the material's texture downsampled by `factor` that `mesh`'s UVs cover
     // (+1 texel margin), mesh's UVs rewritten onto it (what bakeTexture samples); width 0 when untextured.
     Image region(uint32_t material, double factor, MeshData& mesh);
