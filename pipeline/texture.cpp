@@ -12,9 +12,9 @@
 // group, a multiple of 8 texels: exact, and at a leaf (factor <= 1) the atlas's blocks are the
 // source's own 8 x 8 blocks, which a JPEG source re-codes at its own quality almost losslessly. No
 // block mixes two groups, so no colour bleeds between them through the compression. Before stop
-// 15 each chart kept its bounding rectangle (shelf-packed, unreached blocks flattened): 1.6 x the
-// texels on the generated facade, 2.9 x on the banana. pipeline/TEXTURE_SIZE.md has the
-// measurements (issue #14).
+// 15 each chart kept its bounding rectangle (shelf-packed, unreached blocks flattened): the leaves
+// stored 1.45 x the texels they store now on the generated facade, 1.32 x on the banana and 1.68 x
+// on Mars. pipeline/TEXTURE_SIZE.md has the measurements (issue #14).
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
 
@@ -27,7 +27,6 @@
 #include <climits>
 #include <cmath>
 #include <filesystem>
-#include <unordered_map>
 
 namespace hlod {
 
@@ -124,73 +123,93 @@ struct BlockGroup {
 };
 
 // Every block that some triangle (texels: UVs clamped to [0, 1] x the scaled size) comes within
-// kReach texels of (triangleMeetsBox), grouped by the charts reaching it.
+// kReach texels of (triangleMeetsBox), grouped by the charts reaching it; found on a grid over
+// the blocks the triangles' bounding boxes span.
 std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
                                       uint32_t height, std::vector<uint32_t>& groupOfChart) {
     const int columns = static_cast<int>((width + kBlock - 1) / kBlock), rows = static_cast<int>((height + kBlock - 1) / kBlock);
-    std::vector<uint32_t> parent(charts);
-    for (uint32_t c = 0; c < charts; ++c) parent[c] = c;
-    std::unordered_map<uint64_t, uint32_t> owner;  // block -> a chart reaching it
     const auto blockOf = [](double v, int count) { return std::clamp(static_cast<int>(std::floor(v / kBlock)), 0, count - 1); };
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        double x[3], y[3];
+    const auto texels = [&](size_t t, double (&x)[3], double (&y)[3]) {
         for (int k = 0; k < 3; ++k) {
             const uint32_t v = mesh.indices[3 * t + k];
             x[k] = std::clamp(double(mesh.texcoords[2 * v]), 0.0, 1.0) * width;
             y[k] = std::clamp(double(mesh.texcoords[2 * v + 1]), 0.0, 1.0) * height;
         }
+    };
+    int gx0 = columns, gy0 = rows, gx1 = -1, gy1 = -1;  // the grid: blocks of every triangle's box
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        double x[3], y[3];
+        texels(t, x, y);
+        gx0 = std::min(gx0, blockOf(std::min({x[0], x[1], x[2]}) - kReach, columns));
+        gx1 = std::max(gx1, blockOf(std::max({x[0], x[1], x[2]}) + kReach, columns));
+        gy0 = std::min(gy0, blockOf(std::min({y[0], y[1], y[2]}) - kReach, rows));
+        gy1 = std::max(gy1, blockOf(std::max({y[0], y[1], y[2]}) + kReach, rows));
+    }
+    groupOfChart.assign(charts, kNone);
+    if (gx1 < 0) return {};
+    const size_t gw = size_t(gx1 - gx0 + 1);
+    std::vector<uint32_t> owner(gw * size_t(gy1 - gy0 + 1), kNone);  // a chart reaching the block
+    std::vector<uint32_t> parent(charts);
+    for (uint32_t c = 0; c < charts; ++c) parent[c] = c;
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        double x[3], y[3];
+        texels(t, x, y);
         const uint32_t c = chart[mesh.indices[3 * t]];
         const int i0 = blockOf(std::min({x[0], x[1], x[2]}) - kReach, columns), i1 = blockOf(std::max({x[0], x[1], x[2]}) + kReach, columns);
         const int j0 = blockOf(std::min({y[0], y[1], y[2]}) - kReach, rows), j1 = blockOf(std::max({y[0], y[1], y[2]}) + kReach, rows);
         for (int j = j0; j <= j1; ++j)
             for (int i = i0; i <= i1; ++i) {
+                uint32_t& o = owner[size_t(j - gy0) * gw + size_t(i - gx0)];
+                if (o != kNone && findRoot(parent, o) == findRoot(parent, c)) continue;  // reached by the group already
                 if (!triangleMeetsBox(x, y, i * kBlock - kReach, j * kBlock - kReach, (i + 1) * kBlock + kReach, (j + 1) * kBlock + kReach))
                     continue;
-                const auto [at, inserted] = owner.emplace(uint64_t(j) * columns + i, c);
-                if (!inserted) parent[std::max(findRoot(parent, at->second), findRoot(parent, c))] = std::min(findRoot(parent, at->second), findRoot(parent, c));
+                if (o == kNone) o = c;
+                else parent[std::max(findRoot(parent, o), findRoot(parent, c))] = std::min(findRoot(parent, o), findRoot(parent, c));
             }
     }
-    groupOfChart.assign(charts, kNone);
-    std::vector<BlockGroup> groups;
-    std::vector<std::pair<uint64_t, uint32_t>> blocks(owner.begin(), owner.end());
-    std::sort(blocks.begin(), blocks.end());  // groups numbered in block order: deterministic
-    for (const auto& [key, c] : blocks) {
-        uint32_t& g = groupOfChart[findRoot(parent, c)];
+    std::vector<BlockGroup> groups;  // numbered in block order: deterministic
+    for (size_t k = 0; k < owner.size(); ++k) {
+        if (owner[k] == kNone) continue;
+        uint32_t& g = groupOfChart[findRoot(parent, owner[k])];
         if (g == kNone) g = static_cast<uint32_t>(groups.size()), groups.emplace_back();
         BlockGroup& group = groups[g];
-        const int bx = static_cast<int>(key % columns), by = static_cast<int>(key / columns);
-        group.blocks.push_back(key);
+        const int bx = gx0 + static_cast<int>(k % gw), by = gy0 + static_cast<int>(k / gw);
+        group.blocks.push_back(uint64_t(by) * columns + bx);
         group.bx0 = std::min(group.bx0, bx), group.by0 = std::min(group.by0, by), group.bx1 = std::max(group.bx1, bx), group.by1 = std::max(group.by1, by);
     }
     for (uint32_t c = 0; c < charts; ++c) groupOfChart[c] = groupOfChart[findRoot(parent, c)];
     return groups;
 }
 
-// Copies a group's blocks from the scaled texture to the atlas at block (ax, ay), a band of blocks
-// at a time (scaledRegion's texels do not depend on the rectangle asked for); blocks that run past
-// the texture's edge repeat its edge texels.
+// Copies a group's blocks from the scaled texture to the atlas at block (ax, ay), kBandBlocks rows
+// of blocks at a time (the texture store's 64-row tiles; scaledRegion's texels do not depend on
+// the rectangle asked for); blocks that run past the texture's edge repeat its edge texels.
+constexpr uint32_t kBandBlocks = 8;
 void copyBlocks(const TextureSource& source, uint32_t width, uint32_t height, const BlockGroup& g, int ax, int ay, Image& atlas) {
     const uint32_t columns = (width + kBlock - 1) / kBlock;
     const size_t nc = atlas.channels;
-    for (size_t first = 0; first < g.blocks.size();) {  // sorted: one band (block row) at a time
+    for (size_t first = 0; first < g.blocks.size();) {  // sorted: one band at a time
+        const uint64_t band = g.blocks[first] / columns / kBandBlocks;
         size_t last = first;
-        while (last + 1 < g.blocks.size() && g.blocks[last + 1] / columns == g.blocks[first] / columns) ++last;
-        const uint32_t by = static_cast<uint32_t>(g.blocks[first] / columns);
-        const uint32_t x0 = static_cast<uint32_t>(g.blocks[first] % columns) * kBlock, y0 = by * kBlock;
-        const uint32_t x1 = std::min(width, static_cast<uint32_t>(g.blocks[last] % columns + 1) * kBlock), y1 = std::min(height, y0 + kBlock);
-        const Image band = scaledRegion(source, width, height, x0, y0, x1, y1);
-        for (size_t b = first; b <= last; ++b) {
-            const uint32_t bx = static_cast<uint32_t>(g.blocks[b] % columns);
+        uint32_t bx0 = UINT32_MAX, bx1 = 0;
+        for (; last < g.blocks.size() && g.blocks[last] / columns / kBandBlocks == band; ++last)
+            bx0 = std::min(bx0, uint32_t(g.blocks[last] % columns)), bx1 = std::max(bx1, uint32_t(g.blocks[last] % columns));
+        const uint32_t x0 = bx0 * kBlock, y0 = static_cast<uint32_t>(g.blocks[first] / columns) * kBlock;
+        const uint32_t x1 = std::min(width, (bx1 + 1) * kBlock);
+        const uint32_t y1 = std::min(height, static_cast<uint32_t>(g.blocks[last - 1] / columns + 1) * kBlock);
+        const Image texels = scaledRegion(source, width, height, x0, y0, x1, y1);
+        for (size_t b = first; b < last; ++b) {
+            const uint32_t bx = static_cast<uint32_t>(g.blocks[b] % columns), by = static_cast<uint32_t>(g.blocks[b] / columns);
+            const uint32_t sx0 = bx * kBlock - x0, inside = std::min<uint32_t>(kBlock, texels.width - sx0);  // texels before the edge
             for (uint32_t y = 0; y < kBlock; ++y) {
-                const uint32_t sy = std::min(y, band.height - 1);
+                const uint32_t sy = std::min(by * kBlock + y - y0, texels.height - 1);
+                const uint8_t* from = &texels.pixels[(size_t(sy) * texels.width + sx0) * nc];
                 uint8_t* row = &atlas.pixels[(size_t(ay + int(by) - g.by0) * kBlock + y) * atlas.width * nc + size_t(ax + int(bx) - g.bx0) * kBlock * nc];
-                for (uint32_t x = 0; x < kBlock; ++x) {
-                    const uint32_t sx = std::min(bx * kBlock + x - x0, band.width - 1);
-                    std::copy_n(&band.pixels[(size_t(sy) * band.width + sx) * nc], nc, row + x * nc);
-                }
+                std::copy_n(from, inside * nc, row);
+                for (uint32_t x = inside; x < kBlock; ++x) std::copy_n(from + (inside - 1) * nc, nc, row + x * nc);
             }
         }
-        first = last + 1;
+        first = last;
     }
 }
 

@@ -2,13 +2,14 @@
 // against the source texels its triangles use (texture_fidelity.cpp) - a lossless copy reads
 // 100 dB, JPEG a finite PSNR that rises with the quality, a copy off by one texel far less;
 // `hlod build --leaf-psnr` writes it per leaf in the build report and `hlod stats` prints it per
-// level. What makes the textures smaller (texture.cpp): charts on the source's 8 x 8 grid, blocks
-// no triangle reaches flattened, a JPEG source's own quality read back (jpeg_quality.cpp) and
+// level. What makes the textures smaller (texture.cpp): only the source's 8 x 8 blocks that
+// triangles reach, on its grid, and a JPEG source's own quality read back (jpeg_quality.cpp) and
 // never exceeded.
 #include "helpers.h"
 
 #include "formats/build_report.h"
 #include "formats/metrics.h"
+#include "pipeline/chart.h"
 #include "pipeline/texture_charts.h"
 #include "tests/support/chunked_scan.h"
 #include "tests/support/run_hlod.h"
@@ -123,32 +124,73 @@ TEST(TextureFidelity, BuildReportsLeavesAndStatsPrintsThem) {
     EXPECT_EQ(readFile(db), readFile(dir.file("g.hlod")));  // the measure changes no byte of the database
 }
 
-TEST(TextureSize, ChartsSitOnTheSourcesBlockGridAndUnreachedBlocksAreFlat) {
+// Whether a triangle of `m` (UVs x w, h) comes within 2 texels (texture.cpp's kReach) of block (bx, by).
+bool reached(const MeshData& m, const std::vector<size_t>& triangles, double w, double h, int bx, int by) {
+    for (const size_t t : triangles) {
+        double x[3], y[3];
+        for (int k = 0; k < 3; ++k) x[k] = m.texcoords[2 * m.indices[3 * t + k]] * w, y[k] = m.texcoords[2 * m.indices[3 * t + k] + 1] * h;
+        if (triangleMeetsBox(x, y, bx * 8 - 2, by * 8 - 2, bx * 8 + 10, by * 8 + 10)) return true;
+    }
+    return false;
+}
+
+// A leaf's atlas holds the 8 x 8 blocks of the source that its triangles reach, each at the same
+// place within the block grid, and no other: an atlas block holds texels iff a triangle reaches
+// it, and there are fewer of them than the blocks of the charts' bounding rectangles (the second
+// chart's one triangle leaves about half of its rectangle unreached).
+TEST(TextureSize, AtlasesHoldOnlyTheBlocksTrianglesReachOnTheSourceGrid) {
     const Image source = noisyImage(256);
     const MeshData before = charts();
     MeshData after = before;
-    const Image atlas = atlasTexture(textureView(source), 1, after, true);
+    const Image atlas = atlasTexture(textureView(source), 1, after);
     for (size_t v = 0; v < before.vertexCount(); ++v)
         for (int a = 0; a < 2; ++a) {  // the same place within an 8 x 8 block in the source and the atlas
             const double s = before.texcoords[2 * v + a] * 256.0, t = after.texcoords[2 * v + a] * double(a ? atlas.height : atlas.width);
             EXPECT_NEAR(std::fmod(s, 8.0), std::fmod(t, 8.0), 1e-3) << v;
         }
-    // The second chart's triangle (0.60, 0.55) (0.95, 0.60) (0.65, 0.90) leaves its rectangle's
-    // corner near (0.95, 0.90) unreached: some block there is one colour, the noisy source never is.
-    uint64_t flat = 0, blocks = 0;
+    const std::vector<size_t> all = {0, 1, 2};
+    uint64_t stored = 0;
     for (uint32_t by = 0; by < atlas.height / 8; ++by)
         for (uint32_t bx = 0; bx < atlas.width / 8; ++bx) {
-            bool same = true;
-            const uint8_t* first = &atlas.pixels[(size_t(by * 8) * atlas.width + bx * 8) * 3];
+            bool empty = true;  // the noisy source has no block of 64 black texels
             for (uint32_t y = 0; y < 8; ++y)
-                for (uint32_t x = 0; x < 8; ++x)
-                    same = same && std::equal(first, first + 3, &atlas.pixels[(size_t(by * 8 + y) * atlas.width + bx * 8 + x) * 3]);
-            flat += same, ++blocks;
+                for (uint32_t x = 0; x < 8 * 3; ++x) empty = empty && atlas.pixels[(size_t(by * 8 + y) * atlas.width + bx * 8) * 3 + x] == 0;
+            stored += !empty;
+            EXPECT_EQ(!empty, reached(after, all, atlas.width, atlas.height, int(bx), int(by))) << bx << ", " << by;
         }
-    EXPECT_GT(flat, 0u);
-    EXPECT_LT(flat, blocks);
+    uint64_t rectangles = 0;  // blocks of each chart's bounding rectangle, reach included
+    for (const std::vector<size_t>& chart : {std::vector<size_t>{0, 1}, std::vector<size_t>{2}}) {
+        double lo[2] = {1, 1}, hi[2] = {0, 0};
+        for (const size_t t : chart)
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 2; ++a) {
+                    const double uv = before.texcoords[2 * before.indices[3 * t + k] + a];
+                    lo[a] = std::min(lo[a], uv), hi[a] = std::max(hi[a], uv);
+                }
+        rectangles += uint64_t(std::floor((hi[0] * 256 + 2) / 8) - std::floor((lo[0] * 256 - 2) / 8) + 1) *
+                      uint64_t(std::floor((hi[1] * 256 + 2) / 8) - std::floor((lo[1] * 256 - 2) / 8) + 1);
+    }
+    EXPECT_GT(stored, 0u);
+    EXPECT_LT(double(stored), 0.85 * double(rectangles)) << stored << " of " << rectangles;
     const TextureFidelity f = textureFidelity(before, textureView(source), after, atlas);
     EXPECT_EQ(f.squaredError, 0);  // every texel a triangle uses is the source's
+}
+
+// Two charts (separate triangles) inside one 8 x 8 block of the source share it: the atlas stores
+// that block once, and both charts' UVs land in it at their places within the block.
+TEST(TextureSize, ChartsReachingOneBlockShareIt) {
+    const Image source = noisyImage(256);
+    MeshData mesh;
+    mesh.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 0, 6, 5, 0, 5, 6, 0};
+    mesh.texcoords = {42 / 256.f, 42 / 256.f, 43 / 256.f, 42 / 256.f, 42 / 256.f, 43 / 256.f,  // block (5, 5), 2 texels inside
+                      44.5f / 256, 44.5f / 256, 45.5f / 256, 44.5f / 256, 44.5f / 256, 45.5f / 256};
+    mesh.indices = {0, 1, 2, 3, 4, 5};
+    MeshData after = mesh;
+    const Image atlas = atlasTexture(textureView(source), 1, after);
+    EXPECT_EQ(atlas.width, 8u);
+    EXPECT_EQ(atlas.height, 8u);
+    for (size_t v = 0; v < mesh.vertexCount(); ++v)
+        for (int a = 0; a < 2; ++a) EXPECT_NEAR(after.texcoords[2 * v + a] * 8, mesh.texcoords[2 * v + a] * 256 - 40, 1e-3) << v;
 }
 
 TEST(TextureSize, JpegQualityIsReadBackFromTheTables) {
