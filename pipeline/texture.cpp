@@ -11,7 +11,8 @@
 // baker's horizon packing (pack_charts.cpp, Lévy et al. 2002). UVs move by one translation per
 // group, a multiple of 8 texels: exact, and at a leaf (factor <= 1) the atlas's blocks are the
 // source's own 8 x 8 blocks, which a JPEG source re-codes at its own quality almost losslessly. No
-// block mixes two groups, so no colour bleeds between them through the compression. Before stop
+// block mixes two groups, so no colour bleeds between them through the compression; the empty
+// blocks beside a group take the mean of their owned neighbour (for the player's mip levels). Before stop
 // 15 each chart kept its bounding rectangle (shelf-packed, unreached blocks flattened): the leaves
 // stored 1.45 x the texels they store now on the generated facade, 1.32 x on the banana and 1.68 x
 // on Mars. pipeline/TEXTURE_SIZE.md has the measurements (issue #14).
@@ -213,6 +214,32 @@ void copyBlocks(const TextureSource& source, uint32_t width, uint32_t height, co
     }
 }
 
+// Each block no group owns, beside an owned one (4-neighbours: left, right, above, below, the first
+// found), takes that block's mean colour: the player samples trilinearly (player/gl/gl_mesh.cpp),
+// and a mip level of 4 or 2 texels per block then blends a group's border with its own colour,
+// not with black. A flat block costs JPEG one DC coefficient per channel.
+void padBesideOwnedBlocks(const std::vector<uint8_t>& owned, Image& atlas) {
+    const int columns = static_cast<int>(atlas.width) / kBlock, rows = static_cast<int>(atlas.height) / kBlock;
+    const size_t nc = atlas.channels;
+    const auto texel = [&](int bx, int by, int x, int y) { return &atlas.pixels[(size_t(by * kBlock + y) * atlas.width + size_t(bx * kBlock + x)) * nc]; };
+    for (int by = 0; by < rows; ++by)
+        for (int bx = 0; bx < columns; ++bx) {
+            if (owned[size_t(by) * columns + bx]) continue;
+            for (const auto& [dx, dy] : {std::pair{-1, 0}, std::pair{1, 0}, std::pair{0, -1}, std::pair{0, 1}}) {
+                const int nx = bx + dx, ny = by + dy;
+                if (nx < 0 || ny < 0 || nx >= columns || ny >= rows || !owned[size_t(ny) * columns + nx]) continue;
+                uint32_t sum[4] = {0, 0, 0, 0};
+                for (int y = 0; y < kBlock; ++y)
+                    for (int x = 0; x < kBlock; ++x)
+                        for (size_t c = 0; c < nc; ++c) sum[c] += texel(nx, ny, x, y)[c];
+                for (int y = 0; y < kBlock; ++y)
+                    for (int x = 0; x < kBlock; ++x)
+                        for (size_t c = 0; c < nc; ++c) texel(bx, by, x, y)[c] = static_cast<uint8_t>((sum[c] + kBlock * kBlock / 2) / (kBlock * kBlock));
+                break;
+            }
+        }
+}
+
 }  // namespace
 
 std::vector<uint32_t> uvCharts(const MeshData& mesh, uint32_t& count) {
@@ -253,7 +280,15 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
     const uint32_t nc = source.channels;
     Image atlas{static_cast<uint32_t>(std::max(1, packing.columns) * kBlock), static_cast<uint32_t>(std::max(1, packing.rows) * kBlock), nc, {}};
     atlas.pixels.assign(size_t(atlas.width) * atlas.height * nc, 0);
-    for (size_t g = 0; g < groups.size(); ++g) copyBlocks(source, width, height, groups[g], packing.at[g].first, packing.at[g].second, atlas);
+    std::vector<uint8_t> owned(size_t(atlas.width / kBlock) * (atlas.height / kBlock), 0);
+    for (size_t g = 0; g < groups.size(); ++g) {
+        copyBlocks(source, width, height, groups[g], packing.at[g].first, packing.at[g].second, atlas);
+        for (int j = 0; j < masks[g].hb; ++j)
+            for (int i = 0; i < masks[g].wb; ++i)
+                if (masks[g].blocks[size_t(j) * masks[g].wb + i])
+                    owned[size_t(packing.at[g].second + j) * (atlas.width / kBlock) + size_t(packing.at[g].first + i)] = 1;
+    }
+    padBesideOwnedBlocks(owned, atlas);
     for (size_t v = 0; v < mesh.vertexCount(); ++v) {
         const uint32_t g = groupOfChart[chart[v]];
         if (g == kNone) continue;  // a vertex of no triangle
