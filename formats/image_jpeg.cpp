@@ -190,7 +190,7 @@ std::vector<uint8_t> encodeJpeg(const Image& image, int quality, bool chroma420,
     jpeg_set_defaults(&cinfo);
     jpeg_set_quality(&cinfo, quality, TRUE);
     if (image.channels == 3) {
-        // 4:4:4: 8 x 8 chroma blocks, which node atlases align their charts to
+        // 4:4:4: 8 x 8 chroma blocks, the blocks node atlases are made of
         cinfo.comp_info[0].h_samp_factor = cinfo.comp_info[0].v_samp_factor = chroma420 ? 2 : 1;
         for (int c = 1; c < 3; ++c) cinfo.comp_info[c].h_samp_factor = cinfo.comp_info[c].v_samp_factor = 1;
     }

@@ -55,13 +55,13 @@ struct BlockMask {
     int count = 0;
 };
 void finishMask(BlockMask& m);
-// The masks' horizon packing (pack_charts.cpp, as packCharts packs its charts): each mask's
-// place in blocks, and the atlas's columns and rows.
+// The masks' horizon packing (pack_charts.cpp, as packCharts packs its charts) at most maxColumns
+// wide unless one mask is wider: each mask's place in blocks, and the atlas's columns and rows.
 struct BlockPacking {
     int columns = 0, rows = 0;
     std::vector<std::pair<int, int>> at;
 };
-BlockPacking packMasks(const std::vector<BlockMask>& masks);
+BlockPacking packMasks(const std::vector<BlockMask>& masks, int maxColumns);
 
 // Whether triangle (x[3], y[3]) meets the box [x0, x1] x [y0, y1] (separating axes).
 bool triangleMeetsBox(const double x[3], const double y[3], double x0, double y0, double x1, double y1);

@@ -1,4 +1,5 @@
-// Packing of flattened charts (chart.cpp) into one atlas for bake.cpp: the "Tetris" horizon
+// Packing of flattened charts (chart.cpp) into one atlas for bake.cpp (and, by packMasks, of the
+// block groups of texture.cpp's atlases): the "Tetris" horizon
 // packing of Lévy, Petitjean, Ray & Maillot 2002, "Least squares conformal maps for automatic
 // texture atlas generation" (its packing section), on a grid of 8 x 8 texel blocks (JPEG's:
 // formats/codec_image.cpp writes 4:4:4) instead of texels, so that no block holds two charts.
@@ -15,6 +16,8 @@
 // - The scale starts at sqrt(budget / chart area) and shrinks (by 2-50 % a step) until width x
 //   height <= budget, or until every chart is one block (a budget under one block counts as one).
 #include "pipeline/chart.h"
+
+#include "formats/layout.h"
 
 #include <algorithm>
 #include <cmath>
@@ -97,7 +100,7 @@ int horizonPack(const std::vector<BlockMask>& masks, const std::vector<uint32_t>
 AtlasLayout packAt(const std::vector<FlatChart>& charts, double scale) {
     std::vector<BlockMask> masks(charts.size());
     for (size_t c = 0; c < charts.size(); ++c) masks[c] = maskOf(charts[c], scale);
-    const BlockPacking packing = packMasks(masks);
+    const BlockPacking packing = packMasks(masks, layout::kMaxTextureSide / kJpegBlock);
     const int bestColumns = packing.columns, bestHeight = packing.rows;
     const std::vector<std::pair<int, int>>& bestAt = packing.at;
     AtlasLayout l;
@@ -124,7 +127,7 @@ void finishMask(BlockMask& m) {
             if (m.blocks[size_t(j) * m.wb + i]) m.bottom[i] = std::min(m.bottom[i], j), m.top[i] = std::max(m.top[i], j), ++m.count;
 }
 
-BlockPacking packMasks(const std::vector<BlockMask>& masks) {
+BlockPacking packMasks(const std::vector<BlockMask>& masks, int maxColumns) {
     long total = 0;
     int widest = 1;
     for (const BlockMask& m : masks) total += m.count, widest = std::max(widest, m.wb);
@@ -134,9 +137,12 @@ BlockPacking packMasks(const std::vector<BlockMask>& masks) {
     const double side = std::sqrt(double(total));
     BlockPacking best;
     std::vector<std::pair<int, int>> at;
+    const auto candidate = [&](int k) {  // at most maxColumns unless one mask is wider
+        return std::max(widest, std::min(maxColumns, static_cast<int>(std::ceil(side * (1 + k / 8.0)))));
+    };
     for (int k = 0; k <= 8; ++k) {
-        const int columns = std::max(widest, static_cast<int>(std::ceil(side * (1 + k / 8.0))));
-        if (k > 0 && columns == std::max(widest, static_cast<int>(std::ceil(side * (1 + (k - 1) / 8.0))))) continue;
+        const int columns = candidate(k);
+        if (k > 0 && columns == candidate(k - 1)) continue;
         const int height = horizonPack(masks, order, columns, at);
         if (best.columns == 0 || long(columns) * height < long(best.columns) * best.rows) best.columns = columns, best.rows = height, best.at = at;
     }

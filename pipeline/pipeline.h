@@ -260,9 +260,9 @@ struct SurfaceError {
 SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original, double spacing);
 
 // texture.cpp. A node's texture for one material: the source atlas downsampled by the node's
-// factor (sqrt(factor) per side, box filter), of which only the UV charts its triangles use
-// (connected triangles; bounding rectangle + 1 texel margin each) are read (texture_store.cpp)
-// and repacked into one atlas; UVs rewritten affinely per chart, exactly.
+// factor (sqrt(factor) per side, box filter), of which only the 8 x 8 blocks its triangles reach
+// are read (texture_store.cpp) and repacked into one atlas, charts sharing a block as one group;
+// UVs translated per group, exactly.
 Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError (corrupt, truncated)
 // What makes a texture file unusable, found from its header alone ("is missing", "is empty (0
 // bytes)", "is not a readable image (...)", "has absurd size ..."), or "" when it looks usable

@@ -129,22 +129,25 @@ struct BlockGroup {
 std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
                                       uint32_t height, std::vector<uint32_t>& groupOfChart) {
     const int columns = static_cast<int>((width + kBlock - 1) / kBlock), rows = static_cast<int>((height + kBlock - 1) / kBlock);
-    const auto blockOf = [](double v, int count) { return std::clamp(static_cast<int>(std::floor(v / kBlock)), 0, count - 1); };
-    const auto texels = [&](size_t t, double (&x)[3], double (&y)[3]) {
+    const auto blockOf = [](double v, int count) { return static_cast<int>(std::clamp(std::floor(v / kBlock), 0.0, double(count - 1))); };
+    // A triangle's texel coordinates, as given (x, y) and clamped to the texture (cx, cy): the
+    // blocks it reaches are those the given triangle meets inside the texture, or, for a triangle
+    // wholly outside, those its clamped image on the border meets.
+    const auto texels = [&](size_t t, double (&x)[3], double (&y)[3], double (&cx)[3], double (&cy)[3]) {
         for (int k = 0; k < 3; ++k) {
             const uint32_t v = mesh.indices[3 * t + k];
-            x[k] = std::clamp(double(mesh.texcoords[2 * v]), 0.0, 1.0) * width;
-            y[k] = std::clamp(double(mesh.texcoords[2 * v + 1]), 0.0, 1.0) * height;
+            x[k] = double(mesh.texcoords[2 * v]) * width, y[k] = double(mesh.texcoords[2 * v + 1]) * height;
+            cx[k] = std::clamp(x[k], 0.0, double(width)), cy[k] = std::clamp(y[k], 0.0, double(height));
         }
     };
     int gx0 = columns, gy0 = rows, gx1 = -1, gy1 = -1;  // the grid: blocks of every triangle's box
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        double x[3], y[3];
-        texels(t, x, y);
-        gx0 = std::min(gx0, blockOf(std::min({x[0], x[1], x[2]}) - kReach, columns));
-        gx1 = std::max(gx1, blockOf(std::max({x[0], x[1], x[2]}) + kReach, columns));
-        gy0 = std::min(gy0, blockOf(std::min({y[0], y[1], y[2]}) - kReach, rows));
-        gy1 = std::max(gy1, blockOf(std::max({y[0], y[1], y[2]}) + kReach, rows));
+        double x[3], y[3], cx[3], cy[3];
+        texels(t, x, y, cx, cy);
+        gx0 = std::min(gx0, blockOf(std::min({cx[0], cx[1], cx[2]}) - kReach, columns));
+        gx1 = std::max(gx1, blockOf(std::max({cx[0], cx[1], cx[2]}) + kReach, columns));
+        gy0 = std::min(gy0, blockOf(std::min({cy[0], cy[1], cy[2]}) - kReach, rows));
+        gy1 = std::max(gy1, blockOf(std::max({cy[0], cy[1], cy[2]}) + kReach, rows));
     }
     groupOfChart.assign(charts, kNone);
     if (gx1 < 0) return {};
@@ -153,17 +156,17 @@ std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<ui
     std::vector<uint32_t> parent(charts);
     for (uint32_t c = 0; c < charts; ++c) parent[c] = c;
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        double x[3], y[3];
-        texels(t, x, y);
+        double x[3], y[3], cx[3], cy[3];
+        texels(t, x, y, cx, cy);
         const uint32_t c = chart[mesh.indices[3 * t]];
-        const int i0 = blockOf(std::min({x[0], x[1], x[2]}) - kReach, columns), i1 = blockOf(std::max({x[0], x[1], x[2]}) + kReach, columns);
-        const int j0 = blockOf(std::min({y[0], y[1], y[2]}) - kReach, rows), j1 = blockOf(std::max({y[0], y[1], y[2]}) + kReach, rows);
+        const int i0 = blockOf(std::min({cx[0], cx[1], cx[2]}) - kReach, columns), i1 = blockOf(std::max({cx[0], cx[1], cx[2]}) + kReach, columns);
+        const int j0 = blockOf(std::min({cy[0], cy[1], cy[2]}) - kReach, rows), j1 = blockOf(std::max({cy[0], cy[1], cy[2]}) + kReach, rows);
         for (int j = j0; j <= j1; ++j)
             for (int i = i0; i <= i1; ++i) {
                 uint32_t& o = owner[size_t(j - gy0) * gw + size_t(i - gx0)];
                 if (o != kNone && findRoot(parent, o) == findRoot(parent, c)) continue;  // reached by the group already
-                if (!triangleMeetsBox(x, y, i * kBlock - kReach, j * kBlock - kReach, (i + 1) * kBlock + kReach, (j + 1) * kBlock + kReach))
-                    continue;
+                const double bx0 = i * kBlock - kReach, by0 = j * kBlock - kReach, bx1 = (i + 1) * kBlock + kReach, by1 = (j + 1) * kBlock + kReach;
+                if (!triangleMeetsBox(x, y, bx0, by0, bx1, by1) && !triangleMeetsBox(cx, cy, bx0, by0, bx1, by1)) continue;
                 if (o == kNone) o = c;
                 else parent[std::max(findRoot(parent, o), findRoot(parent, c))] = std::min(findRoot(parent, o), findRoot(parent, c));
             }
@@ -183,8 +186,9 @@ std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<ui
 }
 
 // Copies a group's blocks from the scaled texture to the atlas at block (ax, ay), kBandBlocks rows
-// of blocks at a time (the texture store's 64-row tiles; scaledRegion's texels do not depend on
-// the rectangle asked for); blocks that run past the texture's edge repeat its edge texels.
+// of blocks at a time (at a leaf, the texture store's 64-row tiles; scaledRegion's texels do not
+// depend on the rectangle asked for); blocks that run past the texture's edge repeat its edge
+// texels.
 constexpr uint32_t kBandBlocks = 8;
 void copyBlocks(const TextureSource& source, uint32_t width, uint32_t height, const BlockGroup& g, int ax, int ay, Image& atlas) {
     const uint32_t columns = (width + kBlock - 1) / kBlock;
@@ -276,7 +280,7 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
             m.blocks[size_t(int(key / columns) - groups[g].by0) * m.wb + size_t(int(key % columns) - groups[g].bx0)] = 1;
         finishMask(m);
     }
-    const BlockPacking packing = packMasks(masks);
+    const BlockPacking packing = packMasks(masks, layout::kMaxTextureSide / kBlock);
     const uint32_t nc = source.channels;
     Image atlas{static_cast<uint32_t>(std::max(1, packing.columns) * kBlock), static_cast<uint32_t>(std::max(1, packing.rows) * kBlock), nc, {}};
     atlas.pixels.assign(size_t(atlas.width) * atlas.height * nc, 0);

@@ -1,6 +1,6 @@
 // Textures read by rectangles (issue #14, pipeline/MEMORY.md): a build-wide store decodes each
 // texture file once, by strips of scanlines, into a temporary file; a node reads only the
-// rectangles of its UV charts, downsampled by a box filter, so no whole atlas is held.
+// bands of blocks its triangles reach, downsampled by a box filter, so no whole atlas is held.
 #pragma once
 
 #include "pipeline/pipeline.h"

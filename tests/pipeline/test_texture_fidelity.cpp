@@ -198,7 +198,7 @@ TEST(TextureSize, ChartsReachingOneBlockShareIt) {
     const Image source = noisyImage(256);
     MeshData mesh;
     mesh.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 0, 6, 5, 0, 5, 6, 0};
-    mesh.texcoords = {42 / 256.f, 42 / 256.f, 43 / 256.f, 42 / 256.f, 42 / 256.f, 43 / 256.f,  // block (5, 5), 2 texels inside
+    mesh.texcoords = {42.5f / 256, 42.5f / 256, 43.5f / 256, 42.5f / 256, 42.5f / 256, 43.5f / 256,  // block (5, 5), 2.5 texels inside
                       44.5f / 256, 44.5f / 256, 45.5f / 256, 44.5f / 256, 44.5f / 256, 45.5f / 256};
     mesh.indices = {0, 1, 2, 3, 4, 5};
     MeshData after = mesh;
@@ -207,6 +207,42 @@ TEST(TextureSize, ChartsReachingOneBlockShareIt) {
     EXPECT_EQ(atlas.height, 8u);
     for (size_t v = 0; v < mesh.vertexCount(); ++v)
         for (int a = 0; a < 2; ++a) EXPECT_NEAR(after.texcoords[2 * v + a] * 8, mesh.texcoords[2 * v + a] * 256 - 40, 1e-3) << v;
+}
+
+// A one-channel source whose sides are not multiples of 8 (100 x 60): a triangle reaching its right
+// and bottom edges keeps its texels exactly, and the edge blocks repeat the edge texels past the
+// texture; a triangle whose UVs reach far outside [0, 1] but covers the whole texture keeps every
+// block (its vertices clamped one by one would not).
+TEST(TextureSize, EdgeBlocksAndUvsBeyondTheTexture) {
+    Image source{100, 60, 1, std::vector<uint8_t>(6000)};
+    for (size_t i = 0; i < source.pixels.size(); ++i) source.pixels[i] = static_cast<uint8_t>(20 + (i * 2654435761u >> 13) % 200);
+    MeshData edge;
+    edge.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    edge.texcoords = {0.8f, 0.7f, 1.0f, 0.9f, 0.85f, 1.0f};
+    edge.indices = {0, 1, 2};
+    MeshData after = edge;
+    const Image atlas = atlasTexture(textureView(source), 1, after);
+    const TextureFidelity f = textureFidelity(edge, textureView(source), after, atlas);
+    EXPECT_GT(f.texels, 0u);
+    EXPECT_EQ(f.squaredError, 0);
+    const int dx = static_cast<int>(std::lround(after.texcoords[2] * atlas.width - 100));  // source x -> atlas x
+    const int dy = static_cast<int>(std::lround(after.texcoords[5] * atlas.height - 60));
+    for (int y = 56; y < 64; ++y)  // the bottom-right block: columns 96..103, rows 56..63 of the source's grid
+        for (int x = 96; x < 104; ++x)
+            EXPECT_EQ(atlas.pixels[size_t(std::min(y, 63) + dy) * atlas.width + size_t(x + dx)],
+                      source.pixels[size_t(std::min(y, 59)) * 100 + size_t(std::min(x, 99))]) << x << ", " << y;
+
+    MeshData wide = edge;
+    wide.texcoords = {-1.0f, 0.0f, 2.0f, 0.0f, 0.5f, 3.0f};
+    const Image all = atlasTexture(textureView(source), 1, wide);
+    ASSERT_EQ(uint64_t(all.width) * all.height, 13u * 8u * 64u);  // 13 x 8 blocks
+    for (uint32_t by = 0; by < 8; ++by)
+        for (uint32_t bx = 0; bx < 13; ++bx) {  // every one stored: not flat (the noise never is)
+            bool same = true;
+            for (uint32_t y = 0; y < 8; ++y)
+                for (uint32_t x = 0; x < 8; ++x) same = same && all.pixels[size_t(by * 8 + y) * all.width + bx * 8 + x] == all.pixels[size_t(by * 8) * all.width + bx * 8];
+            EXPECT_FALSE(same) << bx << ", " << by;
+        }
 }
 
 TEST(TextureSize, JpegQualityIsReadBackFromTheTables) {
