@@ -12,7 +12,7 @@
 // group, a multiple of 8 texels: exact, and at a leaf (factor <= 1) the atlas's blocks are the
 // source's own 8 x 8 blocks, which a JPEG source re-codes at its own quality almost losslessly. No
 // block mixes two groups, so no colour bleeds between them through the compression; the empty
-// blocks beside a group take the mean of their owned neighbour (for the player's mip levels). Before stop
+// blocks take the mean of the nearest stored block (for the player's mip levels). Before stop
 // 15 each chart kept its bounding rectangle (shelf-packed, unreached blocks flattened): the leaves
 // stored 1.45 x the texels they store now on the generated facade, 1.32 x on the banana and 1.68 x
 // on Mars. pipeline/TEXTURE_SIZE.md has the measurements (issue #14).
@@ -123,13 +123,17 @@ struct BlockGroup {
     std::vector<uint64_t> blocks;                           // by * columns + bx
 };
 
-// Every block that some triangle (texels: UVs clamped to [0, 1] x the scaled size) comes within
-// kReach texels of (triangleMeetsBox), grouped by the charts reaching it; found on a grid over
-// the blocks the triangles' bounding boxes span.
+// Every block that some triangle (texels: UVs x the scaled size, as given; clamped to the texture
+// only to find candidate blocks, and for a triangle wholly outside) comes within kReach texels of
+// (triangleMeetsBox), grouped by the charts reaching it; found on a grid over the blocks the
+// triangles' bounding boxes span. UVs outside [0, 1] (glTF's REPEAT) are not reproduced: their
+// translated UVs point beyond the group's blocks.
 std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
                                       uint32_t height, std::vector<uint32_t>& groupOfChart) {
     const int columns = static_cast<int>((width + kBlock - 1) / kBlock), rows = static_cast<int>((height + kBlock - 1) / kBlock);
-    const auto blockOf = [](double v, int count) { return static_cast<int>(std::clamp(std::floor(v / kBlock), 0.0, double(count - 1))); };
+    const auto blockOf = [](double v, int count) {  // fmax/fmin: a NaN reads 0
+        return static_cast<int>(std::fmin(std::fmax(std::floor(v / kBlock), 0.0), double(count - 1)));
+    };
     // A triangle's texel coordinates, as given (x, y) and clamped to the texture (cx, cy): the
     // blocks it reaches are those the given triangle meets inside the texture, or, for a triangle
     // wholly outside, those its clamped image on the border meets.
@@ -218,30 +222,43 @@ void copyBlocks(const TextureSource& source, uint32_t width, uint32_t height, co
     }
 }
 
-// Each block no group owns, beside an owned one (4-neighbours: left, right, above, below, the first
-// found), takes that block's mean colour: the player samples trilinearly (player/gl/gl_mesh.cpp),
-// and a mip level of 4 or 2 texels per block then blends a group's border with its own colour,
-// not with black. A flat block costs JPEG one DC coefficient per channel.
-void padBesideOwnedBlocks(const std::vector<uint8_t>& owned, Image& atlas) {
+// Every block no group owns takes the mean colour of the nearest owned block (breadth first over
+// the 8 neighbours, in a fixed order, from all owned blocks at once): the player samples
+// trilinearly (player/gl/gl_mesh.cpp), and from mip level 3 (one texel per block) on, a level's
+// texels mix neighbouring blocks, which are then a group's own colours, not black. A flat block
+// costs JPEG one DC coefficient per channel.
+void fillUnownedBlocks(const std::vector<uint8_t>& owned, Image& atlas) {
     const int columns = static_cast<int>(atlas.width) / kBlock, rows = static_cast<int>(atlas.height) / kBlock;
     const size_t nc = atlas.channels;
-    const auto texel = [&](int bx, int by, int x, int y) { return &atlas.pixels[(size_t(by * kBlock + y) * atlas.width + size_t(bx * kBlock + x)) * nc]; };
-    for (int by = 0; by < rows; ++by)
-        for (int bx = 0; bx < columns; ++bx) {
-            if (owned[size_t(by) * columns + bx]) continue;
-            for (const auto& [dx, dy] : {std::pair{-1, 0}, std::pair{1, 0}, std::pair{0, -1}, std::pair{0, 1}}) {
+    const auto texel = [&](int b, int x, int y) {
+        return &atlas.pixels[(size_t((b / columns) * kBlock + y) * atlas.width + size_t((b % columns) * kBlock + x)) * nc];
+    };
+    std::vector<int> from(owned.size(), -1), queue;  // the owned block whose mean a block takes
+    for (int b = 0; b < int(owned.size()); ++b)
+        if (owned[b]) from[b] = b, queue.push_back(b);
+    for (size_t next = 0; next < queue.size(); ++next) {
+        const int b = queue[next], bx = b % columns, by = b / columns;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
                 const int nx = bx + dx, ny = by + dy;
-                if (nx < 0 || ny < 0 || nx >= columns || ny >= rows || !owned[size_t(ny) * columns + nx]) continue;
-                uint32_t sum[4] = {0, 0, 0, 0};
-                for (int y = 0; y < kBlock; ++y)
-                    for (int x = 0; x < kBlock; ++x)
-                        for (size_t c = 0; c < nc; ++c) sum[c] += texel(nx, ny, x, y)[c];
-                for (int y = 0; y < kBlock; ++y)
-                    for (int x = 0; x < kBlock; ++x)
-                        for (size_t c = 0; c < nc; ++c) texel(bx, by, x, y)[c] = static_cast<uint8_t>((sum[c] + kBlock * kBlock / 2) / (kBlock * kBlock));
-                break;
+                if (nx < 0 || ny < 0 || nx >= columns || ny >= rows || from[size_t(ny) * columns + nx] >= 0) continue;
+                from[size_t(ny) * columns + nx] = from[b], queue.push_back(ny * columns + nx);
             }
-        }
+    }
+    std::vector<uint8_t> mean(owned.size() * nc);
+    for (int b = 0; b < int(owned.size()); ++b) {
+        if (!owned[b]) continue;
+        uint32_t sum[4] = {0, 0, 0, 0};
+        for (int y = 0; y < kBlock; ++y)
+            for (int x = 0; x < kBlock; ++x)
+                for (size_t c = 0; c < nc; ++c) sum[c] += texel(b, x, y)[c];
+        for (size_t c = 0; c < nc; ++c) mean[size_t(b) * nc + c] = static_cast<uint8_t>((sum[c] + kBlock * kBlock / 2) / (kBlock * kBlock));
+    }
+    for (int b = 0; b < int(owned.size()); ++b) {
+        if (owned[b] || from[b] < 0) continue;
+        for (int y = 0; y < kBlock; ++y)
+            for (int x = 0; x < kBlock; ++x) std::copy_n(&mean[size_t(from[b]) * nc], nc, texel(b, x, y));
+    }
 }
 
 }  // namespace
@@ -280,7 +297,13 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
             m.blocks[size_t(int(key / columns) - groups[g].by0) * m.wb + size_t(int(key % columns) - groups[g].bx0)] = 1;
         finishMask(m);
     }
-    const BlockPacking packing = packMasks(masks, layout::kMaxTextureSide / kBlock);
+    BlockPacking packing = packMasks(masks, layout::kMaxTextureSide / kBlock);
+    if (packing.rows * kBlock > int(layout::kMaxTextureSide)) {  // packed taller than the format allows: the blocks where they are
+        int gx0 = INT_MAX, gy0 = INT_MAX, gx1 = 0, gy1 = 0;
+        for (const BlockGroup& g : groups) gx0 = std::min(gx0, g.bx0), gy0 = std::min(gy0, g.by0), gx1 = std::max(gx1, g.bx1), gy1 = std::max(gy1, g.by1);
+        packing.columns = gx1 - gx0 + 1, packing.rows = gy1 - gy0 + 1;
+        for (size_t g = 0; g < groups.size(); ++g) packing.at[g] = {groups[g].bx0 - gx0, groups[g].by0 - gy0};
+    }
     const uint32_t nc = source.channels;
     Image atlas{static_cast<uint32_t>(std::max(1, packing.columns) * kBlock), static_cast<uint32_t>(std::max(1, packing.rows) * kBlock), nc, {}};
     atlas.pixels.assign(size_t(atlas.width) * atlas.height * nc, 0);
@@ -292,7 +315,7 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
                 if (masks[g].blocks[size_t(j) * masks[g].wb + i])
                     owned[size_t(packing.at[g].second + j) * (atlas.width / kBlock) + size_t(packing.at[g].first + i)] = 1;
     }
-    padBesideOwnedBlocks(owned, atlas);
+    fillUnownedBlocks(owned, atlas);
     for (size_t v = 0; v < mesh.vertexCount(); ++v) {
         const uint32_t g = groupOfChart[chart[v]];
         if (g == kNone) continue;  // a vertex of no triangle

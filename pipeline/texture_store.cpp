@@ -3,7 +3,7 @@
 // a strip of kStripRows scanlines at a time (formats/image_io.h), into an uncompressed
 // file in the build's temporary folder, followed by its mip pyramid (each level the box-filtered
 // halving of the one before, computed by strips from it read back: 1/3 more bytes); a node then
-// reads only the rows and columns under the rectangles its charts use (pread: the page cache
+// reads only the rows and columns under the bands of blocks its triangles reach (pread: the page cache
 // holds them, not the process). Each level lies in the file as 64 x 64-texel tiles (`Tiles`),
 // so a rectangle's rows within one band of 64 are one pread of the band's tiles it crosses, into
 // a buffer each thread keeps (at most a band of the widest level: as a decoded strip, 768 KiB for

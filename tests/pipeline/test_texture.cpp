@@ -32,7 +32,7 @@ TEST(Texture, AtlasKeepsOnlyUsedChartsAndMapsUVsExactly) {
     for (size_t v = 0; v < before.vertexCount(); ++v) {
         const float u0 = before.texcoords[2 * v], v0 = before.texcoords[2 * v + 1];
         const float u1 = after.texcoords[2 * v], v1 = after.texcoords[2 * v + 1];
-        // The affine map per chart is exact: the same source texel lies under the old and new UV.
+        // The translation per group is exact: the same source texel lies under the old and new UV.
         EXPECT_NEAR(u1 * atlas.width - std::floor(u1 * atlas.width), u0 * 256 - std::floor(u0 * 256), 1e-3) << v;
         for (int c = 0; c < 2; ++c) EXPECT_EQ(texel(atlas, u1, v1, c), texel(source, u0, v0, c)) << "vertex " << v;
     }

@@ -138,8 +138,7 @@ bool reached(const MeshData& m, const std::vector<size_t>& triangles, double w, 
 // place within the block grid, and no other: an atlas block holds texels (the noisy source's
 // blocks are never flat) iff a triangle reaches it, and there are fewer of them than the blocks of
 // the charts' bounding rectangles (the second chart's one triangle leaves about half of its
-// rectangle unreached). An empty block beside a stored one is flat in that block's mean colour,
-// not black.
+// rectangle unreached). Every empty block is flat in a stored block's mean colour, not black.
 TEST(TextureSize, AtlasesHoldOnlyTheBlocksTrianglesReachOnTheSourceGrid) {
     const Image source = noisyImage(256);
     const MeshData before = charts();
@@ -165,13 +164,9 @@ TEST(TextureSize, AtlasesHoldOnlyTheBlocksTrianglesReachOnTheSourceGrid) {
             stored += !flat(bx, by);
             EXPECT_EQ(!flat(bx, by), reached(after, all, atlas.width, atlas.height, int(bx), int(by))) << bx << ", " << by;
             if (!flat(bx, by)) continue;
-            const bool beside = (bx > 0 && !flat(bx - 1, by)) || (bx + 1 < columns && !flat(bx + 1, by)) || (by > 0 && !flat(bx, by - 1)) ||
-                                (by + 1 < rows && !flat(bx, by + 1));
             const uint8_t* texel = &atlas.pixels[(size_t(by * 8) * atlas.width + bx * 8) * 3];
-            if (beside) {
-                EXPECT_GT(texel[0] + texel[1] + texel[2], 0) << bx << ", " << by;  // the noisy source's means are not black
-            }
-            padded += beside;
+            EXPECT_GT(texel[0] + texel[1] + texel[2], 0) << bx << ", " << by;  // the noisy source's means are not black
+            ++padded;
         }
     EXPECT_GT(padded, 0u);
     uint64_t rectangles = 0;  // blocks of each chart's bounding rectangle, reach included
@@ -209,6 +204,15 @@ TEST(TextureSize, ChartsReachingOneBlockShareIt) {
         for (int a = 0; a < 2; ++a) EXPECT_NEAR(after.texcoords[2 * v + a] * 8, mesh.texcoords[2 * v + a] * 256 - 40, 1e-3) << v;
 }
 
+// One triangle with the given UVs.
+MeshData oneTriangle(std::vector<float> texcoords) {
+    MeshData m;
+    m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    m.texcoords = std::move(texcoords);
+    m.indices = {0, 1, 2};
+    return m;
+}
+
 // A one-channel source whose sides are not multiples of 8 (100 x 60): a triangle reaching its right
 // and bottom edges keeps its texels exactly, and the edge blocks repeat the edge texels past the
 // texture; a triangle whose UVs reach far outside [0, 1] but covers the whole texture keeps every
@@ -216,10 +220,7 @@ TEST(TextureSize, ChartsReachingOneBlockShareIt) {
 TEST(TextureSize, EdgeBlocksAndUvsBeyondTheTexture) {
     Image source{100, 60, 1, std::vector<uint8_t>(6000)};
     for (size_t i = 0; i < source.pixels.size(); ++i) source.pixels[i] = static_cast<uint8_t>(20 + (i * 2654435761u >> 13) % 200);
-    MeshData edge;
-    edge.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-    edge.texcoords = {0.8f, 0.7f, 1.0f, 0.9f, 0.85f, 1.0f};
-    edge.indices = {0, 1, 2};
+    const MeshData edge = oneTriangle({0.8f, 0.7f, 1.0f, 0.9f, 0.85f, 1.0f});
     MeshData after = edge;
     const Image atlas = atlasTexture(textureView(source), 1, after);
     const TextureFidelity f = textureFidelity(edge, textureView(source), after, atlas);
@@ -229,11 +230,10 @@ TEST(TextureSize, EdgeBlocksAndUvsBeyondTheTexture) {
     const int dy = static_cast<int>(std::lround(after.texcoords[5] * atlas.height - 60));
     for (int y = 56; y < 64; ++y)  // the bottom-right block: columns 96..103, rows 56..63 of the source's grid
         for (int x = 96; x < 104; ++x)
-            EXPECT_EQ(atlas.pixels[size_t(std::min(y, 63) + dy) * atlas.width + size_t(x + dx)],
+            EXPECT_EQ(atlas.pixels[size_t(y + dy) * atlas.width + size_t(x + dx)],
                       source.pixels[size_t(std::min(y, 59)) * 100 + size_t(std::min(x, 99))]) << x << ", " << y;
 
-    MeshData wide = edge;
-    wide.texcoords = {-1.0f, 0.0f, 2.0f, 0.0f, 0.5f, 3.0f};
+    MeshData wide = oneTriangle({-1.0f, 0.0f, 2.0f, 0.0f, 0.5f, 3.0f});
     const Image all = atlasTexture(textureView(source), 1, wide);
     ASSERT_EQ(uint64_t(all.width) * all.height, 13u * 8u * 64u);  // 13 x 8 blocks
     for (uint32_t by = 0; by < 8; ++by)
@@ -243,6 +243,33 @@ TEST(TextureSize, EdgeBlocksAndUvsBeyondTheTexture) {
                 for (uint32_t x = 0; x < 8; ++x) same = same && all.pixels[size_t(by * 8 + y) * all.width + bx * 8 + x] == all.pixels[size_t(by * 8) * all.width + bx * 8];
             EXPECT_FALSE(same) << bx << ", " << by;
         }
+}
+
+// A triangle wholly beyond the texture (u > 1) still gets its chart a group (the blocks its image
+// clamped to the border reaches) and its UVs are rewritten onto the atlas.
+TEST(TextureSize, ATriangleWhollyBeyondTheTextureGetsAGroup) {
+    Image source{100, 60, 1, std::vector<uint8_t>(6000, 77)};
+    const MeshData beyond = oneTriangle({1.2f, 0.5f, 1.4f, 0.5f, 1.2f, 0.7f});
+    MeshData after = beyond;
+    const Image atlas = atlasTexture(textureView(source), 1, after);
+    EXPECT_GE(atlas.width, 8u);
+    EXPECT_NE(after.texcoords, beyond.texcoords);
+    EXPECT_EQ(atlas.pixels[0], 77);  // a stored block of the source's border
+}
+
+// The horizon packing keeps to its column cap unless one mask is wider.
+TEST(TextureSize, PackingKeepsToTheColumnCap) {
+    BlockMask one;
+    one.wb = one.hb = 1, one.blocks = {1};
+    finishMask(one);
+    std::vector<BlockMask> masks(40, one);
+    EXPECT_LE(packMasks(masks, 4).columns, 4);
+    EXPECT_GT(packMasks(masks, 100).columns, 4);  // sqrt(40) and more without the cap
+    BlockMask wide;
+    wide.wb = 6, wide.hb = 1, wide.blocks.assign(6, 1);
+    finishMask(wide);
+    masks.push_back(wide);
+    EXPECT_EQ(packMasks(masks, 4).columns, 6);
 }
 
 TEST(TextureSize, JpegQualityIsReadBackFromTheTables) {
