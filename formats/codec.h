@@ -32,11 +32,18 @@ struct DracoOptions {
     int positionBits = 14;     // 1..kMaxPositionBits; see README "Draco defaults" for the measurements
     double positionStep = 0;   // lattice step, rounded down to a power of two; 0 = positionLatticeStep
                                // of the blob's own bounds (a blob encoded on its own)
-    int texcoordBits = 12;
+    int texcoordBits = 12;     // 1..30 (a build picks them per blob: texcoordBitsForTexture)
     int normalBits = 8;
     int colorBits = 8;
     int compressionLevel = 7;  // 0..10 (Draco's speed = 10 - level)
 };
+
+// Texture coordinate bits for a blob textured by a width x height image: the fewest with 2^bits
+// >= 4 x the UVs' extent in texels along the image's longer side (Draco quantizes both components
+// over their largest extent), i.e. a step of a quarter texel (within 2^-bits of it) whatever the
+// image's size; 1..30. A fixed 12 is a quarter texel at 1024², a whole texel at 4096², a
+// sixteenth at 256² (README "Draco and JPEG defaults").
+int texcoordBitsForTexture(const std::vector<float>& texcoords, uint32_t width, uint32_t height);
 
 // 8-bit pixels, row-major, `channels` interleaved (1 grey, 3 RGB, 4 RGBA).
 struct Image {

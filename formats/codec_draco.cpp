@@ -23,6 +23,8 @@ namespace hlod {
 
 namespace {
 
+constexpr int kMaxTexcoordBits = 30;  // Draco's limit for an attribute's quantization
+
 // Above 2^23 steps Draco's quantizer, floor(n + 0.5f) in float, is no longer exact.
 constexpr int kMaxLatticeBits = 23;
 
@@ -138,8 +140,23 @@ double positionLatticeStep(const Box3f& b, int positionBits) {
     return powerOfTwoAtMost((side > 0 ? side : 1.0) / double((uint64_t(1) << positionBits) - 1));
 }
 
+int texcoordBitsForTexture(const std::vector<float>& texcoords, uint32_t width, uint32_t height) {
+    float lo[2] = {0, 0}, hi[2] = {0, 0};
+    for (size_t i = 0; i < texcoords.size(); ++i) {
+        const size_t c = i % 2;
+        if (i < 2 || texcoords[i] < lo[c]) lo[c] = texcoords[i];
+        if (i < 2 || texcoords[i] > hi[c]) hi[c] = texcoords[i];
+    }
+    const double quarters = 4.0 * std::max(double(hi[0]) - lo[0], double(hi[1]) - lo[1]) * std::max(width, height);
+    int bits = 1;
+    while (bits < kMaxTexcoordBits && std::ldexp(1.0, bits) < quarters) ++bits;
+    return bits;
+}
+
 EncodedBlob encodeGeometry(const MeshData& m, const DracoOptions& o) {
     checkMesh(m);
+    if (!m.texcoords.empty() && (o.texcoordBits < 1 || o.texcoordBits > kMaxTexcoordBits))
+        throw std::runtime_error("encodeGeometry: texcoordBits must be 1.." + std::to_string(kMaxTexcoordBits));
     if (o.positionBits < 1 || o.positionBits > kMaxPositionBits || !(o.positionStep >= 0) || !std::isfinite(o.positionStep))
         throw std::runtime_error("encodeGeometry: positionBits must be 1.." + std::to_string(kMaxPositionBits) +
                                  " and positionStep finite and >= 0");

@@ -4,7 +4,9 @@
 // area-weighted average normal (formats/metrics.h), measured geometric error. The cost of
 // eq. 3.1 is left to the writer (cost < 0), which computes it from the blobs and c_textured.
 // Normals are not stored: they cost 0.45-0.95 B/tri in Draco and the player recomputes them.
-// Positions go on the lattice of options.draco.positionStep (FORMAT.md §Geometry blobs).
+// Positions go on the lattice of options.draco.positionStep (FORMAT.md §Geometry blobs); texture
+// coordinates get options.draco.texcoordBits, or when 0 (the default) a quarter texel of the
+// node's own texture (texcoordBitsForTexture).
 #include "pipeline/pipeline.h"
 
 #include "formats/metrics.h"
@@ -33,13 +35,15 @@ NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>&
         MeshData mesh = parts[i].mesh;
         mesh.normals.clear();
         uint32_t slot = kNone;
+        DracoOptions draco = options.draco;
         if (textures[i].width > 0) {
             slot = static_cast<uint32_t>(node.blobs.size());
             node.blobs.push_back(encodeTexture(textures[i], Codec::Jpeg, jpegQualities[i], options.jpegChroma420));
+            if (draco.texcoordBits == 0) draco.texcoordBits = texcoordBitsForTexture(mesh.texcoords, textures[i].width, textures[i].height);
         } else {
             mesh.texcoords.clear();
         }
-        EncodedBlob geometry = encodeGeometry(mesh, options.draco);
+        EncodedBlob geometry = encodeGeometry(mesh, draco);
         geometry.textureSlot = slot;
         node.blobs.push_back(std::move(geometry));
         meshes.push_back(std::move(mesh));

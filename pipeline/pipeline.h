@@ -295,7 +295,7 @@ struct BuildOptions {
     BuildMode mode = BuildMode::TopDown;     // tree_rules.h, pipeline/BUILD_SPEED.md
     BottomUpError bottomUpError = BottomUpError::Bound;  // --mode bottom-up only
     Planes planes = Planes::Balanced;
-    DracoOptions draco;
+    DracoOptions draco{.texcoordBits = 0};  // texcoordBits 0: per node, a quarter texel of its texture (pack.cpp)
     int jpegQuality = 85;
     bool jpegChroma420 = false;    // --jpeg-chroma 4:2:0 (default 4:4:4: charts align to 8 x 8 blocks)
     bool leafPsnr = false;         // --leaf-psnr: measure each leaf's stored textures against the source

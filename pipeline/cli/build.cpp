@@ -163,7 +163,9 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_option("--draco-position-bits", o.draco.positionBits,
                     "Draco position bits over the largest block (one lattice for all nodes, FORMAT.md)")
         ->check(CLI::Range(8, kMaxPositionBits));
-    sub->add_option("--draco-texcoord-bits", o.draco.texcoordBits, "Draco texture coordinate quantization bits")->check(CLI::Range(6, 30));
+    sub->add_option("--draco-texcoord-bits", o.draco.texcoordBits,
+                    "Draco texture coordinate bits for every node; 0 (default): per node, a quarter texel of its own texture")
+        ->check(CLI::Range(0, 30));
     sub->add_option("--draco-position-step", o.draco.positionStep,
                     "position lattice step in input units, rounded down to a power of two (default: from the block grid; "
                     "a folder input gets one per block unless this is given)")

@@ -317,5 +317,48 @@ TEST(Build, TreeOptionsRoundTripIntoTheMetadata) {
     EXPECT_EQ(*defaults.skeleton().findMeta("tree.planes"), "balanced");
 }
 
+// Bottom-up keeps every finished node until its block's tree is done, then emits them
+// breadth-first: each record must lose its blobs once emitted (build_tree.cpp), even when the
+// emitter only reads it (a writer copying the bytes out), or the whole block's blobs stay in
+// memory until buildBlock returns. The record handed to `emit` is the tree's own, alive until
+// then, so the previous one can be looked at when the next comes.
+TEST(Build, BottomUpFreesEachRecordOnceEmitted) {
+    Piece block = terrain(64);
+    block.mesh.texcoords.clear();
+    BuildOptions o;
+    o.constants.desiredTris = 100;
+    o.mode = BuildMode::BottomUp;
+    const NodeRecord* previous = nullptr;
+    size_t emitted = 0, freedBeforeNext = 0;
+    buildBlock(block, {}, 0, o, nullptr, [&](NodeRecord&& r) {
+        if (previous) freedBeforeNext += previous->node.blobs.empty();
+        EXPECT_FALSE(r.node.blobs.empty()) << "record " << emitted;
+        previous = &r;
+        ++emitted;
+    });
+    EXPECT_EQ(emitted, 341u);
+    EXPECT_EQ(freedBeforeNext, emitted - 1);
+}
+
+// A node's texture coordinates get a quarter texel of its own texture (texcoordBitsForTexture):
+// 8 bits for UVs over a 64-texel atlas, 13 over 2,048; --draco-texcoord-bits N fixes N for all.
+TEST(Build, TexcoordBitsFollowTheNodesTexture) {
+    const MeshData mesh = terrain(4).mesh;  // UVs over [0, 1]
+    auto bitsOf = [&](uint32_t side, int fixed) {
+        BuildOptions o;
+        if (fixed) o.draco.texcoordBits = fixed;
+        const Image image{side, side, 3, std::vector<uint8_t>(size_t(side) * side * 3, 128)};
+        const NodeRecord r = packNode({SubMesh{0, mesh, {}}}, {image}, {85}, {}, kNone, 0, 0, 0, o);
+        for (const EncodedBlob& blob : r.node.blobs)
+            if (blob.info.kind == BlobKind::Geometry) return int(blob.info.texcoordBits);
+        return -1;
+    };
+    EXPECT_EQ(BuildOptions{}.draco.texcoordBits, 0);
+    EXPECT_EQ(bitsOf(64, 0), 8);
+    EXPECT_EQ(bitsOf(2048, 0), 13);
+    EXPECT_EQ(bitsOf(64, 12), 12);
+    EXPECT_EQ(bitsOf(2048, 12), 12);
+}
+
 }  // namespace
 }  // namespace hlod::test
