@@ -25,6 +25,7 @@
 #include "pipeline/texture_charts.h"
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <filesystem>
@@ -109,6 +110,9 @@ constexpr int kBlock = 8;  // JPEG block side
 // triangle reads texel centres within 1 texel of it (texels within 1.5), plus half a texel.
 constexpr double kReach = 2;
 
+// The block of texel coordinate v among `count` (fmax/fmin: a NaN reads 0).
+int blockOf(double v, int count) { return static_cast<int>(std::fmin(std::fmax(std::floor(v / kBlock), 0.0), double(count - 1))); }
+
 // The texel rectangle [lo, hi) of UVs in [uvLo, uvHi] (clamped to [0, 1]) plus one texel of margin.
 void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
     lo = std::max(0, static_cast<int>(std::floor(std::clamp(uvLo, 0.0f, 1.0f) * size)) - 1);
@@ -116,78 +120,92 @@ void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
     hi = std::max(hi, lo + 1);
 }
 
-// The kBlock x kBlock blocks of a node's scaled texture (columns per row) that one group of charts
-// reaches: charts that reach a common block are one group, so a block is stored once per node.
-struct BlockGroup {
-    int bx0 = INT_MAX, by0 = INT_MAX, bx1 = -1, by1 = -1;  // inclusive
-    std::vector<uint64_t> blocks;                           // by * columns + bx
-};
-
-// Every block that some triangle (texels: UVs x the scaled size, as given; clamped to the texture
-// only to find candidate blocks, and for a triangle wholly outside) comes within kReach texels of
-// (triangleMeetsBox), grouped by the charts reaching it; found on a grid over the blocks the
-// triangles' bounding boxes span. UVs outside [0, 1] (glTF's REPEAT) are not reproduced: their
-// translated UVs point beyond the group's blocks.
-std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
-                                      uint32_t height, std::vector<uint32_t>& groupOfChart) {
+// Calls reach(i, j, c, test) for each candidate block (i, j) of each triangle (chart c), where
+// test() says whether the triangle, as given, comes within kReach of the block inside the
+// texture, or, wholly outside, its image clamped to the border does; columns x rows blocks.
+template <class Reach>
+void candidateBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t width, uint32_t height, Reach reach) {
     const int columns = static_cast<int>((width + kBlock - 1) / kBlock), rows = static_cast<int>((height + kBlock - 1) / kBlock);
-    const auto blockOf = [](double v, int count) {  // fmax/fmin: a NaN reads 0
-        return static_cast<int>(std::fmin(std::fmax(std::floor(v / kBlock), 0.0), double(count - 1)));
-    };
-    // A triangle's texel coordinates, as given (x, y) and clamped to the texture (cx, cy): the
-    // blocks it reaches are those the given triangle meets inside the texture, or, for a triangle
-    // wholly outside, those its clamped image on the border meets.
-    const auto texels = [&](size_t t, double (&x)[3], double (&y)[3], double (&cx)[3], double (&cy)[3]) {
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        double x[3], y[3], cx[3], cy[3];  // texel coordinates, as given and clamped to the texture
         for (int k = 0; k < 3; ++k) {
             const uint32_t v = mesh.indices[3 * t + k];
             x[k] = double(mesh.texcoords[2 * v]) * width, y[k] = double(mesh.texcoords[2 * v + 1]) * height;
             cx[k] = std::clamp(x[k], 0.0, double(width)), cy[k] = std::clamp(y[k], 0.0, double(height));
         }
-    };
-    int gx0 = columns, gy0 = rows, gx1 = -1, gy1 = -1;  // the grid: blocks of every triangle's box
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        double x[3], y[3], cx[3], cy[3];
-        texels(t, x, y, cx, cy);
-        gx0 = std::min(gx0, blockOf(std::min({cx[0], cx[1], cx[2]}) - kReach, columns));
-        gx1 = std::max(gx1, blockOf(std::max({cx[0], cx[1], cx[2]}) + kReach, columns));
-        gy0 = std::min(gy0, blockOf(std::min({cy[0], cy[1], cy[2]}) - kReach, rows));
-        gy1 = std::max(gy1, blockOf(std::max({cy[0], cy[1], cy[2]}) + kReach, rows));
-    }
-    groupOfChart.assign(charts, kNone);
-    if (gx1 < 0) return {};
-    const size_t gw = size_t(gx1 - gx0 + 1);
-    std::vector<uint32_t> owner(gw * size_t(gy1 - gy0 + 1), kNone);  // a chart reaching the block
-    std::vector<uint32_t> parent(charts);
-    for (uint32_t c = 0; c < charts; ++c) parent[c] = c;
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        double x[3], y[3], cx[3], cy[3];
-        texels(t, x, y, cx, cy);
-        const uint32_t c = chart[mesh.indices[3 * t]];
+        const bool clamped = x[0] != cx[0] || x[1] != cx[1] || x[2] != cx[2] || y[0] != cy[0] || y[1] != cy[1] || y[2] != cy[2];
         const int i0 = blockOf(std::min({cx[0], cx[1], cx[2]}) - kReach, columns), i1 = blockOf(std::max({cx[0], cx[1], cx[2]}) + kReach, columns);
         const int j0 = blockOf(std::min({cy[0], cy[1], cy[2]}) - kReach, rows), j1 = blockOf(std::max({cy[0], cy[1], cy[2]}) + kReach, rows);
         for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i) {
-                uint32_t& o = owner[size_t(j - gy0) * gw + size_t(i - gx0)];
-                if (o != kNone && findRoot(parent, o) == findRoot(parent, c)) continue;  // reached by the group already
-                const double bx0 = i * kBlock - kReach, by0 = j * kBlock - kReach, bx1 = (i + 1) * kBlock + kReach, by1 = (j + 1) * kBlock + kReach;
-                if (!triangleMeetsBox(x, y, bx0, by0, bx1, by1) && !triangleMeetsBox(cx, cy, bx0, by0, bx1, by1)) continue;
-                if (o == kNone) o = c;
-                else parent[std::max(findRoot(parent, o), findRoot(parent, c))] = std::min(findRoot(parent, o), findRoot(parent, c));
-            }
+            for (int i = i0; i <= i1; ++i)
+                reach(i, j, chart[mesh.indices[3 * t]], [&] {
+                    const double bx0 = i * kBlock - kReach, by0 = j * kBlock - kReach, bx1 = (i + 1) * kBlock + kReach, by1 = (j + 1) * kBlock + kReach;
+                    return triangleMeetsBox(x, y, bx0, by0, bx1, by1) || (clamped && triangleMeetsBox(cx, cy, bx0, by0, bx1, by1));
+                });
     }
+}
+
+constexpr size_t kGridBlocks = size_t(1) << 20;  // a grid of at most 4 MiB; beyond, a sorted list
+
+}  // namespace
+
+// On a grid over the box of blocks the triangles span when it is small (kGridBlocks: a 4K source
+// always), else on a sorted list of the (block, chart) pairs reached, whose memory follows the
+// blocks reached (a node's UVs may be scattered over a 32k² atlas: a grid over its 4096² blocks
+// would take 64 MiB). The same groups either way.
+std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
+                                      uint32_t height, std::vector<uint32_t>& groupOfChart) {
+    const int columns = static_cast<int>((width + kBlock - 1) / kBlock);
+    int gx0 = INT_MAX, gy0 = INT_MAX, gx1 = -1, gy1 = -1;  // the candidates' box
+    candidateBlocks(mesh, chart, width, height, [&](int i, int j, uint32_t, auto) {
+        gx0 = std::min(gx0, i), gy0 = std::min(gy0, j), gx1 = std::max(gx1, i), gy1 = std::max(gy1, j);
+    });
+    groupOfChart.assign(charts, kNone);
+    if (gx1 < 0) return {};
+    std::vector<uint32_t> parent(charts);
+    for (uint32_t c = 0; c < charts; ++c) parent[c] = c;
+    const auto unite = [&](uint32_t a, uint32_t b) {
+        a = findRoot(parent, a), b = findRoot(parent, b);
+        parent[std::max(a, b)] = std::min(a, b);
+    };
     std::vector<BlockGroup> groups;  // numbered in block order: deterministic
-    for (size_t k = 0; k < owner.size(); ++k) {
-        if (owner[k] == kNone) continue;
-        uint32_t& g = groupOfChart[findRoot(parent, owner[k])];
+    const auto addBlock = [&](uint64_t key, uint32_t c) {  // in key order
+        uint32_t& g = groupOfChart[findRoot(parent, c)];
         if (g == kNone) g = static_cast<uint32_t>(groups.size()), groups.emplace_back();
         BlockGroup& group = groups[g];
-        const int bx = gx0 + static_cast<int>(k % gw), by = gy0 + static_cast<int>(k / gw);
-        group.blocks.push_back(uint64_t(by) * columns + bx);
+        const int bx = static_cast<int>(key % columns), by = static_cast<int>(key / columns);
+        group.blocks.push_back(key);
         group.bx0 = std::min(group.bx0, bx), group.by0 = std::min(group.by0, by), group.bx1 = std::max(group.bx1, bx), group.by1 = std::max(group.by1, by);
+    };
+    const size_t gw = size_t(gx1 - gx0 + 1), gh = size_t(gy1 - gy0 + 1);
+    if (gw * gh <= kGridBlocks) {
+        std::vector<uint32_t> owner(gw * gh, kNone);  // a chart reaching the block
+        candidateBlocks(mesh, chart, width, height, [&](int i, int j, uint32_t c, auto test) {
+            uint32_t& o = owner[size_t(j - gy0) * gw + size_t(i - gx0)];
+            if (o != kNone && findRoot(parent, o) == findRoot(parent, c)) return;  // reached by the group already
+            if (!test()) return;
+            if (o == kNone) o = c;
+            else unite(o, c);
+        });
+        for (size_t k = 0; k < owner.size(); ++k)
+            if (owner[k] != kNone) addBlock(uint64_t(gy0 + k / gw) * columns + uint64_t(gx0) + k % gw, owner[k]);
+    } else {
+        std::vector<std::pair<uint64_t, uint32_t>> reached;  // (by * columns + bx, chart)
+        candidateBlocks(mesh, chart, width, height, [&](int i, int j, uint32_t c, auto test) {
+            if (test()) reached.emplace_back(uint64_t(j) * columns + i, c);
+        });
+        std::sort(reached.begin(), reached.end());
+        reached.erase(std::unique(reached.begin(), reached.end()), reached.end());
+        for (size_t k = 1; k < reached.size(); ++k)
+            if (reached[k].first == reached[k - 1].first) unite(reached[k].second, reached[k - 1].second);
+        for (size_t k = 0; k < reached.size(); ++k)
+            if (k == 0 || reached[k].first != reached[k - 1].first) addBlock(reached[k].first, reached[k].second);
     }
     for (uint32_t c = 0; c < charts; ++c) groupOfChart[c] = groupOfChart[findRoot(parent, c)];
     return groups;
 }
+
+namespace {
 
 // Copies a group's blocks from the scaled texture to the atlas at block (ax, ay), kBandBlocks rows
 // of blocks at a time (at a leaf, the texture store's 64-row tiles; scaledRegion's texels do not

@@ -1,11 +1,14 @@
 // texture.cpp: the original triangles of one material by UV chart, each with only the texels it
 // covers, for bakeTexture (bake.cpp): a node's original triangles may use charts spread over a
 // whole atlas, and one rectangle around them all would hold most of it (issue #14).
+// reachedBlocks: the source blocks a node atlas holds (texture.cpp).
 // texture_fidelity.cpp: a stored (decoded) node texture against the source texels it copies.
 #pragma once
 
 #include "pipeline/pipeline.h"
 #include "pipeline/texture_store.h"
+
+#include <climits>
 
 namespace hlod {
 
@@ -27,5 +30,20 @@ std::vector<TexturedChart> textureCharts(BlockTextures& textures, uint32_t mater
 // (the same triangles and indices, the UVs before atlasTexture rewrote them). `samples` =
 // texels x channels (TextureFidelity, pipeline.h).
 TextureFidelity textureFidelity(const MeshData& sourceMesh, const TextureSource& source, const MeshData& storedMesh, const Image& stored);
+
+// The 8 x 8 blocks of a node's scaled texture (columns per row) that one group of charts reaches:
+// charts that reach a common block are one group, so a block is stored once per node (texture.cpp).
+struct BlockGroup {
+    int bx0 = INT_MAX, by0 = INT_MAX, bx1 = -1, by1 = -1;  // inclusive
+    std::vector<uint64_t> blocks;                           // by * columns + bx, in that order
+};
+// Every block of a width x height texture that some triangle of `mesh` (texels: UVs x the size, as
+// given; clamped to the texture only to find candidate blocks, and for a triangle wholly outside)
+// comes within 2 texels of (a bilinear tap's reach plus half a texel), grouped by the charts
+// reaching it (`chart`: each vertex's, of `charts`); `groupOfChart` gets each chart's group
+// (kNone: it reaches none). Groups are numbered in block order. UVs outside [0, 1] (glTF's REPEAT)
+// are not reproduced: their translated UVs point beyond the group's blocks.
+std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
+                                      uint32_t height, std::vector<uint32_t>& groupOfChart);
 
 }  // namespace hlod

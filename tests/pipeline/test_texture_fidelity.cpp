@@ -257,6 +257,29 @@ TEST(TextureSize, ATriangleWhollyBeyondTheTextureGetsAGroup) {
     EXPECT_EQ(atlas.pixels[0], 77);  // a stored block of the source's border
 }
 
+// Charts at opposite corners of a texture a million texels wide: each corner's group holds the
+// 2 x 2 blocks its triangles reach (4 texels across, 2 texels of reach), two charts reaching one
+// block are one group, all found without a grid over the 131,068² blocks between the corners
+// (68 GB of it: reachedBlocks lists and sorts the blocks reached).
+TEST(TextureSize, BlocksFarApartOnAHugeTextureNeedNoGridBetweenThem) {
+    constexpr uint32_t side = 1u << 20, columns = side / 8;
+    const float s = float(side), far = s - 32;  // the triangles start on a block's first texel
+    MeshData mesh;
+    mesh.positions.assign(27, 0);
+    mesh.texcoords = {16 / s, 16 / s, 20 / s, 16 / s, 16 / s, 20 / s, far / s, far / s, (far + 4) / s, far / s, far / s, (far + 4) / s,
+                      (far + 1) / s, (far + 1) / s, (far + 3) / s, (far + 1) / s, (far + 1) / s, (far + 3) / s};
+    mesh.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    std::vector<uint32_t> groupOfChart;
+    const std::vector<BlockGroup> groups = reachedBlocks(mesh, {0, 0, 0, 2, 2, 2, 1, 1, 1}, 3, side, side, groupOfChart);
+    ASSERT_EQ(groups.size(), 2u);
+    EXPECT_EQ(groupOfChart, (std::vector<uint32_t>{0, 1, 1}));
+    const auto square = [&](uint64_t b) { return std::vector<uint64_t>{b * columns + b, b * columns + b + 1, (b + 1) * columns + b, (b + 1) * columns + b + 1}; };
+    EXPECT_EQ(groups[0].blocks, square(1));
+    EXPECT_EQ(groups[1].blocks, square(columns - 5));
+    EXPECT_EQ(groups[1].bx0, int(columns - 5));
+    EXPECT_EQ(groups[1].by1, int(columns - 4));
+}
+
 // The horizon packing keeps to its column cap unless one mask is wider.
 TEST(TextureSize, PackingKeepsToTheColumnCap) {
     BlockMask one;
