@@ -311,7 +311,7 @@ BakedTexture bakeTexture(const MeshData& input, const std::vector<BakeSource>& o
     // and the texels its sub-samples' bilinear taps read (within kChartGutter of its triangles)
     // are all in its own blocks, which no other chart writes, so each chart is final once it is
     // filled (the same texels as baking every chart before filling any), and only one chart's
-    // sub-samples are held at a time (summed in the same order).
+    // sub-samples are held at a time (summed in the same order; Bake.AChartsTexelsDependOnItsOwnSourceAlone).
     OriginalSurface surface(original);
     std::vector<uint8_t> covered(size_t(l.width) * l.height, 0);
     std::vector<BakedTexel> baked;

@@ -4,15 +4,18 @@
 // resolution), UVs in [0, 1], no zero-area UV triangle, the atlas within its budget, the baked
 // colours close to the source (PSNR); a constant source baked exactly; determinism; small and
 // zero budgets; vertex colours on an untextured sphere; a folded surface split into charts; a
-// thin sheet baked from the side the simplified surface faces.
+// thin sheet baked from the side the simplified surface faces; a chart's texels independent of
+// other charts' sources (the chart-by-chart baking).
 #include "helpers.h"
 
 #include "pipeline/chart.h"
 #include "tests/support/synthetic.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
+#include <set>
 
 namespace hlod::test {
 namespace {
@@ -194,8 +197,9 @@ TEST(Bake, SmallBudgetStaysWithinIt) {
     expectValidAtlas(baked, 64 * 64, f.simplified);
 }
 
-// A UV sphere with a vertex-colour gradient and no texture: many charts, vertex colours baked.
-TEST(Bake, UntexturedSphereUsesVertexColours) {
+// A UV sphere, radius 1, with a vertex colour per vertex: colour(position).
+template <class Colour>
+MeshData colouredSphere(Colour colour) {
     MeshData sphere;
     const int rings = 24, segments = 48;
     for (int r = 0; r <= rings; ++r)
@@ -203,7 +207,8 @@ TEST(Bake, UntexturedSphereUsesVertexColours) {
             const double th = M_PI * r / rings, ph = 2 * M_PI * s / segments;
             const float p[3] = {float(std::sin(th) * std::cos(ph)), float(std::sin(th) * std::sin(ph)), float(std::cos(th))};
             sphere.positions.insert(sphere.positions.end(), p, p + 3);
-            sphere.colors.insert(sphere.colors.end(), {uint8_t(127 + 127 * p[2]), 60, uint8_t(127 - 127 * p[2]), 255});
+            const std::array<uint8_t, 4> c = colour(p);
+            sphere.colors.insert(sphere.colors.end(), c.begin(), c.end());
         }
     for (int r = 0; r < rings; ++r)
         for (int s = 0; s < segments; ++s) {
@@ -211,6 +216,14 @@ TEST(Bake, UntexturedSphereUsesVertexColours) {
             if (r > 0) sphere.indices.insert(sphere.indices.end(), {a, c, b});
             if (r + 1 < rings) sphere.indices.insert(sphere.indices.end(), {b, c, d});
         }
+    return sphere;
+}
+
+// A UV sphere with a vertex-colour gradient and no texture: many charts, vertex colours baked.
+TEST(Bake, UntexturedSphereUsesVertexColours) {
+    const MeshData sphere = colouredSphere([](const float* p) {
+        return std::array<uint8_t, 4>{uint8_t(127 + 127 * p[2]), 60, uint8_t(127 - 127 * p[2]), 255};
+    });
     MeshData coarse = simplifyMesh(sphere, 4, Simplifier::Meshopt);
     coarse.colors.clear();
     const std::vector<BakeSource> source = {{&sphere, nullptr}};
@@ -312,6 +325,56 @@ TEST(Bake, ThinSheetTakesTheSideItFaces) {
         EXPECT_EQ(p[0], 220) << "vertex " << v;
         EXPECT_EQ(p[2], 20) << "vertex " << v;
     }
+}
+
+// The baker finishes one chart (baked, gutters filled, error summed) before the next, which is
+// only right if no chart writes or reads another's blocks. The same sphere baked twice, its
+// colours changed only where z > 0: the same charts and layout, and every chart wholly below
+// z = -0.3 (beyond what its texels sample) keeps every texel of its blocks, while the atlas does
+// change above.
+TEST(Bake, AChartsTexelsDependOnItsOwnSourceAlone) {
+    auto gradient = [](bool changed) {
+        return [changed](const float* p) {
+            const uint8_t red = changed && p[2] > 0 ? uint8_t(255 - 100 * p[2]) : uint8_t(127 + 60 * p[0]);
+            return std::array<uint8_t, 4>{red, uint8_t(127 + 60 * p[1]), uint8_t(127 + 60 * p[2]), 255};
+        };
+    };
+    const MeshData before = colouredSphere(gradient(false)), after = colouredSphere(gradient(true));
+    MeshData coarse = simplifyMesh(before, 4, Simplifier::Meshopt);
+    coarse.colors.clear();
+    const BakedTexture a = bakeTexture(coarse, {{&before, nullptr}}, 128 * 128);
+    const BakedTexture b = bakeTexture(coarse, {{&after, nullptr}}, 128 * 128);
+    ASSERT_EQ(a.mesh.texcoords, b.mesh.texcoords);
+    ASSERT_EQ(a.image.width, b.image.width);
+    ASSERT_EQ(a.image.height, b.image.height);
+    EXPECT_NE(a.image.pixels, b.image.pixels);
+    const std::vector<uint32_t> chart = chartOfTriangle(a.mesh);
+    std::map<uint32_t, bool> low;  // chart -> every corner below z = -0.3
+    for (size_t t = 0; t < chart.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const bool below = a.mesh.positions[3 * a.mesh.indices[3 * t + k] + 2] < -0.3f;
+            low.emplace(chart[t], true).first->second &= below;
+        }
+    const uint32_t columns = a.image.width / 8;
+    std::set<uint32_t> blocks;  // the 8 x 8 blocks of low charts' corners and centroids: their own
+    for (size_t t = 0; t < chart.size(); ++t) {
+        if (!low[chart[t]]) continue;
+        double centroid[2] = {0, 0};
+        for (int k = 0; k <= 3; ++k) {
+            double uv[2] = {centroid[0] / 3, centroid[1] / 3};
+            for (int c = 0; k < 3 && c < 2; ++c) centroid[c] += uv[c] = a.mesh.texcoords[2 * a.mesh.indices[3 * t + k] + c];
+            const uint32_t x = std::min(a.image.width - 1, uint32_t(uv[0] * a.image.width));
+            const uint32_t y = std::min(a.image.height - 1, uint32_t(uv[1] * a.image.height));
+            blocks.insert(y / 8 * columns + x / 8);
+        }
+    }
+    ASSERT_GE(blocks.size(), 16u) << "some charts lie low";
+    size_t differing = 0;
+    for (uint32_t block : blocks)
+        for (uint32_t y = block / columns * 8; y < block / columns * 8 + 8; ++y)
+            for (uint32_t x = block % columns * 8; x < block % columns * 8 + 8; ++x)
+                for (int c = 0; c < 3; ++c) differing += a.image.pixels[3 * (size_t(y) * a.image.width + x) + c] != b.image.pixels[3 * (size_t(y) * a.image.width + x) + c];
+    EXPECT_EQ(differing, 0u) << "of " << blocks.size() << " blocks";
 }
 
 TEST(Bake, EmptyInputGivesAnEmptyResult) {
