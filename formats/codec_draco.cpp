@@ -18,6 +18,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 namespace hlod {
 
@@ -133,6 +134,36 @@ std::vector<T> extract(const draco::Mesh& mesh, const draco::PointAttribute* att
     return out;
 }
 
+// The Draco mesh of `m` with its positions snapped; with `deduplicate`, equal attribute values and
+// then equal points merged (DeduplicateAttributeValues, DeduplicatePointIds).
+std::unique_ptr<draco::Mesh> dracoMesh(const MeshData& m, const std::vector<float>& positions, bool deduplicate) {
+    auto mesh = std::make_unique<draco::Mesh>();
+    mesh->set_num_points(uint32_t(m.vertexCount()));
+    using GA = draco::GeometryAttribute;
+    addAttribute(*mesh, GA::POSITION, 3, draco::DT_FLOAT32, false, positions);
+    if (!m.texcoords.empty()) addAttribute(*mesh, GA::TEX_COORD, 2, draco::DT_FLOAT32, false, m.texcoords);
+    if (!m.normals.empty()) addAttribute(*mesh, GA::NORMAL, 3, draco::DT_FLOAT32, false, m.normals);
+    if (!m.colors.empty()) addAttribute(*mesh, GA::COLOR, 4, draco::DT_UINT8, true, m.colors);
+    for (size_t t = 0; t < m.triangleCount(); ++t)
+        mesh->AddFace({draco::PointIndex(m.indices[3 * t]), draco::PointIndex(m.indices[3 * t + 1]), draco::PointIndex(m.indices[3 * t + 2])});
+    if (deduplicate) {
+        mesh->DeduplicateAttributeValues();
+        mesh->DeduplicatePointIds();
+    }
+    return mesh;
+}
+
+// Whether some face's corners are three distinct position values (what Draco's connectivity sees).
+bool hasFaceOfThreePositions(const draco::Mesh& mesh) {
+    const draco::PointAttribute* position = mesh.GetNamedAttribute(draco::GeometryAttribute::POSITION);
+    for (draco::FaceIndex f(0); f < mesh.num_faces(); ++f) {
+        const auto& face = mesh.face(f);
+        const auto a = position->mapped_index(face[0]), b = position->mapped_index(face[1]), c = position->mapped_index(face[2]);
+        if (a != b && b != c && a != c) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 double positionLatticeStep(const Box3f& b, int positionBits) {
@@ -162,25 +193,26 @@ EncodedBlob encodeGeometry(const MeshData& m, const DracoOptions& o) {
                                  " and positionStep finite and >= 0");
     const double step = o.positionStep > 0 ? powerOfTwoAtMost(o.positionStep) : positionLatticeStep(boundsOf(m.positions), o.positionBits);
     const Lattice lattice = snapToLattice(m.positions, step);
-    draco::Mesh mesh;
-    mesh.set_num_points(uint32_t(m.vertexCount()));
-    using GA = draco::GeometryAttribute;
-    addAttribute(mesh, GA::POSITION, 3, draco::DT_FLOAT32, false, lattice.positions);
-    if (!m.texcoords.empty()) addAttribute(mesh, GA::TEX_COORD, 2, draco::DT_FLOAT32, false, m.texcoords);
-    if (!m.normals.empty()) addAttribute(mesh, GA::NORMAL, 3, draco::DT_FLOAT32, false, m.normals);
-    if (!m.colors.empty()) addAttribute(mesh, GA::COLOR, 4, draco::DT_UINT8, true, m.colors);
-    for (size_t t = 0; t < m.triangleCount(); ++t)
-        mesh.AddFace({draco::PointIndex(m.indices[3 * t]), draco::PointIndex(m.indices[3 * t + 1]),
-                      draco::PointIndex(m.indices[3 * t + 2])});
+    // A vertex split only by another attribute (a UV chart's seam) keeps one position: Draco then
+    // codes the surface's connectivity and positions once, with attribute seams, instead of each
+    // chart as a piece of its own whose border positions are coded again (FORMAT.md §Geometry
+    // blobs). Its connectivity is that of the positions, so a face two of whose corners share a
+    // lattice position (zero area as decoded) goes, as Draco drops a face with a repeated index;
+    // when every face would, they are kept as they were. Positions alone have no seams (and the
+    // build welds them): nothing to gain, time to lose.
+    const bool seams = !m.texcoords.empty() || !m.normals.empty() || !m.colors.empty();
+    std::unique_ptr<draco::Mesh> mesh = dracoMesh(m, lattice.positions, seams);
+    if (seams && !hasFaceOfThreePositions(*mesh)) mesh = dracoMesh(m, lattice.positions, false);
 
     draco::Encoder encoder;
     setExactQuantization(encoder, lattice);
+    using GA = draco::GeometryAttribute;
     encoder.SetAttributeQuantization(GA::TEX_COORD, o.texcoordBits);
     encoder.SetAttributeQuantization(GA::NORMAL, o.normalBits);
     encoder.SetSpeedOptions(10 - o.compressionLevel, 10 - o.compressionLevel);
     encoder.SetTrackEncodedProperties(true);
     draco::EncoderBuffer buffer;
-    draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
+    draco::Status status = encoder.EncodeMeshToBuffer(*mesh, &buffer);
     if (!status.ok()) throw std::runtime_error("encodeGeometry: Draco: " + status.error_msg_string());
 
     EncodedBlob blob;
