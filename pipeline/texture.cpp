@@ -145,20 +145,20 @@ void candidateBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, u
     }
 }
 
-constexpr size_t kGridBlocks = size_t(1) << 20;  // a grid of at most 4 MiB; beyond, a sorted list
-
 }  // namespace
 
-// On a grid over the box of blocks the triangles span when it is small (kGridBlocks: a 4K source
-// always), else on a sorted list of the (block, chart) pairs reached, whose memory follows the
-// blocks reached (a node's UVs may be scattered over a 32k² atlas: a grid over its 4096² blocks
-// would take 64 MiB). The same groups either way.
+// On a grid over the box of blocks the triangles span (4 bytes a block) when it is at most
+// gridBlocks blocks or costs no more than a list of the candidates (16 bytes each), else on a
+// sorted list of the (block, chart) pairs reached: memory follows the blocks the triangles meet,
+// not the box they span (a node's UVs may be scattered over a 32k² atlas: a grid over its 4096²
+// blocks would take 64 MiB). The same groups either way.
 std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
-                                      uint32_t height, std::vector<uint32_t>& groupOfChart) {
+                                      uint32_t height, std::vector<uint32_t>& groupOfChart, size_t gridBlocks) {
     const int columns = static_cast<int>((width + kBlock - 1) / kBlock);
     int gx0 = INT_MAX, gy0 = INT_MAX, gx1 = -1, gy1 = -1;  // the candidates' box
+    size_t candidates = 0;
     candidateBlocks(mesh, chart, width, height, [&](int i, int j, uint32_t, auto) {
-        gx0 = std::min(gx0, i), gy0 = std::min(gy0, j), gx1 = std::max(gx1, i), gy1 = std::max(gy1, j);
+        gx0 = std::min(gx0, i), gy0 = std::min(gy0, j), gx1 = std::max(gx1, i), gy1 = std::max(gy1, j), ++candidates;
     });
     groupOfChart.assign(charts, kNone);
     if (gx1 < 0) return {};
@@ -178,7 +178,7 @@ std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<ui
         group.bx0 = std::min(group.bx0, bx), group.by0 = std::min(group.by0, by), group.bx1 = std::max(group.bx1, bx), group.by1 = std::max(group.by1, by);
     };
     const size_t gw = size_t(gx1 - gx0 + 1), gh = size_t(gy1 - gy0 + 1);
-    if (gw * gh <= kGridBlocks) {
+    if (gw * gh <= std::max(gridBlocks, 4 * candidates)) {
         std::vector<uint32_t> owner(gw * gh, kNone);  // a chart reaching the block
         candidateBlocks(mesh, chart, width, height, [&](int i, int j, uint32_t c, auto test) {
             uint32_t& o = owner[size_t(j - gy0) * gw + size_t(i - gx0)];

@@ -42,8 +42,11 @@ struct BlockGroup {
 // comes within 2 texels of (a bilinear tap's reach plus half a texel), grouped by the charts
 // reaching it (`chart`: each vertex's, of `charts`); `groupOfChart` gets each chart's group
 // (kNone: it reaches none). Groups are numbered in block order. UVs outside [0, 1] (glTF's REPEAT)
-// are not reproduced: their translated UVs point beyond the group's blocks.
+// are not reproduced: their translated UVs point beyond the group's blocks. Found on a grid of
+// the blocks' box up to `gridBlocks` blocks (a 4K or 8K source always), beyond on a sorted list
+// of the blocks reached where that is smaller: the same result (texture.cpp).
+inline constexpr size_t kGridBlocks = size_t(1) << 20;  // a grid of at most 4 MiB
 std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
-                                      uint32_t height, std::vector<uint32_t>& groupOfChart);
+                                      uint32_t height, std::vector<uint32_t>& groupOfChart, size_t gridBlocks = kGridBlocks);
 
 }  // namespace hlod

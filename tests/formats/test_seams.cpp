@@ -20,7 +20,7 @@ MeshData quadCharts(uint32_t n, float gap) {
             const uint32_t base = static_cast<uint32_t>(m.vertexCount());
             for (uint32_t k = 0; k < 4; ++k) {
                 const float x = float(i + k % 2) + gap * float(i), y = float(j + k / 2) + gap * float(j);
-                m.positions.insert(m.positions.end(), {x, y, 0.25f * float((i + j + k) % 3)});
+                m.positions.insert(m.positions.end(), {x, y, 0.25f * float((i + j + k % 2 + k / 2) % 3)});
                 m.texcoords.insert(m.texcoords.end(), {(float(i) + 0.5f * float(k % 2)) / float(n), (float(j) + 0.5f * float(k / 2)) / float(n)});
             }
             m.indices.insert(m.indices.end(), {base, base + 1, base + 3, base, base + 3, base + 2});

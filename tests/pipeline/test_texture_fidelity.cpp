@@ -14,6 +14,9 @@
 #include "tests/support/chunked_scan.h"
 #include "tests/support/run_hlod.h"
 
+#include <random>
+#include <tuple>
+
 namespace hlod::test {
 namespace {
 
@@ -278,6 +281,40 @@ TEST(TextureSize, BlocksFarApartOnAHugeTextureNeedNoGridBetweenThem) {
     EXPECT_EQ(groups[1].blocks, square(columns - 5));
     EXPECT_EQ(groups[1].bx0, int(columns - 5));
     EXPECT_EQ(groups[1].by1, int(columns - 4));
+}
+
+// The grid and the sorted list find the same groups: small triangles of 20 charts scattered over
+// a 2048² texture, every fourth beside the one before (one group), found on a grid of the 256² blocks' box (the
+// default) and on the list (gridBlocks 0: the list of ~500 candidates is the smaller).
+TEST(TextureSize, GridAndListFindTheSameGroups) {
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> at(0.01f, 0.99f), near(-6.0f / 2048, 6.0f / 2048);
+    MeshData mesh;
+    std::vector<uint32_t> chart;
+    float u = 0, v = 0;
+    for (uint32_t c = 0; c < 20; ++c) {
+        if (c % 4 != 1) u = at(random), v = at(random);  // else beside the chart before: blocks shared
+        for (int t = 0; t < 3; ++t) {  // a chart's triangles within a few texels of each other
+            const float du = near(random), dv = near(random);
+            for (int k = 0; k < 3; ++k) {
+                mesh.positions.insert(mesh.positions.end(), {0, 0, 0});
+                mesh.texcoords.insert(mesh.texcoords.end(), {u + du + (k == 1 ? 3.0f / 2048 : 0), v + dv + (k == 2 ? 3.0f / 2048 : 0)});
+                mesh.indices.push_back(static_cast<uint32_t>(mesh.indices.size()));
+                chart.push_back(c);
+            }
+        }
+    }
+    std::vector<uint32_t> gridGroups, listGroups;
+    const std::vector<BlockGroup> grid = reachedBlocks(mesh, chart, 20, 2048, 2048, gridGroups);
+    const std::vector<BlockGroup> list = reachedBlocks(mesh, chart, 20, 2048, 2048, listGroups, 0);
+    ASSERT_EQ(grid.size(), list.size());
+    EXPECT_LE(grid.size(), 15u);  // 5 pairs of charts share blocks
+    EXPECT_GE(grid.size(), 10u);
+    EXPECT_EQ(gridGroups, listGroups);
+    for (size_t g = 0; g < grid.size(); ++g) {
+        EXPECT_EQ(grid[g].blocks, list[g].blocks) << g;
+        EXPECT_EQ(std::tie(grid[g].bx0, grid[g].by0, grid[g].bx1, grid[g].by1), std::tie(list[g].bx0, list[g].by0, list[g].bx1, list[g].by1)) << g;
+    }
 }
 
 // The horizon packing keeps to its column cap unless one mask is wider.
