@@ -52,7 +52,9 @@ Lattice snapToLattice(const std::vector<float>& positions, double step) {
     l.positions.resize(positions.size());
     float top[3] = {0, 0, 0};
     for (size_t i = 0; i < positions.size(); ++i) {
-        const float x = static_cast<float>(std::round(double(positions[i]) / step) * step);
+        // + 0.0: a coordinate rounding to 0 from below is +0, not -0, which Draco's deduplication
+        // would keep apart from the +0 of the same vertex in another chart
+        const float x = static_cast<float>(std::round(double(positions[i]) / step) * step + 0.0);
         const size_t c = i % 3;
         l.positions[i] = x;
         if (i < 3 || x < l.origin[c]) l.origin[c] = x;

@@ -48,6 +48,21 @@ TEST(Seams, ChartsSharingPositionsCodeThemOnce) {
     EXPECT_LT(blob.bytes.size(), apartBytes * 3 / 4);
 }
 
+// A seam vertex snapped to 0 from below in one chart and from above in the other is one position
+// (-0 and +0 are one lattice point): the same bytes as the seam at exactly 0 in both.
+TEST(Seams, ZeroFromBelowAndAboveIsOnePosition) {
+    DracoOptions o;
+    o.positionStep = 1.0 / 64;
+    MeshData exact = quadCharts(24, 0);
+    for (size_t i = 0; i < exact.positions.size(); i += 3) exact.positions[i] -= 12;  // the seam x = 0 between quads 11 and 12
+    MeshData signs = exact;
+    for (size_t i = 0; i < signs.positions.size(); i += 3)
+        if (signs.positions[i] == 0 && (i / 3) % 2 == 1) signs.positions[i] = -1e-6f;  // the right corners of quad 11: -0 once snapped
+    const EncodedBlob a = encodeGeometry(exact, o), b = encodeGeometry(signs, o);
+    EXPECT_EQ(a.bytes, b.bytes);
+    EXPECT_EQ(positions(decodeGeometry(b.bytes, "blob")), positions(exact));
+}
+
 // A face two of whose corners share a lattice position (zero area as decoded) is dropped, with
 // the same UV or another; when every face is such, they are all kept, as before.
 TEST(Seams, AFaceWithTwoCornersAtOnePositionIsDropped) {
