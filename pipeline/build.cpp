@@ -297,10 +297,9 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
                                : " --block-triangles " + std::to_string(blockTarget(o));
     command += " --draco-position-bits " + std::to_string(o.draco.positionBits) + " --draco-texcoord-bits " +
                std::to_string(o.draco.texcoordBits) + " --draco-level " + std::to_string(o.draco.compressionLevel) +
-               " --jpeg-quality " + std::to_string(o.jpegQuality);
+               " --jpeg-quality " + std::to_string(o.jpegQuality) + " --jpeg-chroma " + jpegChromaName(o.jpegChroma);
     if (o.draco.positionStep > 0) command += " --draco-position-step " + std::to_string(o.draco.positionStep);
     if (!o.up.empty()) command += " --up " + o.up;
-    if (o.jpegChroma420) command += " --jpeg-chroma 4:2:0";  // absent: 4:4:4, as before the option
     if (o.mode == BuildMode::BottomUp) command += " --mode bottom-up";  // absent: top-down, as before the option
     if (o.mode == BuildMode::BottomUp && o.bottomUpError != BottomUpError::Bound)  // absent: bound, as before the option
         command += std::string(" --bottom-up-error ") + bottomUpErrorName(o.bottomUpError);
@@ -320,7 +319,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     meta.emplace_back("draco.compressionLevel", std::to_string(o.draco.compressionLevel));
     meta.emplace_back("draco.positionStep", o.draco.positionStep > 0 ? std::to_string(o.draco.positionStep) : "auto");
     meta.emplace_back("jpeg.quality", std::to_string(o.jpegQuality));
-    if (o.jpegChroma420) meta.emplace_back("jpeg.chroma", "4:2:0");
+    meta.emplace_back("jpeg.chroma", jpegChromaName(o.jpegChroma));
     if (!o.up.empty()) meta.emplace_back("up", o.up);
     return meta;
 }

@@ -146,16 +146,18 @@ NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, cons
         }
     }
     const std::vector<SubMesh> sourceParts = leaf && options.leafPsnr ? parts : std::vector<SubMesh>{};
-    std::vector<int> qualities(parts.size(), options.jpegQuality);
-    if (simplified.geometryOnly)  // a baked atlas: the lowest of its sources'
+    // A baked atlas: the lowest quality of its sources', 4:4:4 unless --jpeg-chroma 4:2:0 (its charts
+    // lie on 8 x 8 blocks, pack_charts.cpp); an atlas of source blocks: its source's (TEXTURE_SIZE.md).
+    std::vector<JpegSettings> jpeg(parts.size(), {options.jpegQuality, options.jpegChroma == JpegChroma::Half});
+    if (simplified.geometryOnly)
         for (uint32_t material : std::set<uint32_t>(original.materials.begin(), original.materials.end()))
-            qualities[0] = std::min(qualities[0], textures.jpegQuality(material, options.jpegQuality));
+            jpeg[0].quality = std::min(jpeg[0].quality, textures.jpegQuality(material, options.jpegQuality));
     else
         for (size_t i = 0; i < parts.size(); ++i) {
-            images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh);
-            qualities[i] = textures.jpegQuality(parts[i].material, options.jpegQuality);
+            jpeg[i] = {textures.jpegQuality(parts[i].material, options.jpegQuality), textures.chroma420(parts[i].material, options.jpegChroma)};
+            images[i] = textures.atlas(parts[i].material, textureFactor, parts[i].mesh, jpeg[i].chroma420);
         }
-    out.record = packNode(parts, images, qualities, bounds, kNone, level, blockIndex, out.error.max, options);
+    out.record = packNode(parts, images, jpeg, bounds, kNone, level, blockIndex, out.error.max, options);
     if (!sourceParts.empty()) out.fidelity = leafFidelity(sourceParts, parts, images, out.record, textures);
     out.baked = simplified.geometryOnly;
     for (const SubMesh& part : parts) out.triangles += part.mesh.triangleCount();

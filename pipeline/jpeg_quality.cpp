@@ -3,7 +3,8 @@
 // against the standard luminance table of T.81 Annex K (Table K.1) scaled as libjpeg (jcparam.c,
 // jpeg_quality_scaling) scales it for quality q: 5000 / q below 50, 200 - 2q from 50, each entry
 // (entry x scale + 50) / 100 clamped to 1..255. Only an exact match counts: a table of another
-// encoder reads 0 (unknown), never a guess.
+// encoder reads 0 (unknown), never a guess. Its chroma: 4:2:0 when its frame header (SOF0-2,
+// T.81 §B.2.2) samples Y 2 x 2 and Cb, Cr 1 x 1.
 #include "pipeline/texture_store.h"
 
 #include "formats/jpeg_tables.h"
@@ -35,38 +36,61 @@ int qualityOf(const std::array<int, 64>& zigzagTable) {
     return 0;
 }
 
+// visit(marker, payload) for each marker segment before the first scan (T.81 §B.1.1.4), until it
+// returns true or a segment is malformed or cut short.
+template <class Visit>
+void headerSegments(std::span<const uint8_t> bytes, Visit visit) {
+    size_t at = 0;
+    const auto byte = [&] { return at < bytes.size() ? int(bytes[at++]) : -1; };
+    if (byte() != 0xFF || byte() != 0xD8) return;  // SOI
+    while (at < bytes.size()) {
+        if (byte() != 0xFF) return;
+        int marker = byte();
+        while (marker == 0xFF) marker = byte();  // fill bytes
+        if (marker == 0xDA || marker == 0xD9 || marker < 0) return;  // the scan, or the end
+        const int length = (byte() << 8) | byte();
+        if (length < 2 || at + size_t(length) - 2 > bytes.size()) return;
+        if (visit(marker, bytes.subspan(at, size_t(length) - 2))) return;
+        at += size_t(length) - 2;
+    }
+}
+
 }  // namespace
 
 int jpegQuality(std::span<const uint8_t> bytes) {
-    size_t at = 0;
-    const auto byte = [&] { return at < bytes.size() ? int(bytes[at++]) : -1; };
-    if (byte() != 0xFF || byte() != 0xD8) return 0;  // SOI
-    while (at < bytes.size()) {
-        if (byte() != 0xFF) return 0;
-        int marker = byte();
-        while (marker == 0xFF) marker = byte();  // fill bytes
-        if (marker == 0xDA || marker == 0xD9 || marker < 0) return 0;  // scan or end before a luminance table
-        const int length = (byte() << 8) | byte();
-        if (length < 2) return 0;
-        const size_t end = at + size_t(length) - 2;
-        while (marker == 0xDB && at < end) {  // one or more tables: Pq/Tq, then 64 entries of 8 or 16 bits
-            const int pqtq = byte();
+    int quality = 0;
+    headerSegments(bytes, [&](int marker, std::span<const uint8_t> payload) {
+        // One or more tables: Pq/Tq, then 64 entries of 8 or 16 bits; the first luminance one (Tq 0).
+        for (size_t at = 0; marker == 0xDB && at < payload.size();) {
+            const int pqtq = payload[at++];
+            const size_t entry = pqtq >> 4 ? 2 : 1;
+            if (payload.size() - at < 64 * entry) return true;  // truncated: unknown
             std::array<int, 64> table{};
-            for (int& v : table) v = pqtq >> 4 ? (byte() << 8) | byte() : byte();
-            if (at > bytes.size() || pqtq < 0) return 0;
-            if ((pqtq & 15) == 0) return qualityOf(table);
+            for (int& v : table) v = entry == 2 ? (payload[at] << 8) | payload[at + 1] : payload[at], at += entry;
+            if ((pqtq & 15) == 0) return quality = qualityOf(table), true;
         }
-        at = end;
-    }
-    return 0;
+        return false;
+    });
+    return quality;
 }
 
-int jpegFileQuality(const std::string& path) {
+bool jpegChroma420(std::span<const uint8_t> bytes) {
+    bool half = false;
+    headerSegments(bytes, [&](int marker, std::span<const uint8_t> payload) {
+        if (marker < 0xC0 || marker > 0xC2) return false;  // baseline, extended or progressive frame (T.81 §B.2.2)
+        // P, Y, X, Nf, then per component C, Hi << 4 | Vi, Tq: Y 2 x 2, Cb and Cr 1 x 1
+        half = payload.size() >= 15 && payload[5] == 3 && payload[7] == 0x22 && payload[10] == 0x11 && payload[13] == 0x11;
+        return true;
+    });
+    return half;
+}
+
+std::vector<uint8_t> jpegFileHead(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::vector<uint8_t> head(kHeadBytes);
     in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
     head.resize(static_cast<size_t>(in.gcount()));
-    return jpegQuality(head);
+    return head;
 }
 
 }  // namespace hlod

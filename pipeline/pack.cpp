@@ -21,7 +21,7 @@ double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionB
     return positionLatticeStep(cell, positionBits);
 }
 
-NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const std::vector<int>& jpegQualities,
+NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const std::vector<JpegSettings>& jpeg,
                     const Box3f& bounds, uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
                     const BuildOptions& options) {
     NodeRecord record;
@@ -38,7 +38,7 @@ NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>&
         DracoOptions draco = options.draco;
         if (textures[i].width > 0) {
             slot = static_cast<uint32_t>(node.blobs.size());
-            node.blobs.push_back(encodeTexture(textures[i], Codec::Jpeg, jpegQualities[i], options.jpegChroma420));
+            node.blobs.push_back(encodeTexture(textures[i], Codec::Jpeg, jpeg[i].quality, jpeg[i].chroma420));
             if (draco.texcoordBits == 0) draco.texcoordBits = texcoordBitsForTexture(mesh.texcoords, textures[i].width, textures[i].height);
         } else {
             mesh.texcoords.clear();

@@ -33,6 +33,7 @@ struct Material {
     std::string texturePath;             // texture file, empty = none
     std::shared_ptr<const Image> image;  // an embedded texture (glTF), used instead of a file
     int jpegQuality = 0;                 // an embedded JPEG's own quality (jpegQuality, texture_store.h); 0: unknown
+    bool jpegChroma420 = false;          // an embedded JPEG with 4:2:0 chroma (jpegChroma420, texture_store.h)
 };
 
 // Triangles with welded vertices and one material index per triangle. Texture coordinates use
@@ -218,6 +219,10 @@ Piece weldPiece(const Piece& piece, double epsilon);
 // result exceeds kTargetSlack x the target, closable scan holes are filled and it is simplified
 // again.
 enum class Simplifier { Meshopt, OpenMesh };
+// The chroma of node textures (--jpeg-chroma, pipeline/TEXTURE_SIZE.md "Stop 17"): each material's
+// JPEG source's own (4:2:0 for a 4:2:0 JPEG, else 4:4:4), or one for all.
+enum class JpegChroma { Source, Full, Half };
+inline const char* jpegChromaName(JpegChroma c) { return c == JpegChroma::Source ? "source" : c == JpegChroma::Full ? "4:4:4" : "4:2:0"; }
 struct SubMesh {
     uint32_t material = 0;
     MeshData mesh;
@@ -297,7 +302,7 @@ struct BuildOptions {
     Planes planes = Planes::Balanced;
     DracoOptions draco{.texcoordBits = 0};  // texcoordBits 0: per node, a quarter texel of its texture (pack.cpp)
     int jpegQuality = 85;
-    bool jpegChroma420 = false;    // --jpeg-chroma 4:2:0 (default 4:4:4: charts align to 8 x 8 blocks)
+    JpegChroma jpegChroma = JpegChroma::Source;  // 4:2:0 atlases hold 16 x 16 blocks, 4:4:4 ones 8 x 8
     bool leafPsnr = false;         // --leaf-psnr: measure each leaf's stored textures against the source
     uint64_t blockTriangles = 0;   // target triangles per block of a single-mesh input; 0 = auto (671,088)
     double blockSize = 0;          // block side in input units; overrides blockTriangles when > 0
@@ -420,8 +425,12 @@ void checkBottomUpError(const BuildOptions& options);  // the check of buildBloc
 // one cell, sizeU x sizeV x the third axis), for BuildOptions::draco.positionStep: one lattice
 // for the whole database, so that neighbouring blocks share their borders exactly.
 double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits);
-// `jpegQualities`: per part, the JPEG quality of its texture (nodeJpegQuality, texture.cpp).
-NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const std::vector<int>& jpegQualities,
+// `jpeg`: per part, the JPEG quality and chroma of its texture (BlockTextures::jpegQuality, chroma420).
+struct JpegSettings {
+    int quality = 85;
+    bool chroma420 = false;
+};
+NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const std::vector<JpegSettings>& jpeg,
                     const Box3f& bounds, uint32_t parentLocal, uint32_t level, uint32_t block, double geometricError,
                     const BuildOptions& options);
 

@@ -343,14 +343,15 @@ std::shared_ptr<Image> decodedImage(const Context& cx, const tinygltf::Image& im
     return image;
 }
 
-// The quality of an image embedded through a buffer view, when it is a JPEG (jpegQuality).
-int embeddedJpegQuality(const tinygltf::Model& model, const tinygltf::Image& img) {
-    if (img.bufferView < 0 || img.bufferView >= static_cast<int>(model.bufferViews.size())) return 0;
+// The bytes of an image embedded through a buffer view (empty if it is not): a JPEG's header
+// gives its quality and chroma (jpegQuality, jpegChroma420).
+std::span<const uint8_t> embeddedImageBytes(const tinygltf::Model& model, const tinygltf::Image& img) {
+    if (img.bufferView < 0 || img.bufferView >= static_cast<int>(model.bufferViews.size())) return {};
     const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(img.bufferView)];
-    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size())) return 0;
+    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size())) return {};
     const std::vector<unsigned char>& data = model.buffers[static_cast<size_t>(view.buffer)].data;
-    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) return 0;
-    return jpegQuality(std::span<const uint8_t>(data.data() + view.byteOffset, view.byteLength));
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) return {};
+    return std::span<const uint8_t>(data.data() + view.byteOffset, view.byteLength);
 }
 
 void addMaterials(Context& cx) {
@@ -367,7 +368,8 @@ void addMaterials(Context& cx) {
                     out.texturePath = file->second;
                 else if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0) {
                     out.image = decodedImage(cx, img, static_cast<size_t>(source));
-                    out.jpegQuality = embeddedJpegQuality(cx.model, img);
+                    const std::span<const uint8_t> bytes = embeddedImageBytes(cx.model, img);
+                    out.jpegQuality = jpegQuality(bytes), out.jpegChroma420 = jpegChroma420(bytes);
                 }
                 else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
                     out.texturePath = resolveReference(cx.path, folderOf(cx.path), img.uri, "image", cx.options);

@@ -104,14 +104,12 @@ uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
     return i;
 }
 
-constexpr int kBlock = 8;  // JPEG block side
-
 // Texels beyond a triangle that a block must still hold: a bilinear tap at a point of the
 // triangle reads texel centres within 1 texel of it (texels within 1.5), plus half a texel.
 constexpr double kReach = 2;
 
-// The block of texel coordinate v among `count` (fmax/fmin: a NaN reads 0).
-int blockOf(double v, int count) { return static_cast<int>(std::fmin(std::fmax(std::floor(v / kBlock), 0.0), double(count - 1))); }
+// The block (`block` texels a side) of texel coordinate v among `count` (fmax/fmin: a NaN reads 0).
+int blockOf(double v, int block, int count) { return static_cast<int>(std::fmin(std::fmax(std::floor(v / block), 0.0), double(count - 1))); }
 
 // The texel rectangle [lo, hi) of UVs in [uvLo, uvHi] (clamped to [0, 1]) plus one texel of margin.
 void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
@@ -124,8 +122,8 @@ void texelRange(float uvLo, float uvHi, double size, int& lo, int& hi) {
 // test() says whether the triangle, as given, comes within kReach of the block inside the
 // texture, or, wholly outside, its image clamped to the border does; columns x rows blocks.
 template <class Reach>
-void candidateBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t width, uint32_t height, Reach reach) {
-    const int columns = static_cast<int>((width + kBlock - 1) / kBlock), rows = static_cast<int>((height + kBlock - 1) / kBlock);
+void candidateBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t width, uint32_t height, int block, Reach reach) {
+    const int columns = static_cast<int>((width + block - 1) / block), rows = static_cast<int>((height + block - 1) / block);
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
         double x[3], y[3], cx[3], cy[3];  // texel coordinates, as given and clamped to the texture
         for (int k = 0; k < 3; ++k) {
@@ -134,12 +132,12 @@ void candidateBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, u
             cx[k] = std::clamp(x[k], 0.0, double(width)), cy[k] = std::clamp(y[k], 0.0, double(height));
         }
         const bool clamped = x[0] != cx[0] || x[1] != cx[1] || x[2] != cx[2] || y[0] != cy[0] || y[1] != cy[1] || y[2] != cy[2];
-        const int i0 = blockOf(std::min({cx[0], cx[1], cx[2]}) - kReach, columns), i1 = blockOf(std::max({cx[0], cx[1], cx[2]}) + kReach, columns);
-        const int j0 = blockOf(std::min({cy[0], cy[1], cy[2]}) - kReach, rows), j1 = blockOf(std::max({cy[0], cy[1], cy[2]}) + kReach, rows);
+        const int i0 = blockOf(std::min({cx[0], cx[1], cx[2]}) - kReach, block, columns), i1 = blockOf(std::max({cx[0], cx[1], cx[2]}) + kReach, block, columns);
+        const int j0 = blockOf(std::min({cy[0], cy[1], cy[2]}) - kReach, block, rows), j1 = blockOf(std::max({cy[0], cy[1], cy[2]}) + kReach, block, rows);
         for (int j = j0; j <= j1; ++j)
             for (int i = i0; i <= i1; ++i)
                 reach(i, j, chart[mesh.indices[3 * t]], [&] {
-                    const double bx0 = i * kBlock - kReach, by0 = j * kBlock - kReach, bx1 = (i + 1) * kBlock + kReach, by1 = (j + 1) * kBlock + kReach;
+                    const double bx0 = i * block - kReach, by0 = j * block - kReach, bx1 = (i + 1) * block + kReach, by1 = (j + 1) * block + kReach;
                     return triangleMeetsBox(x, y, bx0, by0, bx1, by1) || (clamped && triangleMeetsBox(cx, cy, bx0, by0, bx1, by1));
                 });
     }
@@ -153,11 +151,11 @@ void candidateBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, u
 // not the box they span (a node's UVs may be scattered over a 32k² atlas: a grid over its 4096²
 // blocks would take 64 MiB). The same groups either way.
 std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
-                                      uint32_t height, std::vector<uint32_t>& groupOfChart, size_t gridBlocks) {
-    const int columns = static_cast<int>((width + kBlock - 1) / kBlock);
+                                      uint32_t height, std::vector<uint32_t>& groupOfChart, size_t gridBlocks, int block) {
+    const int columns = static_cast<int>((width + block - 1) / block);
     int gx0 = INT_MAX, gy0 = INT_MAX, gx1 = -1, gy1 = -1;  // the candidates' box
     size_t candidates = 0;
-    candidateBlocks(mesh, chart, width, height, [&](int i, int j, uint32_t, auto) {
+    candidateBlocks(mesh, chart, width, height, block, [&](int i, int j, uint32_t, auto) {
         gx0 = std::min(gx0, i), gy0 = std::min(gy0, j), gx1 = std::max(gx1, i), gy1 = std::max(gy1, j), ++candidates;
     });
     groupOfChart.assign(charts, kNone);
@@ -180,7 +178,7 @@ std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<ui
     const size_t gw = size_t(gx1 - gx0 + 1), gh = size_t(gy1 - gy0 + 1);
     if (gw * gh <= std::max(gridBlocks, 4 * candidates)) {
         std::vector<uint32_t> owner(gw * gh, kNone);  // a chart reaching the block
-        candidateBlocks(mesh, chart, width, height, [&](int i, int j, uint32_t c, auto test) {
+        candidateBlocks(mesh, chart, width, height, block, [&](int i, int j, uint32_t c, auto test) {
             uint32_t& o = owner[size_t(j - gy0) * gw + size_t(i - gx0)];
             if (o != kNone && findRoot(parent, o) == findRoot(parent, c)) return;  // reached by the group already
             if (!test()) return;
@@ -191,7 +189,7 @@ std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<ui
             if (owner[k] != kNone) addBlock(uint64_t(gy0 + k / gw) * columns + uint64_t(gx0) + k % gw, owner[k]);
     } else {
         std::vector<std::pair<uint64_t, uint32_t>> reached;  // (by * columns + bx, chart)
-        candidateBlocks(mesh, chart, width, height, [&](int i, int j, uint32_t c, auto test) {
+        candidateBlocks(mesh, chart, width, height, block, [&](int i, int j, uint32_t c, auto test) {
             if (test()) reached.emplace_back(uint64_t(j) * columns + i, c);
         });
         std::sort(reached.begin(), reached.end());
@@ -212,8 +210,9 @@ namespace {
 // depend on the rectangle asked for); blocks that run past the texture's edge repeat its edge
 // texels.
 constexpr uint32_t kBandBlocks = 8;
-void copyBlocks(const TextureSource& source, uint32_t width, uint32_t height, const BlockGroup& g, int ax, int ay, Image& atlas) {
-    const uint32_t columns = (width + kBlock - 1) / kBlock;
+void copyBlocks(const TextureSource& source, uint32_t width, uint32_t height, const BlockGroup& g, int ax, int ay, uint32_t block,
+                Image& atlas) {
+    const uint32_t columns = (width + block - 1) / block;
     const size_t nc = atlas.channels;
     for (size_t first = 0; first < g.blocks.size();) {  // sorted: one band at a time
         const uint64_t band = g.blocks[first] / columns / kBandBlocks;
@@ -221,19 +220,19 @@ void copyBlocks(const TextureSource& source, uint32_t width, uint32_t height, co
         uint32_t bx0 = UINT32_MAX, bx1 = 0;
         for (; last < g.blocks.size() && g.blocks[last] / columns / kBandBlocks == band; ++last)
             bx0 = std::min(bx0, uint32_t(g.blocks[last] % columns)), bx1 = std::max(bx1, uint32_t(g.blocks[last] % columns));
-        const uint32_t x0 = bx0 * kBlock, y0 = static_cast<uint32_t>(g.blocks[first] / columns) * kBlock;
-        const uint32_t x1 = std::min(width, (bx1 + 1) * kBlock);
-        const uint32_t y1 = std::min(height, static_cast<uint32_t>(g.blocks[last - 1] / columns + 1) * kBlock);
+        const uint32_t x0 = bx0 * block, y0 = static_cast<uint32_t>(g.blocks[first] / columns) * block;
+        const uint32_t x1 = std::min(width, (bx1 + 1) * block);
+        const uint32_t y1 = std::min(height, static_cast<uint32_t>(g.blocks[last - 1] / columns + 1) * block);
         const Image texels = scaledRegion(source, width, height, x0, y0, x1, y1);
         for (size_t b = first; b < last; ++b) {
             const uint32_t bx = static_cast<uint32_t>(g.blocks[b] % columns), by = static_cast<uint32_t>(g.blocks[b] / columns);
-            const uint32_t sx0 = bx * kBlock - x0, inside = std::min<uint32_t>(kBlock, texels.width - sx0);  // texels before the edge
-            for (uint32_t y = 0; y < kBlock; ++y) {
-                const uint32_t sy = std::min(by * kBlock + y - y0, texels.height - 1);
+            const uint32_t sx0 = bx * block - x0, inside = std::min<uint32_t>(block, texels.width - sx0);  // texels before the edge
+            for (uint32_t y = 0; y < block; ++y) {
+                const uint32_t sy = std::min(by * block + y - y0, texels.height - 1);
                 const uint8_t* from = &texels.pixels[(size_t(sy) * texels.width + sx0) * nc];
-                uint8_t* row = &atlas.pixels[(size_t(ay + int(by) - g.by0) * kBlock + y) * atlas.width * nc + size_t(ax + int(bx) - g.bx0) * kBlock * nc];
+                uint8_t* row = &atlas.pixels[(size_t(ay + int(by) - g.by0) * block + y) * atlas.width * nc + size_t(ax + int(bx) - g.bx0) * block * nc];
                 std::copy_n(from, inside * nc, row);
-                for (uint32_t x = inside; x < kBlock; ++x) std::copy_n(from + (inside - 1) * nc, nc, row + x * nc);
+                for (uint32_t x = inside; x < block; ++x) std::copy_n(from + (inside - 1) * nc, nc, row + x * nc);
             }
         }
         first = last;
@@ -245,11 +244,11 @@ void copyBlocks(const TextureSource& source, uint32_t width, uint32_t height, co
 // trilinearly (player/gl/gl_mesh.cpp), and from mip level 3 (one texel per block) on, a level's
 // texels mix neighbouring blocks, which are then a group's own colours, not black. A flat block
 // costs JPEG one DC coefficient per channel.
-void fillUnownedBlocks(const std::vector<uint8_t>& owned, Image& atlas) {
-    const int columns = static_cast<int>(atlas.width) / kBlock, rows = static_cast<int>(atlas.height) / kBlock;
+void fillUnownedBlocks(const std::vector<uint8_t>& owned, int block, Image& atlas) {
+    const int columns = static_cast<int>(atlas.width) / block, rows = static_cast<int>(atlas.height) / block;
     const size_t nc = atlas.channels;
     const auto texel = [&](int b, int x, int y) {
-        return &atlas.pixels[(size_t((b / columns) * kBlock + y) * atlas.width + size_t((b % columns) * kBlock + x)) * nc];
+        return &atlas.pixels[(size_t((b / columns) * block + y) * atlas.width + size_t((b % columns) * block + x)) * nc];
     };
     std::vector<int> from(owned.size(), -1), queue;  // the owned block whose mean a block takes
     for (int b = 0; b < int(owned.size()); ++b)
@@ -267,15 +266,15 @@ void fillUnownedBlocks(const std::vector<uint8_t>& owned, Image& atlas) {
     for (int b = 0; b < int(owned.size()); ++b) {
         if (!owned[b]) continue;
         uint32_t sum[4] = {0, 0, 0, 0};
-        for (int y = 0; y < kBlock; ++y)
-            for (int x = 0; x < kBlock; ++x)
+        for (int y = 0; y < block; ++y)
+            for (int x = 0; x < block; ++x)
                 for (size_t c = 0; c < nc; ++c) sum[c] += texel(b, x, y)[c];
-        for (size_t c = 0; c < nc; ++c) mean[size_t(b) * nc + c] = static_cast<uint8_t>((sum[c] + kBlock * kBlock / 2) / (kBlock * kBlock));
+        for (size_t c = 0; c < nc; ++c) mean[size_t(b) * nc + c] = static_cast<uint8_t>((sum[c] + block * block / 2) / (block * block));
     }
     for (int b = 0; b < int(owned.size()); ++b) {
         if (owned[b] || from[b] < 0) continue;
-        for (int y = 0; y < kBlock; ++y)
-            for (int x = 0; x < kBlock; ++x) std::copy_n(&mean[size_t(from[b]) * nc], nc, texel(b, x, y));
+        for (int y = 0; y < block; ++y)
+            for (int x = 0; x < block; ++x) std::copy_n(&mean[size_t(from[b]) * nc], nc, texel(b, x, y));
     }
 }
 
@@ -299,14 +298,14 @@ std::vector<uint32_t> uvCharts(const MeshData& mesh, uint32_t& count) {
     return chart;
 }
 
-Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, int block) {
     uint32_t count = 0;
     const std::vector<uint32_t> chart = uvCharts(mesh, count);
     const uint32_t width = scaledSide(source.width, factor), height = scaledSide(source.height, factor);
     std::vector<uint32_t> groupOfChart;
-    const std::vector<BlockGroup> groups = reachedBlocks(mesh, chart, count, width, height, groupOfChart);
+    const std::vector<BlockGroup> groups = reachedBlocks(mesh, chart, count, width, height, groupOfChart, kGridBlocks, block);
     std::vector<BlockMask> masks(groups.size());
-    const uint64_t columns = (width + kBlock - 1) / kBlock;
+    const uint64_t columns = (width + block - 1) / block;
     for (size_t g = 0; g < groups.size(); ++g) {
         BlockMask& m = masks[g];
         m.wb = groups[g].bx1 - groups[g].bx0 + 1, m.hb = groups[g].by1 - groups[g].by0 + 1;
@@ -315,29 +314,29 @@ Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh) {
             m.blocks[size_t(int(key / columns) - groups[g].by0) * m.wb + size_t(int(key % columns) - groups[g].bx0)] = 1;
         finishMask(m);
     }
-    BlockPacking packing = packMasks(masks, layout::kMaxTextureSide / kBlock);
-    if (packing.rows * kBlock > int(layout::kMaxTextureSide)) {  // packed taller than the format allows: the blocks where they are
+    BlockPacking packing = packMasks(masks, layout::kMaxTextureSide / block);
+    if (packing.rows * block > int(layout::kMaxTextureSide)) {  // packed taller than the format allows: the blocks where they are
         int gx0 = INT_MAX, gy0 = INT_MAX, gx1 = 0, gy1 = 0;
         for (const BlockGroup& g : groups) gx0 = std::min(gx0, g.bx0), gy0 = std::min(gy0, g.by0), gx1 = std::max(gx1, g.bx1), gy1 = std::max(gy1, g.by1);
         packing.columns = gx1 - gx0 + 1, packing.rows = gy1 - gy0 + 1;
         for (size_t g = 0; g < groups.size(); ++g) packing.at[g] = {groups[g].bx0 - gx0, groups[g].by0 - gy0};
     }
     const uint32_t nc = source.channels;
-    Image atlas{static_cast<uint32_t>(std::max(1, packing.columns) * kBlock), static_cast<uint32_t>(std::max(1, packing.rows) * kBlock), nc, {}};
+    Image atlas{static_cast<uint32_t>(std::max(1, packing.columns) * block), static_cast<uint32_t>(std::max(1, packing.rows) * block), nc, {}};
     atlas.pixels.assign(size_t(atlas.width) * atlas.height * nc, 0);
-    std::vector<uint8_t> owned(size_t(atlas.width / kBlock) * (atlas.height / kBlock), 0);
+    std::vector<uint8_t> owned(size_t(atlas.width / block) * (atlas.height / block), 0);
     for (size_t g = 0; g < groups.size(); ++g) {
-        copyBlocks(source, width, height, groups[g], packing.at[g].first, packing.at[g].second, atlas);
+        copyBlocks(source, width, height, groups[g], packing.at[g].first, packing.at[g].second, block, atlas);
         for (int j = 0; j < masks[g].hb; ++j)
             for (int i = 0; i < masks[g].wb; ++i)
                 if (masks[g].blocks[size_t(j) * masks[g].wb + i])
-                    owned[size_t(packing.at[g].second + j) * (atlas.width / kBlock) + size_t(packing.at[g].first + i)] = 1;
+                    owned[size_t(packing.at[g].second + j) * (atlas.width / block) + size_t(packing.at[g].first + i)] = 1;
     }
-    fillUnownedBlocks(owned, atlas);
+    fillUnownedBlocks(owned, block, atlas);
     for (size_t v = 0; v < mesh.vertexCount(); ++v) {
         const uint32_t g = groupOfChart[chart[v]];
         if (g == kNone) continue;  // a vertex of no triangle
-        const double dx = (packing.at[g].first - groups[g].bx0) * kBlock, dy = (packing.at[g].second - groups[g].by0) * kBlock;
+        const double dx = (packing.at[g].first - groups[g].bx0) * block, dy = (packing.at[g].second - groups[g].by0) * block;
         mesh.texcoords[2 * v] = static_cast<float>((mesh.texcoords[2 * v] * double(width) + dx) / atlas.width);
         mesh.texcoords[2 * v + 1] = static_cast<float>((mesh.texcoords[2 * v + 1] * double(height) + dy) / atlas.height);
     }
@@ -361,7 +360,10 @@ const TextureSource* BlockTextures::source(uint32_t material) {
     auto it = sources_.find(material);
     if (it == sources_.end()) {
         std::optional<TextureSource> source;
-        if (m.image) source = textureView(*m.image, mips_[material] = mipLevels(*m.image)), source->jpegQuality = m.jpegQuality;
+        if (m.image) {
+            source = textureView(*m.image, mips_[material] = mipLevels(*m.image));
+            source->jpegQuality = m.jpegQuality, source->chroma420 = m.jpegChroma420;
+        }
         else try {
                 source = store_->open(m.texturePath, progress_);
             } catch (const InputError& e) {
@@ -378,9 +380,15 @@ int BlockTextures::jpegQuality(uint32_t material, int quality) {
     return s && s->jpegQuality > 0 ? std::min(quality, s->jpegQuality) : quality;
 }
 
-Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh) {
+bool BlockTextures::chroma420(uint32_t material, JpegChroma chroma) {
+    if (chroma != JpegChroma::Source) return chroma == JpegChroma::Half;
     const TextureSource* s = source(material);
-    return s ? atlasTexture(*s, factor, mesh) : Image{};
+    return s && s->chroma420;
+}
+
+Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh, bool chroma420) {
+    const TextureSource* s = source(material);
+    return s ? atlasTexture(*s, factor, mesh, chroma420 ? 2 * kJpegBlock : kJpegBlock) : Image{};
 }
 
 Image BlockTextures::region(uint32_t material, double factor, MeshData& mesh) {

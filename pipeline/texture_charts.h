@@ -31,7 +31,7 @@ std::vector<TexturedChart> textureCharts(BlockTextures& textures, uint32_t mater
 // texels x channels (TextureFidelity, pipeline.h).
 TextureFidelity textureFidelity(const MeshData& sourceMesh, const TextureSource& source, const MeshData& storedMesh, const Image& stored);
 
-// The 8 x 8 blocks of a node's scaled texture (columns per row) that one group of charts reaches:
+// The blocks (8 x 8, or 16 x 16 for 4:2:0) of a node's scaled texture (columns per row) that one group of charts reaches:
 // charts that reach a common block are one group, so a block is stored once per node (texture.cpp).
 struct BlockGroup {
     int bx0 = INT_MAX, by0 = INT_MAX, bx1 = -1, by1 = -1;  // inclusive
@@ -47,6 +47,7 @@ struct BlockGroup {
 // of the blocks reached where that is smaller: the same result (texture.cpp).
 inline constexpr size_t kGridBlocks = size_t(1) << 20;  // a grid of at most 4 MiB
 std::vector<BlockGroup> reachedBlocks(const MeshData& mesh, const std::vector<uint32_t>& chart, uint32_t charts, uint32_t width,
-                                      uint32_t height, std::vector<uint32_t>& groupOfChart, size_t gridBlocks = kGridBlocks);
+                                      uint32_t height, std::vector<uint32_t>& groupOfChart, size_t gridBlocks = kGridBlocks,
+                                      int block = 8);
 
 }  // namespace hlod

@@ -369,7 +369,8 @@ TextureSource TextureStore::open(const std::string& path, Progress* progress) {
     if (first) {
         try {
             TextureSource source = impl_->decode(path, index);
-            source.jpegQuality = jpegFileQuality(path);
+            const std::vector<uint8_t> head = jpegFileHead(path);
+            source.jpegQuality = jpegQuality(head), source.chroma420 = jpegChroma420(head);
             if (progress) progress->textureLoaded(uint64_t{source.width} * source.height);
             promise.set_value(source);
         } catch (...) {

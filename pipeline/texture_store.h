@@ -34,6 +34,7 @@ struct TextureSource {
     int file = -1;                                 // the levels' file, or -1: in memory
     int jpegQuality = 0;  // the quality a JPEG source was written with (jpegQuality); 0: unknown
     std::vector<TextureLevel> levels;
+    bool chroma420 = false;  // a JPEG source with 4:2:0 chroma (jpegChroma420)
     // [x0, x1) of rows [y0, y1) of a level, row by row (pread from the file: safe from any thread)
     void rows(uint32_t y0, uint32_t y1, uint32_t x0, uint32_t x1, uint8_t* out, size_t level = 0) const;
 };
@@ -44,7 +45,8 @@ TextureSource textureView(const Image& image, const std::vector<Image>& mips = {
 // jpeg_quality.cpp: the libjpeg quality whose scaled standard luminance table is the JPEG's own
 // (the file's, or the encoded bytes'); 0 when it is not a JPEG or its table is not such a one.
 int jpegQuality(std::span<const uint8_t> bytes);
-int jpegFileQuality(const std::string& path);
+bool jpegChroma420(std::span<const uint8_t> bytes);  // a JPEG whose chroma is 4:2:0 (Y 2 x 2, Cb and Cr 1 x 1)
+std::vector<uint8_t> jpegFileHead(const std::string& path);  // a file's first MiB: its JPEG header if any
 uint32_t scaledSide(uint32_t side, double factor);  // a side downsampled by factor (sqrt per side; factor <= 1: as is)
 // Texels [x0, x1) x [y0, y1) of the source downsampled to scaledWidth x scaledHeight: a box
 // filter (each texel the area-weighted mean of the texels it covers) from the coarsest pyramid
@@ -70,9 +72,10 @@ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
-// The 8 x 8 blocks of `source` downsampled by factor that `mesh`'s triangles (one material's)
-// reach, packed; UVs rewritten (texture.cpp).
-Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh);
+// The blocks (`block` texels a side: JPEG's 8, or a 4:2:0 MCU's 16, whose colour samples then
+// cover no two groups) of `source` downsampled by factor that `mesh`'s triangles (one material's)
+// reach, packed on the scaled source's own block grid; UVs rewritten (texture.cpp).
+Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, int block = 8);
 // The textures of one block's materials: a texture file through `store` (nullptr: a store of
 // the block's own, in memory), an embedded image as it is. A texture that fails to decode is a
 // TextureProblem and its material untextured in this block, or, with `strict`, fatal. Thread-safe
@@ -86,8 +89,12 @@ public:
     // own when it is a JPEG of a lower or equal quality: a leaf's blocks are the source's own 8 x 8
     // blocks, which re-code at the source's quality almost losslessly (pipeline/TEXTURE_SIZE.md).
     int jpegQuality(uint32_t material, int quality);
-    // atlasTexture; width 0: untextured.
-    Image atlas(uint32_t material, double factor, MeshData& mesh);
+    // Whether the material's node textures are 4:2:0: `chroma` (--jpeg-chroma), or with
+    // JpegChroma::Source its source's own (a 4:2:0 JPEG; 4:4:4 chroma would store more colour
+    // samples than the source has).
+    bool chroma420(uint32_t material, JpegChroma chroma);
+    // atlasTexture, of 16 x 16 blocks for a 4:2:0 texture; width 0: untextured.
+    Image atlas(uint32_t material, double factor, MeshData& mesh, bool chroma420);
     // The rectangle of the material's texture downsampled by `factor` that `mesh`'s UVs cover
     // (+1 texel margin), mesh's UVs rewritten onto it (what bakeTexture samples); width 0 when untextured.
     Image region(uint32_t material, double factor, MeshData& mesh);

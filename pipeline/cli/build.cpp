@@ -175,9 +175,13 @@ void addBuild(CLI::App& app, int& status) {
                     "JPEG quality of node textures (at most a JPEG source's own; pipeline/TEXTURE_SIZE.md)")
         ->check(CLI::Range(1, 100));
     sub->add_option_function<std::string>(
-           "--jpeg-chroma", [options = &o](const std::string& v) { options->jpegChroma420 = v == "4:2:0"; },
-           "JPEG chroma of node textures: 4:4:4 (default) or 4:2:0 (pipeline/TEXTURE_SIZE.md)")
-        ->check(CLI::IsMember({"4:4:4", "4:2:0"}));
+           "--jpeg-chroma",
+           [options = &o](const std::string& v) {
+               options->jpegChroma = v == "4:2:0" ? JpegChroma::Half : v == "4:4:4" ? JpegChroma::Full : JpegChroma::Source;
+           },
+           "JPEG chroma of node textures: source (default: a 4:2:0 JPEG source's nodes 4:2:0, others 4:4:4), "
+           "4:4:4 or 4:2:0 (pipeline/TEXTURE_SIZE.md)")
+        ->check(CLI::IsMember({"source", "4:4:4", "4:2:0"}));
     sub->add_flag("--leaf-psnr", o.leafPsnr,
                   "measure each leaf's stored textures against the source texels they copy (PSNR per level in the "
                   "build report; `hlod stats` shows it)");

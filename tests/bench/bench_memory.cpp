@@ -6,7 +6,9 @@
 // estimate (BuildSummary::gatePeak), CPU time, source texels per CPU-second and input triangles
 // per CPU-second. Figures in pipeline/MEMORY.md.
 //   bench_memory [--dir DIR] [--chunks 40] [--texture 4096] [--facade 1000] [--charts 4]
-//                [--limits 256M,512M,1G,default] [-j N] [--input FILE] [--glb 1]
+//                [--limits 256M,512M,1G,default] [-j N] [--input FILE] [--glb 1] [--chroma 4:2:0]
+// --chroma 4:2:0 writes the atlases 4:2:0 (most cameras' and photogrammetry tools' JPEGs), into
+// a folder of its own (NAME_420).
 // --input builds FILE (any input hlod builds) instead of the generated scan. --glb 1 converts the
 // input once into NAME.glb beside it, every texture embedded as a buffer view (the form
 // photogrammetry tools export), and builds that: the glTF path of issue #14.
@@ -112,10 +114,11 @@ int main(int argc, char** argv) {
         else if (a == "-j") jobs = std::atoi(v.c_str());
         else if (a == "--input") input = v;
         else if (a == "--glb") glb = v == "1";
+        else if (a == "--chroma") scan.jpegChroma420 = v == "4:2:0";
     }
     if (input.empty()) {
         const std::string name = "facade_" + std::to_string(scan.chunks) + "x" + std::to_string(scan.textureSize) + "_" +
-                                 std::to_string(facade) + "_" + std::to_string(scan.chartCells);
+                                 std::to_string(facade) + "_" + std::to_string(scan.chartCells) + (scan.jpegChroma420 ? "_420" : "");
         const fs::path folder = fs::path(dir) / name;
         input = (folder / (name + ".obj")).string();
         if (!fs::exists(input)) {

@@ -109,6 +109,22 @@ inline Image testImage(uint32_t w, uint32_t h) {
 }
 
 // Base64 (RFC 4648, padded), for data URIs.
+// A gradient with texel noise: each texel distinct, and JPEG cannot code it exactly.
+inline Image noisyImage(uint32_t side) {
+    Image img = testImage(side, side);
+    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = static_cast<uint8_t>(img.pixels[i] / 2 + (i * 2654435761u >> 13) % 96);
+    return img;
+}
+
+// Two UV charts (one of two triangles) over a 256 x 256 texture; the first reaches from texel 10.8.
+inline MeshData chartsOver256() {
+    MeshData m;
+    m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 5, 5, 0, 6, 5, 0, 5, 6, 0};
+    m.texcoords = {0.05f, 0.05f, 0.40f, 0.07f, 0.06f, 0.35f, 0.42f, 0.38f, 0.60f, 0.55f, 0.95f, 0.60f, 0.65f, 0.90f};
+    m.indices = {0, 1, 2, 1, 3, 2, 4, 5, 6};
+    return m;
+}
+
 inline std::string base64(const std::vector<uint8_t>& in) {
     static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;

@@ -348,7 +348,7 @@ TEST(Build, TexcoordBitsFollowTheNodesTexture) {
         BuildOptions o;
         if (fixed) o.draco.texcoordBits = fixed;
         const Image image{side, side, 3, std::vector<uint8_t>(size_t(side) * side * 3, 128)};
-        const NodeRecord r = packNode({SubMesh{0, mesh, {}}}, {image}, {85}, {}, kNone, 0, 0, 0, o);
+        const NodeRecord r = packNode({SubMesh{0, mesh, {}}}, {image}, {{85, false}}, {}, kNone, 0, 0, 0, o);
         for (const EncodedBlob& blob : r.node.blobs)
             if (blob.info.kind == BlobKind::Geometry) return int(blob.info.texcoordBits);
         return -1;

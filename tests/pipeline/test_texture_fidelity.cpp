@@ -20,22 +20,6 @@
 namespace hlod::test {
 namespace {
 
-// Two charts (one of two triangles) over a 256 x 256 source.
-MeshData charts() {
-    MeshData m;
-    m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 5, 5, 0, 6, 5, 0, 5, 6, 0};
-    m.texcoords = {0.05f, 0.05f, 0.40f, 0.07f, 0.06f, 0.35f, 0.42f, 0.38f, 0.60f, 0.55f, 0.95f, 0.60f, 0.65f, 0.90f};
-    m.indices = {0, 1, 2, 1, 3, 2, 4, 5, 6};
-    return m;
-}
-
-// A gradient with texel noise: each texel distinct, and JPEG cannot code it exactly.
-Image noisyImage(uint32_t side) {
-    Image img = testImage(side, side);
-    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = static_cast<uint8_t>(img.pixels[i] / 2 + (i * 2654435761u >> 13) % 96);
-    return img;
-}
-
 double jpegPsnr(const MeshData& before, const Image& source, int quality, bool chroma420 = false) {
     MeshData after = before;
     const Image atlas = atlasTexture(textureView(source), 1, after);
@@ -46,7 +30,7 @@ double jpegPsnr(const MeshData& before, const Image& source, int quality, bool c
 
 TEST(TextureFidelity, LosslessCopyReads100AndEveryUsedTexelOnce) {
     const Image source = noisyImage(256);
-    const MeshData before = charts();
+    const MeshData before = chartsOver256();
     MeshData after = before;
     const Image atlas = atlasTexture(textureView(source), 1, after);
     const TextureFidelity f = textureFidelity(before, textureView(source), after, atlas);
@@ -67,17 +51,17 @@ TEST(TextureFidelity, LosslessCopyReads100AndEveryUsedTexelOnce) {
 
 TEST(TextureFidelity, JpegIsFiniteAndRisesWithQuality) {
     const Image source = noisyImage(256);
-    const double q50 = jpegPsnr(charts(), source, 50), q85 = jpegPsnr(charts(), source, 85), q95 = jpegPsnr(charts(), source, 95);
+    const double q50 = jpegPsnr(chartsOver256(), source, 50), q85 = jpegPsnr(chartsOver256(), source, 85), q95 = jpegPsnr(chartsOver256(), source, 95);
     EXPECT_GT(q50, 20);
     EXPECT_LT(q50, q85);
     EXPECT_LT(q85, q95);
     EXPECT_LT(q95, 60);
-    EXPECT_LT(jpegPsnr(charts(), source, 85, true), q85);  // 4:2:0 drops chroma detail
+    EXPECT_LT(jpegPsnr(chartsOver256(), source, 85, true), q85);  // 4:2:0 drops chroma detail
 }
 
 TEST(TextureFidelity, AStoredTextureOffByOneTexelIsSeen) {
     const Image source = noisyImage(256);
-    const MeshData before = charts();
+    const MeshData before = chartsOver256();
     MeshData after = before;
     Image atlas = atlasTexture(textureView(source), 1, after);
     Image shifted = atlas;  // the same UVs over the atlas moved one texel right
@@ -144,7 +128,7 @@ bool reached(const MeshData& m, const std::vector<size_t>& triangles, double w, 
 // rectangle unreached). Every empty block is flat in a stored block's mean colour, not black.
 TEST(TextureSize, AtlasesHoldOnlyTheBlocksTrianglesReachOnTheSourceGrid) {
     const Image source = noisyImage(256);
-    const MeshData before = charts();
+    const MeshData before = chartsOver256();
     MeshData after = before;
     const Image atlas = atlasTexture(textureView(source), 1, after);
     for (size_t v = 0; v < before.vertexCount(); ++v)

@@ -112,7 +112,7 @@ ChunkedScan writeChunkedScan(const std::string& dir, const std::string& name, co
         const uint32_t chunk = out.chunks++;
         const std::string texture = "chunk_" + std::to_string(chunk) + (options.jpeg ? ".jpg" : ".png");
         const EncodedBlob image = encodeTexture(chunkTexture(chunk, options.textureSize), options.jpeg ? Codec::Jpeg : Codec::Png,
-                                                options.jpegQuality);
+                                                options.jpegQuality, options.jpegChroma420);
         std::ofstream(std::filesystem::path(dir) / texture, std::ios::binary)
             .write(reinterpret_cast<const char*>(image.bytes.data()), static_cast<std::streamsize>(image.bytes.size()));
         mtl << "newmtl chunk" << chunk << "\nKd 1 1 1\nmap_Kd " << texture << "\n";

@@ -28,6 +28,7 @@ struct ChunkedScanOptions {
     // deliveries (issue #14: 41-80 x 4K JPEG atlases), chunk_NNN.jpg at jpegQuality.
     bool jpeg = false;
     int jpegQuality = 90;
+    bool jpegChroma420 = false;  // the JPEG atlases' chroma: 4:2:0 (most cameras') or 4:4:4
 };
 
 struct ChunkedScan {
