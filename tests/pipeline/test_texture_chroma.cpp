@@ -124,7 +124,8 @@ TEST(TextureChroma, NodeTexturesFollowTheSourceUnlessForced) {
             EXPECT_GT(textureBlobs(db, expect, what), 0u) << what;
             EXPECT_GT(baked, 0u) << what;  // the baked atlases are checked too
             EXPECT_EQ(leaves420 > 0, chroma.empty() ? source420 : chroma == "4:2:0") << what;
-            const auto& meta = Database::open(db).skeleton().meta;
+            const Database opened = Database::open(db);
+            const auto& meta = opened.skeleton().meta;
             const auto recorded = std::find_if(meta.begin(), meta.end(), [](const auto& kv) { return kv.first == "jpeg.chroma"; });
             ASSERT_NE(recorded, meta.end()) << what;
             EXPECT_EQ(recorded->second, chroma.empty() ? "source" : chroma) << what;
