@@ -48,7 +48,8 @@ void headerSegments(std::span<const uint8_t> bytes, Visit visit) {
         int marker = byte();
         while (marker == 0xFF) marker = byte();  // fill bytes
         if (marker == 0xDA || marker == 0xD9 || marker < 0) return;  // the scan, or the end
-        const int length = (byte() << 8) | byte();
+        const int high = byte(), low = byte();  // two calls, in this order (operands of | are unsequenced)
+        const int length = high < 0 || low < 0 ? -1 : (high << 8) | low;
         if (length < 2 || at + size_t(length) - 2 > bytes.size()) return;
         if (visit(marker, bytes.subspan(at, size_t(length) - 2))) return;
         at += size_t(length) - 2;

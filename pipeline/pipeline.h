@@ -265,7 +265,7 @@ struct SurfaceError {
 SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original, double spacing);
 
 // texture.cpp. A node's texture for one material: the source atlas downsampled by the node's
-// factor (sqrt(factor) per side, box filter), of which only the 8 x 8 blocks its triangles reach
+// factor (sqrt(factor) per side, box filter), of which only the JPEG blocks its triangles reach
 // are read (texture_store.cpp) and repacked into one atlas, charts sharing a block as one group;
 // UVs translated per group, exactly.
 Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws InputError (corrupt, truncated)

@@ -3,14 +3,14 @@
 // downsampled so its texel count drops by the node's factor (sqrt(factor) per side) with a box
 // filter: the area-weighted average of the covered texels (texture_store.cpp, which reads only
 // the rectangles a node uses; stb_image_resize's box filter, used before issue #14, needed the
-// whole atlas decoded and downsampled in memory). A node then keeps only the 8 x 8 blocks of that
-// downsampled texture (JPEG's blocks; formats/codec_image.cpp codes 4:4:4) that its triangles come
+// whole atlas decoded and downsampled in memory). A node then keeps only the blocks of that
+// downsampled texture (JPEG's: 8 x 8, or a 16 x 16 MCU for a 4:2:0 texture) that its triangles come
 // within kReach texels of, so that every texel a bilinear tap inside a triangle reads is kept.
 // Charts (connected sets of triangles) that reach a common block form one group, so a block is
 // stored once per node; each group keeps its blocks' relative places and is packed whole with the
 // baker's horizon packing (pack_charts.cpp, Lévy et al. 2002). UVs move by one translation per
-// group, a multiple of 8 texels: exact, and at a leaf (factor <= 1) the atlas's blocks are the
-// source's own 8 x 8 blocks, which a JPEG source re-codes at its own quality almost losslessly. No
+// group, a multiple of the block: exact, and at a leaf (factor <= 1) the atlas's blocks are the
+// source's own blocks, which a JPEG source re-codes at its own quality almost losslessly. No
 // block mixes two groups, so no colour bleeds between them through the compression; the empty
 // blocks take the mean of the nearest stored block (for the player's mip levels). Before stop
 // 15 each chart kept its bounding rectangle (shelf-packed, unreached blocks flattened): the leaves
@@ -29,6 +29,7 @@
 #include <climits>
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 namespace hlod {
 
@@ -299,6 +300,7 @@ std::vector<uint32_t> uvCharts(const MeshData& mesh, uint32_t& count) {
 }
 
 Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, int block) {
+    if (block != kJpegBlock && block != 2 * kJpegBlock) throw std::invalid_argument("atlasTexture: block " + std::to_string(block) + " is not 8 or 16");
     uint32_t count = 0;
     const std::vector<uint32_t> chart = uvCharts(mesh, count);
     const uint32_t width = scaledSide(source.width, factor), height = scaledSide(source.height, factor);
@@ -381,9 +383,9 @@ int BlockTextures::jpegQuality(uint32_t material, int quality) {
 }
 
 bool BlockTextures::chroma420(uint32_t material, JpegChroma chroma) {
-    if (chroma != JpegChroma::Source) return chroma == JpegChroma::Half;
     const TextureSource* s = source(material);
-    return s && s->chroma420;
+    if (!s || s->channels != 3) return false;  // untextured, or grey: no chroma to subsample
+    return chroma == JpegChroma::Source ? s->chroma420 : chroma == JpegChroma::Half;
 }
 
 Image BlockTextures::atlas(uint32_t material, double factor, MeshData& mesh, bool chroma420) {

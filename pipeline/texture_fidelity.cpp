@@ -1,6 +1,6 @@
 // Texture fidelity of a stored node texture against its source (issue #14: "PSNR of the finest
 // level's textures against the source over the texels triangles use"; pipeline/TEXTURE_SIZE.md).
-// A leaf's atlas copies 8 x 8 blocks of the source (texture.cpp), so each stored texel has one
+// A leaf's atlas copies whole JPEG blocks of the source (texture.cpp), so each stored texel has one
 // source texel: the one under the same point of the same triangle. Every texel of the stored
 // atlas whose centre a triangle covers (edge functions, each texel counted once; a triangle too
 // small to cover a centre contributes nothing) is mapped through the triangle's barycentric

@@ -74,7 +74,8 @@ private:
 };
 // The blocks (`block` texels a side: JPEG's 8, or a 4:2:0 MCU's 16, whose colour samples then
 // cover no two groups) of `source` downsampled by factor that `mesh`'s triangles (one material's)
-// reach, packed on the scaled source's own block grid; UVs rewritten (texture.cpp).
+// reach, packed on the scaled source's own block grid; UVs rewritten (texture.cpp). Another
+// block size throws std::invalid_argument.
 Image atlasTexture(const TextureSource& source, double factor, MeshData& mesh, int block = 8);
 // The textures of one block's materials: a texture file through `store` (nullptr: a store of
 // the block's own, in memory), an embedded image as it is. A texture that fails to decode is a
@@ -86,12 +87,12 @@ public:
                   Progress* progress);
     const TextureSource* source(uint32_t material);  // nullptr: untextured
     // The JPEG quality of the material's node textures: `quality` (--jpeg-quality), or the source's
-    // own when it is a JPEG of a lower or equal quality: a leaf's blocks are the source's own 8 x 8
+    // own when it is a JPEG of a lower or equal quality: a leaf's blocks are the source's own
     // blocks, which re-code at the source's quality almost losslessly (pipeline/TEXTURE_SIZE.md).
     int jpegQuality(uint32_t material, int quality);
     // Whether the material's node textures are 4:2:0: `chroma` (--jpeg-chroma), or with
     // JpegChroma::Source its source's own (a 4:2:0 JPEG; 4:4:4 chroma would store more colour
-    // samples than the source has).
+    // samples than the source has). Never for a grey or untextured material: no chroma.
     bool chroma420(uint32_t material, JpegChroma chroma);
     // atlasTexture, of 16 x 16 blocks for a 4:2:0 texture; width 0: untextured.
     Image atlas(uint32_t material, double factor, MeshData& mesh, bool chroma420);

@@ -108,7 +108,6 @@ inline Image testImage(uint32_t w, uint32_t h) {
     return img;
 }
 
-// Base64 (RFC 4648, padded), for data URIs.
 // A gradient with texel noise: each texel distinct, and JPEG cannot code it exactly.
 inline Image noisyImage(uint32_t side) {
     Image img = testImage(side, side);
@@ -125,6 +124,7 @@ inline MeshData chartsOver256() {
     return m;
 }
 
+// Base64 (RFC 4648, padded), for data URIs.
 inline std::string base64(const std::vector<uint8_t>& in) {
     static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;

@@ -27,7 +27,52 @@ TEST(TextureChroma, FrameHeaderSaysWhetherAJpegIs420) {
     ASSERT_LT(sof, cut.size());
     cut.resize(sof + 12);  // the frame header cut short
     EXPECT_FALSE(jpegChroma420(cut));
+    cut.resize(sof + 3);  // cut inside the segment's length: one of its two bytes
+    EXPECT_FALSE(jpegChroma420(cut));
     EXPECT_FALSE(jpegChroma420(std::vector<uint8_t>{}));
+}
+
+// A progressive frame (SOF2) is read like a baseline one; a file cut inside a table's segment
+// length, or inside the table, has no quality (0: unknown), never a guess.
+TEST(TextureChroma, ProgressiveFramesAndHeadersCutShort) {
+    std::vector<uint8_t> bytes = encodeTexture(noisyImage(64), Codec::Jpeg, 75, true).bytes;
+    const uint8_t sof0[2] = {0xFF, 0xC0}, dqt[2] = {0xFF, 0xDB};
+    const auto at = [&](const uint8_t* marker) { return static_cast<size_t>(std::search(bytes.begin(), bytes.end(), marker, marker + 2) - bytes.begin()); };
+    const size_t sof = at(sof0), table = at(dqt);
+    ASSERT_LT(sof, bytes.size());
+    ASSERT_LT(table, sof);
+    bytes[sof + 1] = 0xC2;  // the same frame header as a progressive one (T.81 §B.2.2: the same fields)
+    EXPECT_TRUE(jpegChroma420(bytes));
+    EXPECT_EQ(jpegQuality(bytes), 75);
+    for (const size_t keep : {table + 2, table + 3, table + 4 + 1 + 63}) {  // no length, half a length, a table less one entry
+        const std::vector<uint8_t> cut(bytes.begin(), bytes.begin() + std::ptrdiff_t(keep));
+        EXPECT_EQ(jpegQuality(cut), 0) << keep - table;
+        EXPECT_FALSE(jpegChroma420(cut)) << keep - table;
+    }
+}
+
+// A grey texture has no chroma: forced 4:2:0, its node textures stay one channel of 8 x 8 blocks,
+// and a material without a texture is never 4:2:0.
+TEST(TextureChroma, GreyAndUntexturedMaterialsAreNever420) {
+    Image grey{256, 256, 1, {}};
+    grey.pixels = noisyImage(256).pixels;
+    grey.pixels.resize(256 * 256);
+    const std::vector<Material> materials = {{"grey", "", std::make_shared<Image>(grey)}, {"none", "", nullptr},
+                                             {"rgb", "", std::make_shared<Image>(noisyImage(256))}};
+    std::vector<TextureProblem> problems;
+    BlockTextures textures(materials, nullptr, false, problems, nullptr);
+    for (const JpegChroma chroma : {JpegChroma::Source, JpegChroma::Full, JpegChroma::Half}) {
+        EXPECT_FALSE(textures.chroma420(0, chroma)) << jpegChromaName(chroma);
+        EXPECT_FALSE(textures.chroma420(1, chroma)) << jpegChromaName(chroma);
+        EXPECT_EQ(textures.chroma420(2, chroma), chroma == JpegChroma::Half) << jpegChromaName(chroma);
+    }
+    MeshData mesh = chartsOver256();
+    const Image atlas = textures.atlas(0, 1, mesh, textures.chroma420(0, JpegChroma::Half));
+    EXPECT_EQ(atlas.channels, 1u);
+    MeshData ofSixteen = chartsOver256();
+    const Image wider = atlasTexture(textureView(grey), 1, ofSixteen, 16);
+    EXPECT_LT(uint64_t(atlas.width) * atlas.height, uint64_t(wider.width) * wider.height);  // 8 x 8 blocks hold fewer texels
+    EXPECT_THROW(atlasTexture(textureView(grey), 1, mesh, 12), std::invalid_argument);
 }
 
 // An atlas of 16 x 16 blocks keeps every UV at its place within the source's 16 x 16 grid and
