@@ -34,6 +34,7 @@ struct Material {
     std::shared_ptr<const Image> image;  // an embedded texture (glTF), used instead of a file
     int jpegQuality = 0;                 // an embedded JPEG's own quality (jpegQuality, texture_store.h); 0: unknown
     bool jpegChroma420 = false;          // an embedded JPEG with 4:2:0 chroma (jpegChroma420, texture_store.h)
+    float uvPeriod[2] = {1, 1};          // per axis, UVs repeat every: REPEAT 1, MIRRORED_REPEAT 2, clamped 0 (wrap_uvs.cpp)
 };
 
 // Triangles with welded vertices and one material index per triangle. Texture coordinates use

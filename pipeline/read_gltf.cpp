@@ -354,12 +354,20 @@ std::span<const uint8_t> embeddedImageBytes(const tinygltf::Model& model, const 
     return std::span<const uint8_t>(data.data() + view.byteOffset, view.byteLength);
 }
 
+// The period of a sampler's wrap (wrap_uvs.cpp): REPEAT 1, MIRRORED_REPEAT 2, CLAMP_TO_EDGE none.
+float uvPeriod(int wrap) { return wrap == TINYGLTF_TEXTURE_WRAP_REPEAT ? 1.0f : wrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? 2.0f : 0.0f; }
+
 void addMaterials(Context& cx) {
     for (const tinygltf::Material& mat : cx.model.materials) {
         Material out{mat.name, "", nullptr};
         const int tex = mat.pbrMetallicRoughness.baseColorTexture.index;
         if (tex >= 0 && tex < static_cast<int>(cx.model.textures.size())) {
             const int source = cx.model.textures[static_cast<size_t>(tex)].source;
+            const int sampler = cx.model.textures[static_cast<size_t>(tex)].sampler;  // none: REPEAT (glTF 2.0 §3.8.4.6)
+            if (sampler >= 0 && sampler < static_cast<int>(cx.model.samplers.size())) {
+                const tinygltf::Sampler& s = cx.model.samplers[static_cast<size_t>(sampler)];
+                out.uvPeriod[0] = uvPeriod(s.wrapS), out.uvPeriod[1] = uvPeriod(s.wrapT);
+            }
             if (source >= 0 && source < static_cast<int>(cx.model.images.size())) {
                 const tinygltf::Image& img = cx.model.images[static_cast<size_t>(source)];
                 if (const auto failed = cx.images.unusable.find(source); failed != cx.images.unusable.end())

@@ -138,6 +138,7 @@ private:
                 raw_.materials.push_back(
                     {m.name, m.diffuse_texname.empty() ? "" : resolveReference(path_, folder_, m.diffuse_texname, "texture", options_),
                      nullptr});
+                if (m.diffuse_texopt.clamp) raw_.materials.back().uvPeriod[0] = raw_.materials.back().uvPeriod[1] = 0;  // map_Kd -clamp on
             }
         }
     }

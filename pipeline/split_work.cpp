@@ -160,7 +160,10 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
             image = "materials/" + std::to_string(m) + ".image";
             writeImage((fs::path(staging.path) / image).string(), *material.image);
         }
-        materials.push_back({{"name", material.name}, {"texture", inWork(staging.path, material.texturePath)}, {"image", image}});
+        materials.push_back({{"name", material.name},
+                             {"texture", inWork(staging.path, material.texturePath)},
+                             {"image", image},
+                             {"uv_period", {material.uvPeriod[0], material.uvPeriod[1]}}});
     }
     manifest["materials"] = std::move(materials);
     Ordered problems = Ordered::array();
@@ -217,6 +220,7 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
                 const std::string path = (fs::path(work) / image).string();
                 material.image = std::make_shared<const Image>(readImage(path, path));
             }
+            for (int a = 0; a < 2; ++a) material.uvPeriod[a] = m.at("uv_period").at(a).get<float>();
             w.inputs.materials.push_back(std::move(material));
         }
         for (const json& p : j.at("texture_problems")) w.inputs.textureProblems.push_back({p.at("what").get<std::string>(), p.at("material").get<std::string>()});

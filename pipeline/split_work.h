@@ -1,7 +1,7 @@
 // `hlod split`'s work folder (README "Beyond one machine"): the input read and split on the block
 // grid once, so that shard builds on many machines (`hlod build WORK --shard --blocks A:B`) start
 // from their blocks instead of each re-reading and re-splitting the whole input. Layout, version
-// hlod-split-1 (a folder):
+// hlod-split-2 (a folder; -1 lacked the materials' uv_period):
 //   manifest.json      written last (the folder is renamed into place whole, so a killed split
 //                      leaves no WORK): format, input (as given: the database's META "input"), up
 //                      axis and why, the split options, the grid, bounds, position lattice, block
@@ -21,7 +21,7 @@
 
 namespace hlod {
 
-inline constexpr const char* kSplitFormat = "hlod-split-1";
+inline constexpr const char* kSplitFormat = "hlod-split-2";
 
 struct BlockSource {
     std::string file;      // mesh file of a folder input, or a loadPiece file (cell)

@@ -16,6 +16,10 @@ namespace hlod {
 // returns the chart of every vertex, `count` the number of charts.
 std::vector<uint32_t> uvCharts(const MeshData& mesh, uint32_t& count);
 
+// wrap_uvs.cpp: each chart of a textured material whose UVs lie in another period of the texture
+// than [0, 1] (Material::uvPeriod) moved into [0, 1] by whole periods: the same texels.
+void wrapUvCharts(Piece& piece, const std::vector<Material>& materials);
+
 struct TexturedChart {
     MeshData mesh;  // one chart's triangles, UVs rewritten onto `texels`
     Image texels;   // BlockTextures::region of the chart

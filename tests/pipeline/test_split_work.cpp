@@ -77,6 +77,19 @@ TEST(SplitWork, TexturedObjAndFolderInputsEqualOneBuild) {
     expectSplitShardsMergeEqualOneBuild(folder, folder.file("in"), {}, "1");
 }
 
+// A texture's wrap travels in the manifest: charts exported a period away from a clamped texture
+// stay where they are in the shards as in one build (a repeating one would move them).
+TEST(SplitWork, TextureWrapTravelsInTheManifest) {
+    TempDir dir;
+    Piece p = terrain(40, 100, true);
+    for (size_t v = 0; v < p.mesh.vertexCount(); ++v) p.mesh.texcoords[2 * v] += 2;
+    writeObj(dir.file("t.obj"), p, "-clamp on atlas.png");
+    writeFile(dir.file("atlas.png"), encodeTexture(testImage(64, 64), Codec::Png).bytes);
+    expectSplitShardsMergeEqualOneBuild(dir, dir.file("t.obj"), {"--block-triangles", "800"}, "2");
+    std::ifstream in(dir.file("work/manifest.json"));
+    EXPECT_EQ(nlohmann::json::parse(in).at("materials").at(0).at("uv_period"), nlohmann::json::array({0, 0}));
+}
+
 // A glTF is split as a PLY is (streamed); its embedded image waits, still encoded, inside the
 // work folder, named relative to it, so a moved work folder still builds the same database.
 TEST(SplitWork, GltfEmbeddedImageTravelsInTheWorkFolder) {
@@ -149,7 +162,7 @@ TEST(SplitWork, BadWorkFoldersAreOneLineAndStatusTwo) {
     std::string text(manifest.begin(), manifest.end());
     text.replace(text.find(kSplitFormat), std::string(kSplitFormat).size(), "hlod-split-0");
     writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(text.begin(), text.end()));
-    expectRefused(dir, build, dir.file("work/manifest.json") + ": not a hlod-split-1 manifest");
+    expectRefused(dir, build, dir.file("work/manifest.json") + ": not a hlod-split-2 manifest");
     std::string noBlocks(manifest.begin(), manifest.end());
     noBlocks.replace(noBlocks.find("\"blocks\""), 8, "\"blockz\"");
     writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(noBlocks.begin(), noBlocks.end()));
