@@ -137,6 +137,22 @@ inline std::string base64(const std::vector<uint8_t>& in) {
     return out;
 }
 
+// A glTF of one textured triangle (positions and UVs in a data URI, image 0 a 32 x 32 PNG):
+// `materials` and `textures` are the contents of those arrays, `extra` further members.
+inline std::string texturedTriangleGltf(const std::string& materials, const std::string& textures, const std::string& extra = "") {
+    const float values[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
+    const auto* p = reinterpret_cast<const uint8_t*>(values);
+    const std::string image = base64(encodeTexture(testImage(32, 32), Codec::Png).bytes);
+    return R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+  "materials": [)" + materials + R"(],
+  "buffers": [{"uri": "data:application/octet-stream;base64,)" + base64({p, p + sizeof values}) + R"(", "byteLength": 60}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],)" + extra + R"(
+  "textures": [)" + textures + R"(], "images": [{"uri": "data:image/png;base64,)" + image + R"("}]})";
+}
+
 // The InputError message `f` throws, or "" when it throws none.
 inline std::string errorOf(const std::function<void()>& f) {
     try {

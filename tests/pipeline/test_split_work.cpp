@@ -94,17 +94,8 @@ TEST(SplitWork, TextureWrapTravelsInTheManifest) {
 // work folder, named relative to it, so a moved work folder still builds the same database.
 TEST(SplitWork, GltfEmbeddedImageTravelsInTheWorkFolder) {
     TempDir dir;
-    const float values[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
-    const auto* p = reinterpret_cast<const uint8_t*>(values);
-    const std::string image = base64(encodeTexture(testImage(32, 32), Codec::Png).bytes);
-    std::ofstream(dir.file("t.gltf")) << R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
-  "materials": [{"name": "skin", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
-  "buffers": [{"uri": "data:application/octet-stream;base64,)" + base64({p, p + sizeof values}) + R"(", "byteLength": 60}],
-  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
-                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],
-  "textures": [{"source": 0}], "images": [{"uri": "data:image/png;base64,)" + image + R"("}]})";
+    std::ofstream(dir.file("t.gltf")) << texturedTriangleGltf(R"({"name": "skin", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})",
+                                                              R"({"source": 0})");
     expectSplitShardsMergeEqualOneBuild(dir, dir.file("t.gltf"), {}, "");
     std::ifstream in(dir.file("work/manifest.json"));
     EXPECT_EQ(nlohmann::json::parse(in).at("materials").at(0).at("texture"), "cells/gltf-images/image_0.png");

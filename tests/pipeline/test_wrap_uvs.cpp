@@ -85,19 +85,10 @@ TEST(WrapUvs, AScanInAnotherPeriodBuildsTheSameDatabase) {
 // A glTF texture's sampler: REPEAT without one, else its wrapS and wrapT.
 TEST(WrapUvs, GltfSamplersGiveEachAxisItsPeriod) {
     TempDir dir;
-    const float values[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
-    const auto* p = reinterpret_cast<const uint8_t*>(values);
-    const std::string image = base64(encodeTexture(testImage(32, 32), Codec::Png).bytes);
-    std::ofstream(dir.file("t.gltf")) << R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
-  "materials": [{"name": "a", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}},
-                {"name": "b", "pbrMetallicRoughness": {"baseColorTexture": {"index": 1}}}],
-  "buffers": [{"uri": "data:application/octet-stream;base64,)" + base64({p, p + sizeof values}) + R"(", "byteLength": 60}],
-  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
-                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],
-  "samplers": [{"wrapS": 33071, "wrapT": 33648}],
-  "textures": [{"source": 0}, {"source": 0, "sampler": 0}], "images": [{"uri": "data:image/png;base64,)" + image + R"("}]})";
+    std::ofstream(dir.file("t.gltf")) << texturedTriangleGltf(
+        R"({"name": "a", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}},
+           {"name": "b", "pbrMetallicRoughness": {"baseColorTexture": {"index": 1}}})",
+        R"({"source": 0}, {"source": 0, "sampler": 0})", R"( "samplers": [{"wrapS": 33071, "wrapT": 33648}],)");
     const SourceMesh s = readMesh(dir.file("t.gltf"));
     ASSERT_GE(s.materials.size(), 2u);
     EXPECT_EQ(s.materials[0].uvPeriod[0], 1.0f);
