@@ -4,6 +4,7 @@
 //   formats/cli/   inspect, validate, export   (command.h: exit statuses, error guard, constant options)
 //   pipeline/cli/  build, split, merge, stats, synth
 //   player/cli/    play, path, view, calibrate
+#include "formats/cli/huge_pages.h"
 #include "formats/cli/subcommands.h"
 #include "pipeline/cli/subcommands.h"
 #include "player/cli/subcommands.h"
@@ -27,6 +28,7 @@ constexpr hlod::cli::AddSubcommand kSubcommands[] = {
 }  // namespace
 
 int main(int argc, char** argv) {
+    hlod::cli::reexecWithHugePages(argv);  // formats/cli/huge_pages.h
     CLI::App app{"hlod: out-of-core HLOD databases for huge scanned 3D models (build, inspect, play)"};
     app.set_version_flag("--version", std::string("hlod ") + HLOD_VERSION);
     app.require_subcommand(1);

@@ -8,6 +8,7 @@
 //   hlod_bench_build [--dir DIR] [--sizes 1,17] [--simplifier meshopt|openmesh|both]
 //                    [--mode top-down|bottom-up|both] [--bottom-up-error bound|exact|simplifier]
 //                    [-j N] [--memory-limit BYTES]
+#include "formats/cli/huge_pages.h"
 #include "pipeline/pipeline.h"
 #include "tests/support/child_usage.h"
 
@@ -146,6 +147,7 @@ int usage(const char* why, int status = 2) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    hlod::cli::reexecWithHugePages(argv);  // as `hlod` does: its builds run in this process's children
     std::string dir = (fs::temp_directory_path() / "hlod-bench").string(), sizes = "1,17", which = "both", modes = "top-down";
     std::string errorName = "bound";
     int jobs = 0;

@@ -12,6 +12,7 @@
 // --input builds FILE (any input hlod builds) instead of the generated scan. --glb 1 converts the
 // input once into NAME.glb beside it, every texture embedded as a buffer view (the form
 // photogrammetry tools export), and builds that: the glTF path of issue #14.
+#include "formats/cli/huge_pages.h"
 #include "pipeline/pipeline.h"
 #include "tests/support/child_usage.h"
 #include "tests/support/chunked_scan.h"
@@ -97,6 +98,7 @@ void writeGlb(const std::string& input, const std::string& glb) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    hlod::cli::reexecWithHugePages(argv);  // as `hlod` does: its builds run in this process's children
     std::string dir = (fs::temp_directory_path() / "hlod-bench-memory").string(), limits = "256M,512M,1G,default", input;
     ChunkedScanOptions scan;
     scan.chunks = 40, scan.textureSize = 4096, scan.chartCells = 4, scan.jpeg = true;
