@@ -1,10 +1,11 @@
 // What each way of reading and writing a JPEG atlas costs on this machine, per source texel
-// (issue #14's textured speed goal, pipeline/TEXTURE_SPEED.md round 7): the pixel path the build
-// takes today (decode to RGB, the temporary file, encode again) against the coefficient-domain
-// paths a redesign would take instead (Wallace 1991 §7's entropy-coded DCT blocks: a leaf's
-// blocks copied as quantised coefficients, as jpegtran does; libjpeg's scaled inverse DCT,
-// scale_num / 8, for the levels above). CPU time of this process, the best of --repeat runs of
-// each path over every file given.
+// (issue #14's textured speed goal; pipeline/HUGE_PAGES.md, TEXTURE_SPEED.md round 6): the pixel
+// path the build takes today (decode to RGB, the temporary file, encode again) against the
+// coefficient-domain paths a redesign would take instead (Wallace 1991, "The JPEG still picture
+// compression standard": quantised DCT blocks, entropy-coded; a leaf's blocks copied as quantised
+// coefficients, as jpegtran does; libjpeg's scaled inverse DCT, scale_num / 8, for the levels
+// above). CPU time of this process, the best of --repeat runs of each path over every file
+// given; the heap on 2 MiB pages as in `hlod` (HLOD_HUGE_PAGES=0: 4 KiB pages).
 //
 //   bench_jpeg_paths [--repeat N] [--tmp DIR] A.jpg [B.jpg ...]
 #include "formats/cli/huge_pages.h"
