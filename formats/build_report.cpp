@@ -35,6 +35,7 @@ void writeBuildReport(const std::string& path, const BuildReport& r) {
     j["input_triangles"] = r.inputTriangles;
     j["wall_seconds"] = r.wallSeconds;
     j["cpu_seconds"] = r.cpuSeconds;
+    j["huge_pages"] = r.hugePages;
     j["output_bytes"] = r.outputBytes;
     j["nodes_per_level"] = r.nodesPerLevel;
     j["texture_problems"] = r.textureProblems;
@@ -75,6 +76,7 @@ std::optional<BuildReport> readBuildReport(const std::string& path) {
     r.outputBytes = field<uint64_t>(j, "output_bytes", path);
     r.wallSeconds = field<double>(j, "wall_seconds", path);
     r.cpuSeconds = field<double>(j, "cpu_seconds", path);
+    if (j.contains("huge_pages")) r.hugePages = field<bool>(j, "huge_pages", path);
     if (j.contains("memory_limit_bytes")) r.memoryLimitBytes = field<uint64_t>(j, "memory_limit_bytes", path);
     if (j.contains("nodes_per_level")) r.nodesPerLevel = field<std::vector<uint64_t>>(j, "nodes_per_level", path);
     if (j.contains("texture_problems")) r.textureProblems = field<std::vector<std::string>>(j, "texture_problems", path);

@@ -36,6 +36,9 @@ struct BuildReport {
     std::vector<BuildStage> stages;
     uint64_t peakRssBytes = 0, memoryLimitBytes = 0, inputTriangles = 0, outputBytes = 0;
     double wallSeconds = 0, cpuSeconds = 0;
+    // The heap's large blocks on 2 MiB transparent huge pages (formats/cli/huge_pages.h; speed
+    // figures depend on it); absent from reports written before the key existed (read as false).
+    bool hugePages = false;
     std::vector<uint64_t> nodesPerLevel;
     // One line per unusable texture (README "Inputs: textures"), its material left untextured;
     // absent from reports written before the key existed (read as none).

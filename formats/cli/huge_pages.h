@@ -16,6 +16,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <string>
 
 namespace hlod::cli {
@@ -36,6 +37,18 @@ inline void reexecWithHugePages(char** argv, const char* exe = "/proc/self/exe")
     unsetenv("HLOD_HUGE_PAGES");
     if (tunables) setenv("GLIBC_TUNABLES", before.c_str(), 1);
     else unsetenv("GLIBC_TUNABLES");
+}
+
+// Whether this process's large heap blocks go on transparent huge pages: glibc.malloc.hugetlb=1
+// in its GLIBC_TUNABLES (which glibc read at start) and the kernel's mode, `thpMode`, `madvise`
+// or `always`. The build prints it and records it in its report.
+inline bool heapOnHugePages(const char* thpMode = "/sys/kernel/mm/transparent_hugepage/enabled") {
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    if (!tunables || !std::strstr(tunables, "glibc.malloc.hugetlb=1")) return false;
+    std::ifstream in(thpMode);
+    std::string mode;
+    std::getline(in, mode);
+    return mode.find("[madvise]") != std::string::npos || mode.find("[always]") != std::string::npos;
 }
 
 }  // namespace hlod::cli

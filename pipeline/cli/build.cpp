@@ -1,12 +1,13 @@
 // `hlod build INPUT -o DB`: prints the constants it uses first, the up axis it records and why,
 // progress while it runs (a line at least every --progress-interval seconds when stdout is not
 // a terminal, or JSON lines with --progress-json), a final summary (nodes per level, time per
-// stage, bytes per input triangle, unusable textures) and writes the run's figures to the build
+// stage, bytes per input triangle, the heap's page size, unusable textures) and writes the run's figures to the build
 // report DB.build.json (formats/build_report.h; the database itself holds nothing that varies
 // run to run). --strict makes an unusable texture fatal (exit 2) instead of a warning.
 #include "pipeline/cli/subcommands.h"
 
 #include "formats/calibration.h"
+#include "formats/cli/huge_pages.h"
 #include "pipeline/pipeline.h"
 
 #include <CLI/CLI.hpp>
@@ -59,6 +60,7 @@ void writeReport(const std::string& db, const std::vector<BuildStage>& stages, c
     r.inputTriangles = summary.inputTriangles;
     r.wallSeconds = wall;
     r.cpuSeconds = cpu;
+    r.hugePages = heapOnHugePages();
     r.outputBytes = std::filesystem::file_size(db);
     r.nodesPerLevel = summary.nodesPerLevel;
     r.nodes = summary.nodes;
@@ -75,7 +77,8 @@ void printSummary(const std::string& db, const BuildSummary& s, double wall, dou
               << "summary: " << s.inputTriangles << " input triangles, " << bytes << " bytes ("
               << (s.inputTriangles ? double(bytes) / s.inputTriangles : 0) << " B/input triangle), wall " << wall << " s, cpu "
               << cpu << " s (" << (cpu > 0 ? s.inputTriangles / cpu / 1000 : 0) << " k input tri/CPU-s), peak RSS "
-              << formatBytes(peakRss()) << " (--memory-limit " << formatBytes(memoryLimit) << ")\n";
+              << formatBytes(peakRss()) << " (--memory-limit " << formatBytes(memoryLimit) << "), heap on "
+              << (heapOnHugePages() ? "2 MiB" : "4 KiB") << " pages\n";
     if (!s.textureProblems.empty())
         std::cout << "textures: " << s.textureProblems.size()
                   << " unusable, their materials left untextured (warnings above; --strict makes them fatal)\n";

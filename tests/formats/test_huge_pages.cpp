@@ -1,6 +1,7 @@
 // formats/cli/huge_pages.h: `hlod` re-executes itself once with glibc.malloc.hugetlb=1 added to
 // GLIBC_TUNABLES, keeps a user's other tunables, and leaves alone a process that opted out, that
-// set the tunable itself, or that was re-executed already; a failed exec changes nothing.
+// set the tunable itself, or that was re-executed already; a failed exec changes nothing; the
+// heap is said to be on huge pages only with the tunable and a kernel that offers them.
 // Checked in a forked child whose "program" is a shell printing what it was started with.
 #include "helpers.h"
 
@@ -58,6 +59,30 @@ TEST(HugePages, LeavesAloneWhoOptedOutSetItOrWasReexecuted) {
 TEST(HugePages, AFailedExecChangesNothing) {
     EXPECT_EQ(childSees({}, "/nonexistent/hlod"), "returned:|");
     EXPECT_EQ(childSees({"glibc.malloc.tcache_count=0", nullptr}, "/nonexistent/hlod"), "returned:glibc.malloc.tcache_count=0|");
+}
+
+// The heap is on huge pages when the tunable is set and the kernel's mode allows them.
+TEST(HugePages, HeapOnHugePagesNeedsTheTunableAndTheKernel) {
+    TempDir dir;
+    int files = 0;
+    const auto mode = [&](const char* text) {
+        const std::string path = dir.file("mode" + std::to_string(files++));
+        std::ofstream(path) << text << "\n";
+        return path;
+    };
+    const std::string madvise = mode("always [madvise] never"), always = mode("[always] madvise never"), never = mode("always madvise [never]");
+    const char* before = std::getenv("GLIBC_TUNABLES");
+    const std::string saved = before ? before : "";
+    setenv("GLIBC_TUNABLES", "glibc.malloc.tcache_count=0:glibc.malloc.hugetlb=1", 1);
+    EXPECT_TRUE(cli::heapOnHugePages(madvise.c_str()));
+    EXPECT_TRUE(cli::heapOnHugePages(always.c_str()));
+    EXPECT_FALSE(cli::heapOnHugePages(never.c_str()));
+    EXPECT_FALSE(cli::heapOnHugePages(dir.file("absent").c_str()));
+    setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=0", 1);
+    EXPECT_FALSE(cli::heapOnHugePages(madvise.c_str()));
+    unsetenv("GLIBC_TUNABLES");
+    EXPECT_FALSE(cli::heapOnHugePages(madvise.c_str()));
+    if (before) setenv("GLIBC_TUNABLES", saved.c_str(), 1);
 }
 
 }  // namespace

@@ -27,6 +27,31 @@ TEST(Cli, BuildPrintsConstantsSummaryAndWritesSidecar) {
     EXPECT_EQ(v.exitCode, 0) << v.outAndErr();
 }
 
+// The build runs with its heap on transparent huge pages where the kernel offers them, re-executed
+// with glibc.malloc.hugetlb=1 (formats/cli/huge_pages.h), says so, and records it in its report;
+// HLOD_HUGE_PAGES=0 keeps 4 KiB pages. Both runs give the same database.
+TEST(Cli, BuildRunsOnHugePagesUnlessOptedOut) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(30).mesh, true);
+    std::ifstream modeFile("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string mode;
+    std::getline(modeFile, mode);
+    const bool offered = mode.find("[madvise]") != std::string::npos || mode.find("[always]") != std::string::npos;
+    for (const bool optOut : {false, true}) {
+        const std::string db = dir.file(optOut ? "small.hlod" : "huge.hlod");
+        std::vector<std::string> argv = {"env", "-u", "GLIBC_TUNABLES", "-u", "HLOD_HUGE_PAGES"};
+        if (optOut) argv.push_back("HLOD_HUGE_PAGES=0");
+        argv.insert(argv.end(), {HLOD_BINARY, "build", dir.file("t.ply"), "-o", db});
+        const RunResult r = runProcess(argv);
+        ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+        const bool huge = offered && !optOut;
+        EXPECT_NE(r.out.find(huge ? "heap on 2 MiB pages" : "heap on 4 KiB pages"), std::string::npos) << r.out;
+        std::ifstream sidecar(db + ".build.json");
+        EXPECT_EQ(nlohmann::json::parse(sidecar).at("huge_pages").get<bool>(), huge) << (optOut ? "opted out" : "default");
+    }
+    EXPECT_EQ(readFile(dir.file("huge.hlod")), readFile(dir.file("small.hlod")));
+}
+
 TEST(Cli, BadInputIsOneLineAndNonZero) {
     TempDir dir;
     std::ofstream(dir.file("bad.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\n";
