@@ -269,7 +269,15 @@ const draco::PointAttribute* checkedDracoAttribute(const draco::Mesh& mesh, drac
     return a;
 }
 
+// FORMAT.md's geometry blob is a Draco 1.5 mesh: bitstream 2.2 ("DRACO", major 2, minor 2,
+// encoder type 1 = mesh), its connectivity edgebreaker (method 1) or, at --draco-level 0,
+// sequential (method 0). Other headers are refused before Draco sees them: its decoders for older
+// bitstreams reserve what a header claims before reading it (the blob fuzzer's 100-byte 1.253
+// header asked for 4.5 GB and took 5 s to fail).
 std::unique_ptr<draco::Mesh> decodeDracoMesh(std::span<const uint8_t> bytes, const std::string& name) {
+    constexpr uint8_t kHeader[8] = {'D', 'R', 'A', 'C', 'O', 2, 2, 1};
+    if (bytes.size() <= sizeof kHeader || !std::equal(kHeader, kHeader + sizeof kHeader, bytes.begin()) || bytes[8] > 1)
+        throw FormatError(name + ": bad Draco geometry: not a Draco 2.2 mesh (FORMAT.md)");
     draco::DecoderBuffer buffer;
     buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     draco::Decoder decoder;
