@@ -263,13 +263,18 @@ void fillUnownedBlocks(const std::vector<uint8_t>& owned, int block, Image& atla
                 from[size_t(ny) * columns + nx] = from[b], queue.push_back(ny * columns + nx);
             }
     }
-    std::vector<uint8_t> mean(owned.size() * nc);
+    // The means of the owned blocks an unowned one takes (those beside the unowned ones: summing
+    // every owned block's texels was 4 % of a textured build's CPU).
+    std::vector<uint8_t> mean(owned.size() * nc), meant(owned.size(), 0);
+    for (int b = 0; b < int(owned.size()); ++b)
+        if (!owned[b] && from[b] >= 0) meant[size_t(from[b])] = 1;
     for (int b = 0; b < int(owned.size()); ++b) {
-        if (!owned[b]) continue;
+        if (!meant[b]) continue;
         uint32_t sum[4] = {0, 0, 0, 0};
-        for (int y = 0; y < block; ++y)
-            for (int x = 0; x < block; ++x)
-                for (size_t c = 0; c < nc; ++c) sum[c] += texel(b, x, y)[c];
+        for (int y = 0; y < block; ++y) {
+            const uint8_t* row = texel(b, 0, y);
+            for (size_t i = 0; i < size_t(block) * nc; ++i) sum[i % nc] += row[i];
+        }
         for (size_t c = 0; c < nc; ++c) mean[size_t(b) * nc + c] = static_cast<uint8_t>((sum[c] + block * block / 2) / (block * block));
     }
     for (int b = 0; b < int(owned.size()); ++b) {

@@ -244,7 +244,13 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
             for (size_t i = 0; i < filteredSize; ++i) sum[i] += w * filtered[i];
         }
         uint8_t* o = &out.pixels[size_t(oy) * out.width * nc];
-        for (size_t i = 0; i < sum.size(); ++i) o[i] = static_cast<uint8_t>(std::clamp(sum[i], 0.0f, 255.0f) + 0.5f);  // half up
+        // Half up, clamped to [0, 255] after the rounding, in integers: float comparisons may trap
+        // (-ftrapping-math), so GCC left a clamp of the float a branchy scalar loop; rounding first
+        // gives the same bytes (a sum below 0 or above 255 gives 0 or 255 either way).
+        for (size_t i = 0; i < sum.size(); ++i) {
+            const int v = static_cast<int>(sum[i] + 0.5f);
+            o[i] = static_cast<uint8_t>(v < 0 ? 0 : v > 255 ? 255 : v);
+        }
     }
     return out;
 }
