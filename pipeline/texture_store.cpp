@@ -118,6 +118,44 @@ void filterRow(const uint8_t* row, const Spans& across, uint32_t sx0, float* fil
     }
 }
 
+// An axis's spans as kTaps taps each (its texels, then zero weights: adding 0 x texel leaves a
+// non-negative float sum as it is), when none is longer: the ratio of a level to the output is
+// below 2, so spans are 2 or 3 texels long, alternating unpredictably.
+constexpr uint32_t kTaps = 3;
+struct Taps {
+    std::vector<uint32_t> first;  // per output texel, its span's first texel from sx0
+    std::vector<float> weights;   // kTaps per output texel
+};
+bool tapsFit(const Spans& across) {
+    return std::all_of(across.spans.begin(), across.spans.end(), [](const Span& s) { return s.count <= kTaps; });
+}
+Taps taps(const Spans& across, uint32_t sx0) {
+    Taps t;
+    t.first.reserve(across.spans.size()), t.weights.assign(across.spans.size() * kTaps, 0.0f);
+    for (size_t o = 0; o < across.spans.size(); ++o) {
+        t.first.push_back(across.spans[o].first - sx0);
+        std::copy_n(&across.weights[across.spans[o].weight], across.spans[o].count, &t.weights[o * kTaps]);
+    }
+    return t;
+}
+// filterRow<3> over taps from a row of RGB texels as floats: a texel's three channels (and the
+// next texel's first) in one vector of GCC's vector extensions, each lane summed in filterRow's
+// order (the same floats). `row` has kTaps texels and a float past its end, `filtered` a float.
+void filterRgb(const float* row, const Taps& taps, float* filtered) {
+    using Floats = float __attribute__((vector_size(16)));
+    for (size_t o = 0; o < taps.first.size(); ++o, filtered += 3) {
+        const float* texel = row + size_t(taps.first[o]) * 3;
+        const float* weight = &taps.weights[o * kTaps];
+        Floats f = {0, 0, 0, 0};
+        for (uint32_t i = 0; i < kTaps; ++i) {
+            Floats t;
+            std::memcpy(&t, texel + 3 * i, sizeof t);
+            f += weight[i] * t;
+        }
+        std::memcpy(filtered, &f, sizeof f);
+    }
+}
+
 }  // namespace
 
 uint32_t scaledSide(uint32_t side, double factor) {
@@ -220,15 +258,21 @@ Image scaledRegion(const TextureSource& source, uint32_t scaledWidth, uint32_t s
     constexpr uint32_t kCachedRows = 4;
     const size_t filteredSize = size_t(out.width) * nc;
     std::vector<uint8_t> row(size_t(sx1 - sx0) * nc);
+    const bool rgb = nc == 3 && tapsFit(across);  // RGB rows converted to floats once, then filtered by taps
+    const Taps tapsAcross = rgb ? taps(across, sx0) : Taps{};
+    std::vector<float> rowFloats(rgb ? row.size() + kTaps * 3 + 1 : 0, 0.0f);
     LevelRows rows(source, level, sx0, sx1, down.spans.front().first, down.spans.back().first + down.spans.back().count);
-    std::vector<float> cache(filteredSize * kCachedRows);
+    std::vector<float> cache((filteredSize + 1) * kCachedRows);  // a float past each row: filterRgb's spare lane
     uint32_t cachedY[kCachedRows];
     std::fill_n(cachedY, kCachedRows, UINT32_MAX);
     const auto filteredRow = [&](uint32_t y) {
-        float* slot = &cache[(y % kCachedRows) * filteredSize];
+        float* slot = &cache[(y % kCachedRows) * (filteredSize + 1)];
         if (cachedY[y % kCachedRows] == y) return slot;
         rows.copy(y, row.data()), cachedY[y % kCachedRows] = y;
-        if (nc == 3) filterRow<3>(row.data(), across, sx0, slot);
+        if (rgb) {
+            std::copy(row.begin(), row.end(), rowFloats.begin());
+            filterRgb(rowFloats.data(), tapsAcross, slot);
+        } else if (nc == 3) filterRow<3>(row.data(), across, sx0, slot);
         else if (nc == 1) filterRow<1>(row.data(), across, sx0, slot);
         else if (nc == 2) filterRow<2>(row.data(), across, sx0, slot);
         else filterRow<4>(row.data(), across, sx0, slot);  // Image: 1 to 4 channels
