@@ -1,6 +1,7 @@
 // See bake_reference.h. Its own closest-point weights and bilinear sampling (not bake.cpp's: an
 // oracle should not share the code it judges); the closest triangle from closest_point.h's exact
-// query (checked against brute force in test_closest_point.cpp). Sources need a texture.
+// query (checked against brute force in test_closest_point.cpp). Every source needs a texture,
+// and the sources at least one triangle of non-zero area (the bench's always have both).
 #include "tests/bench/bake_reference.h"
 
 #include "pipeline/closest_point.h"
