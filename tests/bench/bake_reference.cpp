@@ -4,6 +4,7 @@
 // and the sources at least one triangle of non-zero area (the bench's always have both).
 #include "tests/bench/bake_reference.h"
 
+#include "formats/metrics.h"
 #include "pipeline/closest_point.h"
 
 #include <algorithm>
@@ -112,8 +113,7 @@ double referencePsnr(const BakedTexture& baked, const std::vector<BakeSource>& s
                     }
             }
     }
-    if (count == 0) return 0;
-    return squared == 0 ? 100 : 10 * std::log10(255.0 * 255.0 * double(count) / squared);
+    return psnrDb(squared, count);
 }
 
 }  // namespace hlod::bench
