@@ -162,7 +162,7 @@ public:
 
 private:
     Point corner(uint32_t index, int k) const {
-        const double* v = &bvh_.corners[9 * size_t(index) + 3 * k];
+        const float* v = &bvh_.triangles[index].corners[3 * k];
         return {v[0], v[1], v[2]};
     }
     Point normal(uint32_t index) const { return cross(minus(corner(index, 1), corner(index, 0)), minus(corner(index, 2), corner(index, 0))); }

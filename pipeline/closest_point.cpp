@@ -7,6 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <limits>
 #include <numeric>
 #include <queue>
@@ -21,10 +25,8 @@ constexpr uint32_t kNoTriangle = ~0u;
 double sq(double v) { return v * v; }
 
 // Ericson §5.1.5 ClosestPtPointTriangle, returning the squared distance.
-double triangleDistance2(const double* t, const double p[3]) {
-    const double* a = t;
-    const double* b = t + 3;
-    const double* c = t + 6;
+double triangleDistance2(const float* t, const double p[3]) {
+    const double a[3] = {t[0], t[1], t[2]}, b[3] = {t[3], t[4], t[5]}, c[3] = {t[6], t[7], t[8]};
     double ab[3], ac[3], ap[3];
     for (int k = 0; k < 3; ++k) ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
     auto dot = [](const double* u, const double* v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
@@ -61,13 +63,38 @@ double boxDistance2(const float lo[3], const float hi[3], const double p[3]) {
     for (int k = 0; k < 3; ++k) d += sq(std::max({double(lo[k]) - p[k], 0.0, p[k] - double(hi[k])}));
     return d;
 }
-double boxDistance2(const TriangleBvh::Node& n, const double p[3]) { return boxDistance2(n.lo, n.hi, p); }
+
+// Both nodes' boxDistance2 at once, one per lane (GCC's vector extensions, also clang's): the
+// same operations in the same order, so the same doubles (max(max(a, 0), b) is the value of
+// std::max({a, 0, b}) up to the sign of a zero, which squaring drops).
+using Double2 = double __attribute__((vector_size(16)));
+// Two floats as two doubles (one cvtps2pd; GCC 12 converts a two-float vector lane by lane).
+Double2 widen(const float v[2]) {
+#if defined(__SSE2__)
+    double bits;
+    std::memcpy(&bits, v, sizeof bits);
+    return Double2(_mm_cvtps_pd(_mm_castpd_ps(_mm_load_sd(&bits))));
+#else
+    return Double2{v[0], v[1]};
+#endif
+}
+Double2 boxDistance2(const TriangleBvh::Pair& pair, const double p[3]) {
+    Double2 d = {0, 0};
+    const Double2 zero = {0, 0};
+    for (int k = 0; k < 3; ++k) {
+        const Double2 below = widen(pair.lo[k]) - p[k], above = p[k] - widen(pair.hi[k]);
+        Double2 m = below > zero ? below : zero;
+        m = m > above ? m : above;
+        d += m * m;
+    }
+    return d;
+}
 
 }  // namespace
 
 TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vector<uint32_t>& indices) {
     TriangleBvh bvh;
-    std::vector<double> corners;
+    std::vector<float> corners;
     corners.reserve(3 * indices.size());  // 9 per triangle: growing by doubling could hold twice that
     std::vector<uint32_t> input;          // per kept triangle, its index in the input
     for (size_t t = 0; t + 2 < indices.size(); t += 3) {
@@ -82,10 +109,8 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
     }
     const uint32_t count = static_cast<uint32_t>(corners.size() / 9);
     if (count == 0) return bvh;
-    // Per triangle its centroid (x 3), its box rounded outwards to float (the box of a node is the
-    // union of its triangles': the same floats as rounding the node's double bounds outwards, since
-    // rounding down is monotone) and its index, partitioned in place (the same order as
-    // partitioning indices into separate arrays, without the random reads).
+    // Per triangle its centroid (x 3), its box and its index, partitioned in place (the same order
+    // as partitioning indices into separate arrays, without the random reads).
     struct Item {
         float centroid[3], lo[3], hi[3];
         uint32_t index;
@@ -95,57 +120,57 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
         Item& item = items[t];
         item.index = t;
         for (int k = 0; k < 3; ++k) {
-            const double* v = &corners[9 * size_t(t) + k];
-            item.centroid[k] = float(v[0] + v[3] + v[6]);
-            const double lo = std::min({v[0], v[3], v[6]}), hi = std::max({v[0], v[3], v[6]});
-            item.lo[k] = float(lo), item.hi[k] = float(hi);
-            if (item.lo[k] > lo) item.lo[k] = std::nextafter(item.lo[k], -std::numeric_limits<float>::max());
-            if (item.hi[k] < hi) item.hi[k] = std::nextafter(item.hi[k], std::numeric_limits<float>::max());
+            const float* v = &corners[9 * size_t(t) + k];
+            item.centroid[k] = float(double(v[0]) + double(v[3]) + double(v[6]));
+            item.lo[k] = std::min({v[0], v[3], v[6]}), item.hi[k] = std::max({v[0], v[3], v[6]});
         }
     }
     struct Task { uint32_t node, lo, hi; };
     std::vector<Task> stack{{0, 0, count}};
-    bvh.nodes.push_back({});
+    bvh.pairs.push_back({});  // the root, lane 0 (lane 1 unused)
     bvh.parent.push_back(0);
     bvh.leaf.resize(count);
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
-        TriangleBvh::Node& node = bvh.nodes[task.node];
-        for (int k = 0; k < 3; ++k) node.lo[k] = std::numeric_limits<float>::max(), node.hi[k] = -node.lo[k];
+        TriangleBvh::Pair& pair = bvh.pairs[task.node / 2];  // not used past a push_back, which may move it
+        const int lane = task.node % 2;
+        float lo[3], hi[3];
+        for (int k = 0; k < 3; ++k) lo[k] = std::numeric_limits<float>::max(), hi[k] = -lo[k];
         for (uint32_t i = task.lo; i < task.hi; ++i)  // the box holds its triangles
-            for (int k = 0; k < 3; ++k) node.lo[k] = std::min(node.lo[k], items[i].lo[k]), node.hi[k] = std::max(node.hi[k], items[i].hi[k]);
+            for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], items[i].lo[k]), hi[k] = std::max(hi[k], items[i].hi[k]);
+        for (int k = 0; k < 3; ++k) pair.lo[k][lane] = lo[k], pair.hi[k][lane] = hi[k];
         if (task.hi - task.lo <= kLeafTriangles) {
-            node.first = task.lo, node.count = task.hi - task.lo;
+            pair.first[lane] = task.lo, pair.count[lane] = task.hi - task.lo;
             std::fill(bvh.leaf.begin() + task.lo, bvh.leaf.begin() + task.hi, task.node);
             continue;
         }
         int axis = 0;
         for (int k = 1; k < 3; ++k)
-            if (node.hi[k] - node.lo[k] > node.hi[axis] - node.lo[axis]) axis = k;
+            if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
         const uint32_t mid = task.lo + (task.hi - task.lo) / 2;
         std::nth_element(items.begin() + task.lo, items.begin() + mid, items.begin() + task.hi,
                          [axis](const Item& a, const Item& b) { return a.centroid[axis] < b.centroid[axis]; });
-        const uint32_t left = static_cast<uint32_t>(bvh.nodes.size());
-        node.first = left, node.count = 0;  // `node` is not used past here: push_back may move it
-        bvh.nodes.push_back({}), bvh.nodes.push_back({});
-        bvh.parent.push_back(task.node), bvh.parent.push_back(task.node);
+        const uint32_t left = static_cast<uint32_t>(2 * bvh.pairs.size());
+        pair.first[lane] = left, pair.count[lane] = 0;
+        bvh.pairs.push_back({});
+        bvh.parent.push_back(task.node);
         stack.push_back({left, task.lo, mid}), stack.push_back({left + 1, mid, task.hi});
     }
-    bvh.corners.resize(corners.size());
-    for (uint32_t i = 0; i < count; ++i) std::copy_n(corners.begin() + 9 * size_t(items[i].index), 9, bvh.corners.begin() + 9 * size_t(i));
-    std::vector<double>().swap(corners);  // freed before the boxes: one triangle array less at the peak
+    bvh.triangles.resize(count);
     bvh.input.resize(count);
-    for (uint32_t i = 0; i < count; ++i) bvh.input[i] = input[items[i].index];
-    bvh.boxes.resize(6 * size_t(count));
-    for (uint32_t i = 0; i < count; ++i)
-        std::copy_n(items[i].lo, 3, bvh.boxes.begin() + 6 * size_t(i)), std::copy_n(items[i].hi, 3, bvh.boxes.begin() + 6 * size_t(i) + 3);
+    for (uint32_t i = 0; i < count; ++i) {
+        TriangleBvh::Triangle& t = bvh.triangles[i];
+        std::copy_n(items[i].lo, 3, t.lo), std::copy_n(items[i].hi, 3, t.hi);
+        std::copy_n(corners.begin() + 9 * size_t(items[i].index), 9, t.corners);
+        bvh.input[i] = input[items[i].index];
+    }
     return bvh;
 }
 
 double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint) {
     double best = std::numeric_limits<double>::infinity();
-    const size_t triangles = bvh.corners.size() / 9;
+    const size_t triangles = bvh.triangles.size();
     if (triangles == 0) return best;
     struct Entry {
         double boxD;
@@ -153,41 +178,52 @@ double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint
     };
     Entry stack[64];  // not value-initialised (a pair's constructor zeroed 1 KB per query)
     uint32_t known = kNoTriangle;  // the hint, whose distance is already `best`
+    // What a node pushed on the stack will read when popped (its children's pair, or its
+    // triangles), asked for early: the reads of a query are otherwise mostly waits on memory.
+    auto prefetch = [&](const TriangleBvh::Pair& pair, int lane) {
+        if (pair.count[lane] > 0) __builtin_prefetch(&bvh.triangles[pair.first[lane]]);
+        else __builtin_prefetch(&bvh.pairs[pair.first[lane] / 2]);
+    };
     auto search = [&](uint32_t from, double fromD) {  // the subtree of node `from`, nearer children first
         int top = 0;
         stack[top++] = {fromD, from};
         while (top > 0) {
             const auto [boxD, index] = stack[--top];
             if (boxD >= best) continue;
-            const TriangleBvh::Node& n = bvh.nodes[index];
-            if (n.count > 0) {
-                for (uint32_t t = n.first; t < n.first + n.count; ++t) {
-                    const float* box = &bvh.boxes[6 * size_t(t)];
-                    if (t == known || boxDistance2(box, box + 3, p) >= best) continue;  // its box first: ~3 x cheaper
-                    if (const double d = triangleDistance2(&bvh.corners[9 * size_t(t)], p); d < best) best = d, hint = t;
+            const TriangleBvh::Pair& pair = bvh.pairs[index / 2];
+            const uint32_t first = pair.first[index % 2], count = pair.count[index % 2];
+            if (count > 0) {
+                for (uint32_t t = first; t < first + count; ++t) {
+                    const TriangleBvh::Triangle& triangle = bvh.triangles[t];
+                    if (t == known || boxDistance2(triangle.lo, triangle.hi, p) >= best) continue;  // its box first: ~3 x cheaper
+                    if (const double d = triangleDistance2(triangle.corners, p); d < best) best = d, hint = t;
                 }
                 continue;
             }
-            const double dl = boxDistance2(bvh.nodes[n.first], p), dr = boxDistance2(bvh.nodes[n.first + 1], p);
-            const bool leftFirst = dl <= dr;  // the nearer child on top of the stack
-            if ((leftFirst ? dr : dl) < best) stack[top++] = {leftFirst ? dr : dl, leftFirst ? n.first + 1 : n.first};
-            if ((leftFirst ? dl : dr) < best) stack[top++] = {leftFirst ? dl : dr, leftFirst ? n.first : n.first + 1};
+            const TriangleBvh::Pair& children = bvh.pairs[first / 2];
+            const Double2 d = boxDistance2(children, p);
+            const bool leftFirst = d[0] <= d[1];  // the nearer child on top of the stack
+            for (const int lane : {leftFirst ? 1 : 0, leftFirst ? 0 : 1})
+                if (d[lane] < best) {
+                    stack[top++] = {d[lane], first + lane};
+                    prefetch(children, lane);
+                }
         }
     };
     if (hint >= triangles) {
-        search(0, boxDistance2(bvh.nodes[0], p));
+        search(0, boxDistance2(bvh.pairs[0], p)[0]);
         return best;
     }
     // From the hint's leaf up to the root, each sibling's subtree: every triangle not in the hint's
     // leaf lies in exactly one of them, and the siblings nearest in the tree, searched first, are
     // the ones likely near p (half the box tests of a descent from the root, whose every level
     // tests both children).
-    best = triangleDistance2(&bvh.corners[9 * size_t(hint)], p), known = hint;
+    best = triangleDistance2(bvh.triangles[hint].corners, p), known = hint;
     uint32_t node = bvh.leaf[hint];
     search(node, 0);
-    for (; node != 0; node = bvh.parent[node]) {
-        const uint32_t sibling = node % 2 ? node + 1 : node - 1;  // children are pairs (odd, odd + 1)
-        if (const double d = boxDistance2(bvh.nodes[sibling], p); d < best) search(sibling, d);
+    for (; node != 0; node = bvh.parent[node / 2]) {
+        const uint32_t sibling = node ^ 1;  // children are pairs (even, even + 1)
+        if (const double d = boxDistance2(bvh.pairs[node / 2], p)[sibling % 2]; d < best) search(sibling, d);
     }
     return best;
 }
@@ -202,7 +238,10 @@ double firstHit(const TriangleBvh& bvh, const double origin[3], const double dir
     // rounding cannot make a box the ray meets look missed. An axis the ray is parallel to
     // bounds nothing, the origin must lie in its slab.
     constexpr double kExitMargin = 1 + 4 * std::numeric_limits<double>::epsilon();
-    auto enter = [&](const float lo[3], const float hi[3]) {
+    auto enter = [&](uint32_t node) {
+        const TriangleBvh::Pair& pair = bvh.pairs[node / 2];
+        const float lo[3] = {pair.lo[0][node % 2], pair.lo[1][node % 2], pair.lo[2][node % 2]};
+        const float hi[3] = {pair.hi[0][node % 2], pair.hi[1][node % 2], pair.hi[2][node % 2]};
         double tEnter = 0, tExit = best;
         for (int k = 0; k < 3; ++k) {
             if (direction[k] == 0) {
@@ -226,16 +265,16 @@ double firstHit(const TriangleBvh& bvh, const double origin[3], const double dir
     };
     Entry stack[64];
     int top = 0;
-    if (const double t = enter(bvh.nodes[0].lo, bvh.nodes[0].hi); t < best) stack[top++] = {t, 0};
+    if (const double t = enter(0); t < best) stack[top++] = {t, 0};
     while (top > 0) {
         const auto [t, index] = stack[--top];
         if (t >= best) continue;
-        const TriangleBvh::Node& n = bvh.nodes[index];
-        if (n.count > 0) {
-            for (uint32_t i = n.first; i < n.first + n.count; ++i) {
-                const double* a = &bvh.corners[9 * size_t(i)];
+        const uint32_t first = bvh.pairs[index / 2].first[index % 2], count = bvh.pairs[index / 2].count[index % 2];
+        if (count > 0) {
+            for (uint32_t i = first; i < first + count; ++i) {
+                const float* a = bvh.triangles[i].corners;
                 double e1[3], e2[3], normal[3];
-                for (int k = 0; k < 3; ++k) e1[k] = a[3 + k] - a[k], e2[k] = a[6 + k] - a[k];
+                for (int k = 0; k < 3; ++k) e1[k] = double(a[3 + k]) - a[k], e2[k] = double(a[6 + k]) - a[k];
                 cross(e1, e2, normal);
                 if (dot(normal, facing) <= 0) continue;
                 // Möller & Trumbore 1997: barycentric u, v and the distance t by Cramer's rule.
@@ -254,10 +293,10 @@ double firstHit(const TriangleBvh& bvh, const double origin[3], const double dir
             }
             continue;
         }
-        const double tl = enter(bvh.nodes[n.first].lo, bvh.nodes[n.first].hi), tr = enter(bvh.nodes[n.first + 1].lo, bvh.nodes[n.first + 1].hi);
+        const double tl = enter(first), tr = enter(first + 1);
         const bool leftFirst = tl <= tr;  // the nearer child on top of the stack
-        if ((leftFirst ? tr : tl) < best) stack[top++] = {leftFirst ? tr : tl, leftFirst ? n.first + 1 : n.first};
-        if ((leftFirst ? tl : tr) < best) stack[top++] = {leftFirst ? tl : tr, leftFirst ? n.first : n.first + 1};
+        if ((leftFirst ? tr : tl) < best) stack[top++] = {leftFirst ? tr : tl, leftFirst ? first + 1 : first};
+        if ((leftFirst ? tl : tr) < best) stack[top++] = {leftFirst ? tl : tr, leftFirst ? first : first + 1};
     }
     return found ? best : std::numeric_limits<double>::infinity();
 }

@@ -18,17 +18,25 @@
 namespace hlod {
 
 struct TriangleBvh {
-    struct Node {
-        float lo[3], hi[3];
-        uint32_t first, count;  // count > 0: a leaf of triangles [first, first + count); else children first, first + 1
+    // Nodes are numbered 0 (the root), 1 (unused), then children in pairs (even, even + 1), and
+    // stored by pairs, one 64-byte line each: both children's boxes are read and their distances
+    // computed together (SSE2 lanes), lane `node % 2` of pair `node / 2`.
+    struct alignas(64) Pair {
+        float lo[3][2], hi[3][2];  // per axis, per lane
+        uint32_t first[2], count[2];  // count > 0: a leaf of triangles [first, first + count); else children first, first + 1
     };
-    std::vector<double> corners;  // 9 per triangle, in leaf order
-    std::vector<float> boxes;     // 6 per triangle (low, high corner; rounded outwards), in leaf order
-    std::vector<uint32_t> input;  // per triangle in leaf order, its index in the input (`indices` / 3)
-    std::vector<Node> nodes;      // the root first, then children in pairs (odd, odd + 1)
-    std::vector<uint32_t> parent; // per node (the root's: 0)
+    // A triangle's box and corners in one 64-byte line (the leaves' tests read both). Its corners
+    // are the input's floats, so the box of the floats is exact.
+    struct alignas(64) Triangle {
+        float lo[3], hi[3];
+        float corners[9];  // a, b, c
+    };
+    std::vector<Triangle> triangles;  // in leaf order
+    std::vector<uint32_t> input;      // per triangle in leaf order, its index in the input (`indices` / 3)
+    std::vector<Pair> pairs;      // pair 0: the root (lane 0); then the children of the nodes
+    std::vector<uint32_t> parent; // per pair, its nodes' parent (pair 0's: 0)
     std::vector<uint32_t> leaf;   // per triangle in leaf order, its leaf node
-    bool empty() const { return corners.empty(); }
+    bool empty() const { return triangles.empty(); }
 };
 
 // `positions` 3 per vertex, `indices` 3 per triangle; zero-area triangles are left out.

@@ -49,7 +49,7 @@ TEST(ClosestPoint, LeafTrianglesKeepTheirInputIndex) {
     for (uint32_t i = 0; i < 40; ++i) EXPECT_EQ(seen[i], i < 6 ? i : i + 1);
     for (uint32_t leaf = 0; leaf < 40; ++leaf)
         for (int k = 0; k < 9; ++k)
-            EXPECT_EQ(bvh.corners[9 * leaf + k], s.positions[3 * s.indices[3 * bvh.input[leaf] + k / 3] + k % 3]);
+            EXPECT_EQ(bvh.triangles[leaf].corners[k], s.positions[3 * s.indices[3 * bvh.input[leaf] + k / 3] + k % 3]);
 }
 
 TEST(ClosestPoint, RayHitsAndMisses) {
