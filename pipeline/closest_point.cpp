@@ -6,13 +6,13 @@
 #include "pipeline/closest_point.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 #include <limits>
-#include <numeric>
 #include <queue>
 
 namespace hlod {
@@ -301,17 +301,15 @@ double firstHit(const TriangleBvh& bvh, const double origin[3], const double dir
     return found ? best : std::numeric_limits<double>::infinity();
 }
 
-double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points, double& sum) {
-    const uint32_t n = static_cast<uint32_t>(points.size() / 3);
+double largestDistance(const TriangleBvh& bvh, std::vector<std::array<double, 3>>& points, double& sum) {
+    const uint32_t n = static_cast<uint32_t>(points.size());
     if (n == 0 || bvh.empty()) return 0;
-    std::vector<uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
     uint32_t hint = 0;
     double worst = 0;
-    auto distance = [&](const double p[3]) { return std::sqrt(squaredDistance(bvh, p, hint)); };
+    auto distance = [&](const std::array<double, 3>& p) { return std::sqrt(squaredDistance(bvh, p.data(), hint)); };
     struct Group {
         double bound, d, r;  // d < 0: the representative not queried yet (bound: the parent's)
-        const double* rep;
+        uint32_t rep;        // in `points`, whose range [lo, hi) is reordered only when the group is split
         uint32_t lo, hi;
         int axis;
         bool operator<(const Group& o) const { return bound < o.bound; }
@@ -320,7 +318,7 @@ double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points
     auto add = [&](uint32_t lo, uint32_t hi, double parentBound) {
         if (hi - lo <= kLeafPoints) {
             for (uint32_t i = lo; i < hi; ++i) {
-                const double d = distance(&points[3 * size_t(order[i])]);
+                const double d = distance(points[i]);
                 worst = std::max(worst, d), sum += d;
             }
             return;
@@ -328,17 +326,14 @@ double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points
         double lo3[3], hi3[3];
         for (int k = 0; k < 3; ++k) lo3[k] = std::numeric_limits<double>::max(), hi3[k] = -lo3[k];
         for (uint32_t i = lo; i < hi; ++i)
-            for (int k = 0; k < 3; ++k) {
-                const double x = points[3 * size_t(order[i]) + k];
-                lo3[k] = std::min(lo3[k], x), hi3[k] = std::max(hi3[k], x);
-            }
+            for (int k = 0; k < 3; ++k) lo3[k] = std::min(lo3[k], points[i][k]), hi3[k] = std::max(hi3[k], points[i][k]);
         // The group's representative: its point nearest the centre of its box, within r of all.
         const double c[3] = {0.5 * (lo3[0] + hi3[0]), 0.5 * (lo3[1] + hi3[1]), 0.5 * (lo3[2] + hi3[2])};
-        const double* rep = nullptr;
+        uint32_t rep = lo;
         double repOff = std::numeric_limits<double>::infinity();
         for (uint32_t i = lo; i < hi; ++i) {
-            const double* q = &points[3 * size_t(order[i])];
-            if (const double off = sq(q[0] - c[0]) + sq(q[1] - c[1]) + sq(q[2] - c[2]); off < repOff) repOff = off, rep = q;
+            const std::array<double, 3>& q = points[i];
+            if (const double off = sq(q[0] - c[0]) + sq(q[1] - c[1]) + sq(q[2] - c[2]); off < repOff) repOff = off, rep = i;
         }
         const double r = std::sqrt(repOff) + 0.5 * std::sqrt(sq(hi3[0] - lo3[0]) + sq(hi3[1] - lo3[1]) + sq(hi3[2] - lo3[2]));
         int axis = 0;
@@ -348,7 +343,7 @@ double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points
         // > r >= worst): its representative is queried only if that changes (fine levels, whose
         // distances are below the sample spacing, skip most of these queries).
         if (r >= worst) return queue.push({parentBound, -1, r, rep, lo, hi, axis});
-        const double d = distance(rep);
+        const double d = distance(points[rep]);
         worst = std::max(worst, d);
         queue.push({std::min(parentBound, d + r), d, r, rep, lo, hi, axis});
     };
@@ -358,7 +353,7 @@ double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points
         queue.pop();
         if (g.bound <= worst || (g.d < 0 && g.r < worst)) {
             if (g.d < 0) {
-                g.d = distance(g.rep);
+                g.d = distance(points[g.rep]);
                 worst = std::max(worst, g.d);
                 g.bound = std::min(g.bound, g.d + g.r);
             }
@@ -370,8 +365,9 @@ double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points
             continue;
         }
         const uint32_t mid = g.lo + (g.hi - g.lo) / 2;
-        std::nth_element(order.begin() + g.lo, order.begin() + mid, order.begin() + g.hi,
-                         [&](uint32_t a, uint32_t b) { return points[3 * size_t(a) + g.axis] < points[3 * size_t(b) + g.axis]; });
+        const int axis = g.axis;
+        std::nth_element(points.begin() + g.lo, points.begin() + mid, points.begin() + g.hi,
+                         [axis](const std::array<double, 3>& a, const std::array<double, 3>& b) { return a[axis] < b[axis]; });
         add(g.lo, mid, g.bound), add(mid, g.hi, g.bound);
     }
     return worst;

@@ -12,6 +12,7 @@
 // (bake.cpp; pipeline/TEXTURE_SPEED.md, round 3).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -55,14 +56,15 @@ double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint
 double firstHit(const TriangleBvh& bvh, const double origin[3], const double direction[3], double maxT, const double facing[3],
                 uint32_t& hit);
 
-// Exact largest distance from the points (3 doubles each) to the triangles, by best-first branch
+// Exact largest distance from the points to the triangles, by best-first branch
 // and bound over a k-d split of the points: the distance to a surface is 1-Lipschitz, so a group
 // whose centre lies at d from the surface and whose points lie within r of that centre holds no
 // point farther than d + r, and is not queried point by point once d + r <= the largest distance
 // found (the centre: the group's point nearest the middle of its box; a group wider than that
 // distance is split without querying its centre, its own bound could not prune it). `sum`
 // receives the summed distance, exact for the queried points and count x d for a pruned group
-// (each term within r of the exact one).
-double largestDistance(const TriangleBvh& bvh, const std::vector<double>& points, double& sum);
+// (each term within r of the exact one). The points are reordered (the k-d split partitions them
+// in place: no index array, and each group's points lie together in memory).
+double largestDistance(const TriangleBvh& bvh, std::vector<std::array<double, 3>>& points, double& sum);
 
 }  // namespace hlod

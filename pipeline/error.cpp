@@ -16,6 +16,7 @@
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace hlod {
@@ -41,12 +42,12 @@ bool degenerate(const double a[3], const double b[3], const double c[3]) {
 // The sample points of `from`: its vertices once each and, per non-degenerate triangle, a
 // barycentric grid of n x n cells other than the corners (n >= minCells; n >= 2 puts the edge
 // midpoints among them), n the longest edge / spacing, plus the centroid.
-std::vector<double> samples(const std::vector<SubMesh>& from, double spacing, int minCells) {
-    std::vector<double> points;
-    auto add = [&](double x, double y, double z) { points.insert(points.end(), {x, y, z}); };
+std::vector<std::array<double, 3>> samples(const std::vector<SubMesh>& from, double spacing, int minCells) {
+    std::vector<std::array<double, 3>> points;
+    auto add = [&](double x, double y, double z) { points.push_back({x, y, z}); };
     for (const SubMesh& part : from) {
         const MeshData& m = part.mesh;
-        points.insert(points.end(), m.positions.begin(), m.positions.end());
+        for (size_t i = 0; i + 2 < m.positions.size(); i += 3) add(m.positions[i], m.positions[i + 1], m.positions[i + 2]);
         for (size_t t = 0; t < m.triangleCount(); ++t) {
             double v[3][3];
             for (int j = 0; j < 3; ++j)
@@ -72,15 +73,18 @@ std::vector<double> samples(const std::vector<SubMesh>& from, double spacing, in
 double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original) {
     const TriangleBvh bvh = bvhOf(original);
     if (bvh.empty()) return 0;
-    std::vector<double> points;  // edge midpoints and centroids
+    std::vector<std::array<double, 3>> points;  // edge midpoints and centroids
     for (const SubMesh& part : simplified) {
         const MeshData& m = part.mesh;
         for (size_t t = 0; t < m.triangleCount(); ++t) {
             const float* v[3];
             for (int j = 0; j < 3; ++j) v[j] = &m.positions[3 * size_t(m.indices[3 * t + j])];
-            for (int j = 0; j < 3; ++j)
-                for (int k = 0; k < 3; ++k) points.push_back(0.5 * (double(v[j][k]) + v[(j + 1) % 3][k]));
-            for (int k = 0; k < 3; ++k) points.push_back((double(v[0][k]) + v[1][k] + v[2][k]) / 3);
+            for (int j = 0; j < 3; ++j) {
+                std::array<double, 3>& mid = points.emplace_back();
+                for (int k = 0; k < 3; ++k) mid[k] = 0.5 * (double(v[j][k]) + v[(j + 1) % 3][k]);
+            }
+            std::array<double, 3>& centroid = points.emplace_back();
+            for (int k = 0; k < 3; ++k) centroid[k] = (double(v[0][k]) + v[1][k] + v[2][k]) / 3;
         }
     }
     double sum = 0;
@@ -95,8 +99,8 @@ SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vec
     double sum = 0;
     // The simplified side's triangles are few and large (edge midpoints always); the original's
     // many and small, mostly sampled by their vertices and centroids alone.
-    std::vector<double> fromSimplified = samples(simplified, spacing, 2), fromOriginal = samples(original, spacing, 1);
-    const double count = double(fromSimplified.size() / 3 + fromOriginal.size() / 3);
+    std::vector<std::array<double, 3>> fromSimplified = samples(simplified, spacing, 2), fromOriginal = samples(original, spacing, 1);
+    const double count = double(fromSimplified.size() + fromOriginal.size());
     e.oneSided = largestDistance(b, fromSimplified, sum);
     e.max = std::max(e.oneSided, largestDistance(a, fromOriginal, sum));
     e.mean = count > 0 ? sum / count : 0;

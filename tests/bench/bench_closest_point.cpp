@@ -18,6 +18,7 @@
 #include <xxhash.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -90,7 +91,9 @@ int main(int argc, char** argv) {
                 XXH3_64bits_reset(hash);
                 if (largest) {
                     double sum = 0;
-                    const double worst = hlod::largestDistance(bvh, points, sum);
+                    std::vector<std::array<double, 3>> reordered(count);  // largestDistance reorders them
+                    for (size_t q = 0; q < count; ++q) std::copy_n(&points[3 * q], 3, reordered[q].begin());
+                    const double worst = hlod::largestDistance(bvh, reordered, sum);
                     XXH3_64bits_update(hash, &worst, sizeof worst), XXH3_64bits_update(hash, &sum, sizeof sum);
                 } else {
                     uint32_t hint = ~0u;
