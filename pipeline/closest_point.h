@@ -9,7 +9,7 @@
 // Ize 2013's margin, "Robust BVH ray traversal" §3, so rounding never culls a box the ray meets). It replaced CGAL's AABB tree in the geometric
 // error (error.cpp; pipeline/BUILD_SPEED.md has the measurements: the same exact distances, ~10 x
 // cheaper per query on the node-sized meshes the build queries) and in the texture baker
-// (bake.cpp; pipeline/TEXTURE_SPEED.md, round 3).
+// (bake.cpp; pipeline/TEXTURE_SPEED.md, round 3). Its memory layout: pipeline/CLOSEST_POINT.md.
 #pragma once
 
 #include <array>

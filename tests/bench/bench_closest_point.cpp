@@ -1,6 +1,6 @@
 // The closest-point queries' cost (pipeline/closest_point.h squaredDistance and largestDistance:
 // the geometric error's and the texture baker's queries, issue #14's speed goals,
-// pipeline/BUILD_SPEED.md "Closest-point queries"). On a mesh of yours (PLY, OBJ or glTF), for
+// pipeline/CLOSEST_POINT.md). On a mesh of yours (PLY, OBJ or glTF), for
 // hierarchies of its first 1/64, 1/8 and all triangles:
 // - `hinted`: one query per triangle, at its centroid moved off the surface by up to 1/2 of its
 //   longest edge (a fixed pseudo-random sequence), in the mesh's order, each seeded by the previous
