@@ -98,13 +98,14 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
     corners.reserve(3 * indices.size());  // 9 per triangle: growing by doubling could hold twice that
     std::vector<uint32_t> input;          // per kept triangle, its index in the input
     for (size_t t = 0; t + 2 < indices.size(); t += 3) {
-        double v[9];
+        float f[9];  // the corners as given; their area in doubles
         for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k) v[3 * j + k] = positions[3 * size_t(indices[t + j]) + k];
+            for (int k = 0; k < 3; ++k) f[3 * j + k] = positions[3 * size_t(indices[t + j]) + k];
+        const double v[9] = {f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8]};
         const double u[3] = {v[3] - v[0], v[4] - v[1], v[5] - v[2]}, w[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
         const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
         if (n[0] == 0 && n[1] == 0 && n[2] == 0) continue;  // zero area
-        corners.insert(corners.end(), v, v + 9);
+        corners.insert(corners.end(), f, f + 9);
         input.push_back(static_cast<uint32_t>(t / 3));
     }
     const uint32_t count = static_cast<uint32_t>(corners.size() / 9);
