@@ -95,9 +95,10 @@ int main(int argc, char** argv) {
     for (const size_t share : {64u, 8u, 1u}) {
         const std::vector<uint32_t> indices(mesh.indices.begin(), mesh.indices.begin() + 3 * (mesh.triangleCount() / share));
         const hlod::TriangleBvh bvh = hlod::buildTriangleBvh(mesh.positions, indices);
+        const std::vector<double> centroids = queryPoints(mesh.positions, indices, false), grid = queryPoints(mesh.positions, indices, true);
         for (const char* pattern : {"hinted", "largest", "near"}) {
             const bool largest = std::strcmp(pattern, "largest") == 0;
-            const std::vector<double> points = queryPoints(mesh.positions, indices, std::strcmp(pattern, "near") == 0);
+            const std::vector<double>& points = std::strcmp(pattern, "near") == 0 ? grid : centroids;  // `largest` queries the `hinted` points
             const size_t count = points.size() / 3;
             double best = 1e30;
             uint64_t checksum = 0;
