@@ -123,6 +123,8 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         enforceTextures(raw.stats.textureProblems, options);
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
         in.positionStep = gridPositionStep(raw.bounds, grid, options.draco.positionBits);
+        const double step = options.draco.positionStep > 0 ? options.draco.positionStep : in.positionStep;
+        if (std::string w = floatPrecisionWarning(input, raw.bounds, step); !w.empty()) raw.stats.warnings.push_back(std::move(w));
         in.grid = grid, in.bounds = raw.bounds;
         if (raw.positions.spilled()) fixMmapThreshold();  // arrays held, then freed: the threshold rose
         progress.beginStage("split", raw.triangles.size());
@@ -166,6 +168,8 @@ SplitInputs findBlocks(const std::string& input, const BuildOptions& options, co
                                      options.blockSize);
     in.positionStep = gridPositionStep(pieceBounds(source.piece.mesh), grid, options.draco.positionBits);
     in.grid = grid, in.bounds = pieceBounds(source.piece.mesh);
+    const double step = options.draco.positionStep > 0 ? options.draco.positionStep : in.positionStep;
+    if (const std::string w = floatPrecisionWarning(input, in.bounds, step); !w.empty()) progress.message("warning: " + w);
     std::vector<Piece> cells = splitByGrid(source.piece, grid);
     source.piece = {};
     for (size_t c = 0; c < cells.size(); ++c) {
@@ -215,6 +219,10 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
         if (!read.imageDir.empty()) read.imageDir = (fs::path(read.imageDir) / std::to_string(index)).string();
         mesh = readMesh(source.file, read);
         enforceTextures(mesh.stats.textureProblems, options);
+        const Box3f bounds = pieceBounds(mesh.piece.mesh);  // the block's lattice, as buildBlock fixes it
+        const double step =
+            options.draco.positionStep > 0 ? options.draco.positionStep : positionLatticeStep(bounds, options.draco.positionBits);
+        if (std::string w = floatPrecisionWarning(source.file, bounds, step); !w.empty()) mesh.stats.warnings.push_back(std::move(w));
     }
     const uint64_t workingSet = blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh), options.constants.desiredTris);
     const GateTicket ticket(gate, workingSet);

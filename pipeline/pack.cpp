@@ -11,6 +11,10 @@
 
 #include "formats/metrics.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
 namespace hlod {
 
 double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits) {
@@ -19,6 +23,23 @@ double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionB
     axis(cell.max, grid.axisU) = axis(cell.min, grid.axisU) + grid.sizeU;
     axis(cell.max, grid.axisV) = axis(cell.min, grid.axisV) + grid.sizeV;
     return positionLatticeStep(cell, positionBits);
+}
+
+std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds, double positionStep) {
+    const double lo[3] = {bounds.min.x, bounds.min.y, bounds.min.z}, hi[3] = {bounds.max.x, bounds.max.y, bounds.max.z};
+    double far = 0;
+    for (int k = 0; k < 3; ++k) far = std::max({far, std::abs(lo[k]), std::abs(hi[k])});
+    if (!(positionStep > 0) || !(far > 0) || !std::isfinite(far)) return "";
+    const double floatStep = std::ldexp(1.0, std::ilogb(far) - 23);  // binary32: 24-bit significand
+    if (floatStep <= positionStep) return "";
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "%s: coordinates reach %.6g units from the origin, where positions (32-bit floats) step by %g, coarser than "
+                  "the position lattice step %g: detail finer than %g is lost; translate the model near the origin before "
+                  "building, e.g. by (%.0f, %.0f, %.0f)",
+                  input.c_str(), far, floatStep, positionStep, floatStep, 0.0 - std::round((lo[0] + hi[0]) / 2),
+                  0.0 - std::round((lo[1] + hi[1]) / 2), 0.0 - std::round((lo[2] + hi[2]) / 2));  // 0.0 -: no "-0"
+    return text;
 }
 
 NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const std::vector<JpegSettings>& jpeg,

@@ -426,6 +426,11 @@ void checkBottomUpError(const BuildOptions& options);  // the check of buildBloc
 // one cell, sizeU x sizeV x the third axis), for BuildOptions::draco.positionStep: one lattice
 // for the whole database, so that neighbouring blocks share their borders exactly.
 double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits);
+// floatPrecisionWarning: "" unless 32-bit float positions (MeshData, as every reader stores them)
+// step more coarsely at the largest coordinate of `bounds` than the position lattice `positionStep`
+// (far from the origin, e.g. a scan in UTM metres), in which case the warning names `input`, the
+// spacing lost, and a translation near the origin to apply before building.
+std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds, double positionStep);
 // `jpeg`: per part, the JPEG quality and chroma of its texture (BlockTextures::jpegQuality, chroma420).
 struct JpegSettings {
     int quality = 85;

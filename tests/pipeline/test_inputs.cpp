@@ -251,6 +251,44 @@ std::vector<std::string> linesOf(const std::string& s) {
     return lines;
 }
 
+// Far from the origin (a scan in UTM metres), 32-bit float positions step more coarsely than the
+// position lattice and detail below that step is lost at the read: the build warns, once per
+// input (a folder's block file by name), with a translation near the origin, and still builds.
+// The same mesh near the origin does not warn.
+TEST(Inputs, FarFromTheOriginWarnsWithATranslation) {
+    TempDir dir;
+    Piece far = terrain(20);  // 100 units: 14-bit lattice step 2^-8, floats at 2^22 step 2^-1
+    for (size_t v = 0; v < far.mesh.vertexCount(); ++v) far.mesh.positions[3 * v] += 4194304, far.mesh.positions[3 * v + 1] += 512;
+    writePly(dir.file("near.ply"), terrain(20).mesh, true);
+    writePly(dir.file("far.ply"), far.mesh, true);
+    std::filesystem::create_directories(dir.file("blocks"));
+    writePly(dir.file("blocks/a.ply"), far.mesh, true);
+    const std::string warned = ": coordinates reach 4.1944e+06 units from the origin, where positions (32-bit floats) step by 0.5";
+    for (const std::string input : {"far.ply", "blocks"}) {
+        const RunResult r = runHlod({"build", dir.file(input), "-o", dir.file(input + ".hlod")});
+        ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+        const std::string named = input == "far.ply" ? dir.file("far.ply") : dir.file("blocks/a.ply");
+        const size_t at = r.outAndErr().find("warning: " + named + warned);
+        EXPECT_NE(at, std::string::npos) << r.outAndErr();
+        EXPECT_EQ(r.outAndErr().find("from the origin", at + named.size() + warned.size()), std::string::npos) << r.outAndErr();  // once
+        EXPECT_NE(r.outAndErr().find("e.g. by (-4194354, -562, 0)"), std::string::npos) << r.outAndErr();
+    }
+    const RunResult r = runHlod({"build", dir.file("near.ply"), "-o", dir.file("near.hlod")});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_EQ(r.outAndErr().find("from the origin"), std::string::npos) << r.outAndErr();
+}
+
+// The threshold is the lattice step itself: floats stepping by exactly the step do not warn.
+TEST(Inputs, FloatPrecisionWarningThresholdIsTheLatticeStep) {
+    const Box3f box{{0, 0, 0}, {4194304, 1, 1}};  // floats step by 0.5 from 2^22
+    EXPECT_EQ(floatPrecisionWarning("m", box, 0.5), "");
+    EXPECT_NE(floatPrecisionWarning("m", box, 0.25), "");
+    EXPECT_EQ(floatPrecisionWarning("m", Box3f{{-1, -1, -1}, {1, 1, 1}}, 1e-6), "");  // floats step by 2^-23 at 1
+    EXPECT_NE(floatPrecisionWarning("m", Box3f{{-4194304, 0, 0}, {0, 1, 1}}, 0.25), "");  // negative coordinates too
+    EXPECT_EQ(floatPrecisionWarning("m", Box3f{{0, 0, 0}, {0, 0, 0}}, 0.25), "");
+    EXPECT_EQ(floatPrecisionWarning("m", box, 0), "");
+}
+
 TEST(Progress, APipeGetsALineEveryIntervalAndNoEtaBeforeARate) {
     std::ostringstream out;
     FakeClock clock;
