@@ -1,6 +1,7 @@
 // glTF 2.0 / GLB input through tinygltf (pipeline/tiny_gltf_config.h; Draco-compressed
 // primitives are decoded by tinygltf): the default scene's node tree with its transforms
-// flattened into one mesh; TRIANGLES primitives; POSITION, TEXCOORD_0, NORMAL (transformed by
+// flattened into one mesh; TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives (points and
+// lines are skipped, with a warning); POSITION, TEXCOORD_0, NORMAL (transformed by
 // the inverse transpose, normalised) and COLOR_0 (RGB or RGBA, float or normalised integers, to
 // 8 bits) as the PLY reader reads them: an attribute is kept when every primitive has it.
 // Mirroring transforms reverse the winding back. The file is memory-mapped, not copied, and
@@ -233,7 +234,26 @@ void addColors(Context& cx, int index, size_t count) {
     }
 }
 
-bool isTriangles(const tinygltf::Primitive& prim) { return prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1; }
+bool isTriangles(const tinygltf::Primitive& prim) {
+    return prim.mode == -1 || prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+           prim.mode == TINYGLTF_MODE_TRIANGLE_FAN;
+}
+
+// A primitive's vertex sequence as a triangle list (glTF 2.0 §3.7.2.1, "Topology types"): a
+// TRIANGLE_STRIP's triangle i is {v_i, v_(i + 1 + i % 2), v_(i + 2 - i % 2)}, a TRIANGLE_FAN's
+// {v_(i + 1), v_(i + 2), v_0}. A strip's triangles that repeat a vertex are left out: they join
+// one strip to the next and have no area (a list's or a fan's are the input's, for the build to
+// count as degenerate).
+std::vector<uint32_t> triangleList(int mode, std::vector<uint32_t> v) {
+    if (mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) return v;
+    std::vector<uint32_t> list;
+    for (size_t i = 0; i + 2 < v.size(); ++i) {
+        const bool strip = mode == TINYGLTF_MODE_TRIANGLE_STRIP;
+        const uint32_t t[3] = {strip ? v[i] : v[i + 1], strip ? v[i + 1 + i % 2] : v[i + 2], strip ? v[i + 2 - i % 2] : v[0]};
+        if (!strip || (t[0] != t[1] && t[1] != t[2] && t[0] != t[2])) list.insert(list.end(), t, t + 3);
+    }
+    return list;
+}
 
 int attributeOf(const tinygltf::Primitive& prim, const char* name) {
     const auto it = prim.attributes.find(name);
@@ -280,6 +300,7 @@ void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m,
     std::vector<uint32_t> indices = prim.indices >= 0 ? readIndices(cx, prim.indices) : std::vector<uint32_t>(count);
     if (prim.indices < 0)
         for (size_t i = 0; i < count; ++i) indices[i] = static_cast<uint32_t>(i);
+    indices = triangleList(prim.mode, std::move(indices));
     const uint32_t material = prim.material >= 0 && static_cast<size_t>(prim.material) < cx.materialOfGltf.size()
                                   ? cx.materialOfGltf[static_cast<size_t>(prim.material)]
                                   : static_cast<uint32_t>(raw.materials.size() - 1);

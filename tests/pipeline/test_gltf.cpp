@@ -27,13 +27,6 @@ std::string errorOf(const std::function<void()>& f) {
     return "";
 }
 
-template <class T>
-int addData(tinygltf::Model& model, const std::vector<T>& values, int componentType, int type, int components,
-            bool normalized = false) {
-    const int view = addView(model, values.data(), values.size() * sizeof(T));
-    return addAccessor(model, view, componentType, type, values.size() / static_cast<size_t>(components), normalized);
-}
-
 // terrain(4) with unit normals and RGBA colours that differ per vertex.
 MeshData sample() {
     MeshData m = terrain(4).mesh;

@@ -26,6 +26,14 @@ inline int addAccessor(tinygltf::Model& model, int view, int componentType, int 
     return static_cast<int>(model.accessors.size()) - 1;
 }
 
+// `values` as a new buffer view and an accessor of `components`-element `type` over it; returns the accessor.
+template <class T>
+int addData(tinygltf::Model& model, const std::vector<T>& values, int componentType, int type, int components,
+            bool normalized = false) {
+    const int view = addView(model, values.data(), values.size() * sizeof(T));
+    return addAccessor(model, view, componentType, type, values.size() / static_cast<size_t>(components), normalized);
+}
+
 // The default scene: one node instancing mesh 0.
 inline void singleNodeScene(tinygltf::Model& model) {
     model.nodes.resize(1);
