@@ -1,9 +1,14 @@
 // Skeleton serialisation (FORMAT.md §Skeleton, §Header) and the skeleton's tree queries.
-// Node links follow thesis §3.3 (first child / next sibling lists); cost is eq. 3.1.
+// Node links follow thesis §3.3 (first child / next sibling lists); cost is eq. 3.1. The META
+// keys readers interpret (up, offset).
 #include "formats/layout.h"
+#include "formats/offset.h"
 #include "formats/up_axis.h"
 
 #include <xxhash.h>
+
+#include <charconv>
+#include <cmath>
 
 namespace hlod {
 
@@ -120,6 +125,41 @@ UpAxis upAxisOf(const Skeleton& skeleton, const std::string& name) {
     if (!up) return {};
     if (*up != "y" && *up != "z") throw FormatError(name + ": META up '" + *up + "' is neither y nor z");
     return {*up == "y" ? 1 : 2, true};
+}
+
+std::string offsetText(const Offset& offset) {
+    std::string text;
+    for (size_t k = 0; k < 3; ++k) {
+        char digits[32];
+        const auto [end, ec] = std::to_chars(digits, digits + sizeof digits, offset[k]);
+        if (k) text += ',';
+        text.append(digits, ec == std::errc() ? end : digits);
+    }
+    return text;
+}
+
+Offset parseOffset(const std::string& text, const std::string& option) {
+    Offset offset{};
+    const char* p = text.data();
+    const char* const end = text.data() + text.size();
+    for (size_t k = 0; k < 3; ++k) {
+        const auto [next, ec] = std::from_chars(p, end, offset[k]);
+        const bool separated = k < 2 ? next < end && *next == ',' : next == end;
+        if (ec != std::errc() || !std::isfinite(offset[k]) || !separated)
+            throw std::invalid_argument(option + " '" + text + "': expected X,Y,Z (three finite numbers)");
+        p = next + 1;
+    }
+    return offset;
+}
+
+std::optional<Offset> offsetOf(const Skeleton& skeleton, const std::string& name) {
+    const std::string* text = skeleton.findMeta("offset");
+    if (!text) return std::nullopt;
+    try {
+        return parseOffset(*text, "META offset");
+    } catch (const std::invalid_argument& e) {
+        throw FormatError(name + ": " + e.what());
+    }
 }
 
 int parseUpAxis(const std::string& text, const std::string& option) {

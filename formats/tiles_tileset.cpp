@@ -10,6 +10,9 @@
 // local frame as east-north-up at a WGS84 point through the root's transform. A y-up database
 // (META "up", a glTF input) keeps its boxes and GLBs in its own frame and gets a root transform
 // that turns its y up into the tileset's z up, (x, y, z) -> (x, -z, y), before any placement.
+// A database built with --offset (META "offset") records it in the tileset's extras, beside the
+// frame: --origin places the database's frame, whose zero is the input's offset point.
+#include "formats/offset.h"
 #include "formats/tiles_detail.h"
 #include "formats/up_axis.h"
 
@@ -143,6 +146,7 @@ nlohmann::json tilesetJson(const Skeleton& s, const std::vector<std::optional<Bo
                            "(hlod export tiles --origin LAT,LON,HEIGHT places it)"}};
     }
     frame["up"] = yUp ? "y" : "z";
+    if (const std::optional<Offset> offset = offsetOf(s, name)) frame["offset"] = *offset;  // + the database's = the input's coordinates
     return {{"asset", {{"version", "1.1"}, {"generator", "hlod export tiles"}, {"extras", {{"hlod", frame}}}}},
             {"geometricError", rootError},
             {"root", std::move(root)}};

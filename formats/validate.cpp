@@ -7,10 +7,13 @@
 
 #include "formats/codec.h"
 #include "formats/layout.h"
+#include "formats/offset.h"
+#include "formats/up_axis.h"
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 namespace hlod {
@@ -195,6 +198,16 @@ std::vector<Violation> validate(const Database& db, const ValidateOptions& o) {
             }
         }
     }
+    const auto readable = [&](const std::function<void()>& read) {  // a META value its readers refuse
+        try {
+            read();
+        } catch (const FormatError& e) {
+            const std::string what = e.what();  // "META: META KEY ..."
+            r.add(kNone, what.substr(what.find(": ") + 2));
+        }
+    };
+    readable([&] { upAxisOf(s, "META"); });
+    readable([&] { offsetOf(s, "META"); });
     checkLinks(s, r);
     for (const Node& nd : s.nodes) {
         checkNode(s, nd, o, cTextured, r);

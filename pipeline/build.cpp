@@ -9,6 +9,7 @@
 #include "pipeline/split_work.h"
 #include "pipeline/tbb_sync.h"
 
+#include "formats/offset.h"
 #include "formats/temp_files.h"
 #include "formats/up_axis.h"
 
@@ -308,6 +309,8 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
                " --jpeg-quality " + std::to_string(o.jpegQuality) + " --jpeg-chroma " + jpegChromaName(o.jpegChroma);
     if (o.draco.positionStep > 0) command += " --draco-position-step " + std::to_string(o.draco.positionStep);
     if (!o.up.empty()) command += " --up " + o.up;
+    const bool offset = o.read.offset != Offset{};
+    if (offset) command += " --offset " + offsetText(o.read.offset);
     if (o.mode == BuildMode::BottomUp) command += " --mode bottom-up";  // absent: top-down, as before the option
     if (o.mode == BuildMode::BottomUp && o.bottomUpError != BottomUpError::Bound)  // absent: bound, as before the option
         command += std::string(" --bottom-up-error ") + bottomUpErrorName(o.bottomUpError);
@@ -329,6 +332,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     meta.emplace_back("jpeg.quality", std::to_string(o.jpegQuality));
     meta.emplace_back("jpeg.chroma", jpegChromaName(o.jpegChroma));
     if (!o.up.empty()) meta.emplace_back("up", o.up);
+    if (offset) meta.emplace_back("offset", offsetText(o.read.offset));  // absent: nothing subtracted, as before the option
     return meta;
 }
 

@@ -32,14 +32,14 @@ std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds,
     if (!(positionStep > 0) || !(far > 0) || !std::isfinite(far)) return "";
     const double floatStep = std::ldexp(1.0, std::ilogb(far) - 23);  // binary32: 24-bit significand
     if (floatStep <= positionStep) return "";
-    char text[512];
-    std::snprintf(text, sizeof text,
+    std::vector<char> text(input.size() + 400);
+    std::snprintf(text.data(), text.size(),
                   "%s: coordinates reach %.6g units from the origin, where positions (32-bit floats) step by %g, coarser than "
-                  "the position lattice step %g: detail finer than %g is lost; translate the model near the origin before "
-                  "building, e.g. by (%.0f, %.0f, %.0f)",
-                  input.c_str(), far, floatStep, positionStep, floatStep, 0.0 - std::round((lo[0] + hi[0]) / 2),
-                  0.0 - std::round((lo[1] + hi[1]) / 2), 0.0 - std::round((lo[2] + hi[2]) / 2));  // 0.0 -: no "-0"
-    return text;
+                  "the position lattice step %g: detail finer than %g is lost; build with --offset %.0f,%.0f,%.0f (the "
+                  "centre of its bounds, rounded) to keep it",
+                  input.c_str(), far, floatStep, positionStep, floatStep, 0.0 + std::round((lo[0] + hi[0]) / 2),
+                  0.0 + std::round((lo[1] + hi[1]) / 2), 0.0 + std::round((lo[2] + hi[2]) / 2));  // 0.0 +: no "-0"
+    return text.data();
 }
 
 NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>& textures, const std::vector<JpegSettings>& jpeg,

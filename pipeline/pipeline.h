@@ -14,6 +14,7 @@
 #include "pipeline/spill_array.h"
 #include "pipeline/tree_rules.h"
 
+#include <array>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
@@ -87,11 +88,13 @@ struct RawMesh {
     Progress* progress = nullptr;  // advanced by the bytes read
     uint64_t spillBudget = UINT64_MAX;  // spillBeyond
     std::string spillDir;
+    std::array<double, 3> offset{};  // subtracted from every position before it becomes a float
 
     void spillTo(const std::string& dir);  // keep the arrays in files under dir (before parsing, or midway)
     // Keep the arrays in memory while they touch at most `budget` bytes (capacity ≤ budget/2), then in files under dir.
     void spillBeyond(uint64_t budget, const std::string& dir) { spillBudget = budget, spillDir = dir; }
-    void addPosition(const float p[3], const std::string& name);
+    // p minus `offset`, computed in double, then stored as floats (ReadOptions::offset).
+    void addPosition(const double p[3], const std::string& name);
     void addTriangle(const RawTriangle& t);
     void addTexcoord(float u, float v, const std::string& name);
     void addNormal(const float n[3], const std::string& name);
@@ -107,6 +110,10 @@ struct ReadOptions {
     // materials' texture paths (a GLB's are taken out of its BIN chunk first); empty: decoded into
     // Material::image. `hlod build` sets it to a folder in its temporary folder.
     std::string imageDir;
+    // Subtracted from every input position in double precision before it is stored as a float
+    // (`hlod build --offset`): a model far from the origin keeps its detail (README "Far from the
+    // origin"); the database records it as META `offset`.
+    std::array<double, 3> offset{};
 };
 void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
 void parseObj(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
@@ -429,7 +436,7 @@ double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionB
 // floatPrecisionWarning: "" unless 32-bit float positions (MeshData, as every reader stores them)
 // step more coarsely at the largest coordinate of `bounds` than the position lattice `positionStep`
 // (far from the origin, e.g. a scan in UTM metres), in which case the warning names `input`, the
-// spacing lost, and a translation near the origin to apply before building.
+// spacing lost, and the --offset (ReadOptions::offset) that keeps it.
 std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds, double positionStep);
 // `jpeg`: per part, the JPEG quality and chroma of its texture (BlockTextures::jpegQuality, chroma420).
 struct JpegSettings {

@@ -113,7 +113,8 @@ void RawMesh::addTriangle(const RawTriangle& t) {
     spillWhenOver(*this);
 }
 
-void RawMesh::addPosition(const float p[3], const std::string& name) {
+void RawMesh::addPosition(const double q[3], const std::string& name) {
+    const float p[3] = {static_cast<float>(q[0] - offset[0]), static_cast<float>(q[1] - offset[1]), static_cast<float>(q[2] - offset[2])};
     checkFinite(p, 3, positionCount(), "coordinate", name);
     positions.push(p, 3);
     spillWhenOver(*this);

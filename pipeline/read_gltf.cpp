@@ -272,9 +272,8 @@ std::pair<uint32_t, size_t> addVertices(Context& cx, const tinygltf::Primitive& 
     RawMesh& raw = cx.raw;
     const uint32_t base = static_cast<uint32_t>(raw.positionCount());
     for (size_t i = 0; i < count; ++i) {
-        float p[3];
-        for (int r = 0; r < 3; ++r)
-            p[r] = static_cast<float>(m[r] * pos[3 * i] + m[4 + r] * pos[3 * i + 1] + m[8 + r] * pos[3 * i + 2] + m[12 + r]);
+        double p[3];
+        for (int r = 0; r < 3; ++r) p[r] = m[r] * pos[3 * i] + m[4 + r] * pos[3 * i + 1] + m[8 + r] * pos[3 * i + 2] + m[12 + r];
         raw.addPosition(p, cx.path);
     }
     if (cx.keepTexcoords) {
@@ -440,6 +439,7 @@ SourceMesh readGltf(const std::string& path, const ReadOptions& options) {
 
 SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const std::string& path, const ReadOptions& options) {
     RawMesh raw;
+    raw.offset = options.offset;
     EmbeddedImages images{options.imageDir, {}, {}};
     if (!images.dir.empty()) std::filesystem::create_directories(images.dir);
     convert(bytes.data(), bytes.size(), binary, path, options, raw, images);
@@ -448,6 +448,7 @@ SourceMesh readGltfBytes(const std::vector<uint8_t>& bytes, bool binary, const s
 }
 
 void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options) {
+    raw.offset = options.offset;
     EmbeddedImages images{options.imageDir, {}, {}};
     if (!images.dir.empty()) std::filesystem::create_directories(images.dir);
     {

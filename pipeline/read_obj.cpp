@@ -76,14 +76,15 @@ private:
                          " OBJ (" + what + ")");
     }
 
-    float number(Line& l, bool required, float fallback = 0) {
+    template <class T = float>
+    T number(Line& l, bool required, T fallback = 0) {
         const std::string_view t = token(l);
         if (t.empty()) {
             if (required) corrupt(l, "missing number");
             return fallback;
         }
         const char* begin = t.data() + (t.front() == '+' ? 1 : 0);
-        float v = 0;
+        T v = 0;
         const auto [end, ec] = std::from_chars(begin, t.data() + t.size(), v);
         if (ec != std::errc() || end != t.data() + t.size()) corrupt(l, "bad number '" + std::string(t) + "'");
         return v;
@@ -146,8 +147,10 @@ private:
     void line(Line l) {
         const std::string_view keyword = token(l);
         if (keyword == "v") {
-            const float x = number(l, true), y = number(l, true), z = number(l, true);
-            const float p[3] = {x, y, z};
+            // Parsed as floats when nothing is subtracted (the bytes of every earlier build), else as doubles.
+            const bool offset = raw_.offset != std::array<double, 3>{};
+            double p[3];
+            for (double& c : p) c = offset ? number<double>(l, true) : number(l, true);
             raw_.addPosition(p, path_);
         } else if (keyword == "vt") {
             const float u = number(l, true), v = number(l, false);
@@ -178,6 +181,7 @@ private:
 }  // namespace
 
 void parseObj(const std::string& path, RawMesh& raw, const ReadOptions& options) {
+    raw.offset = options.offset;
     ObjParser(path, raw, options).parse();
     raw.seal();
 }

@@ -214,8 +214,7 @@ void readVertices(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::st
             const double n = r.value(prop.countType);
             for (double k = 0; k < n; ++k) r.value(prop.type);
         }
-        const float position[3] = {static_cast<float>(values[pos[0]]), static_cast<float>(values[pos[1]]),
-                                   static_cast<float>(values[pos[2]])};
+        const double position[3] = {values[pos[0]], values[pos[1]], values[pos[2]]};
         raw.addPosition(position, name);
         if (raw.hasNormals) {
             const float normal[3] = {static_cast<float>(values[nrm[0]]), static_cast<float>(values[nrm[1]]),
@@ -277,6 +276,7 @@ void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options)
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!f) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
     const PlyHeader header = readHeader(f.get(), path);
+    raw.offset = options.offset;
     PlyReader reader(f.get(), header.format, path, raw.progress);
     bool haveVertices = false, haveFaces = false;
     for (const PlyElement& e : header.elements) {

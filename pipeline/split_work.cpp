@@ -3,6 +3,7 @@
 // materials and lattice a build from the input would, and writes the same bytes.
 #include "pipeline/split_work.h"
 
+#include "formats/offset.h"
 #include "formats/temp_files.h"
 
 #include <nlohmann/json.hpp>
@@ -133,7 +134,8 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
     Ordered manifest = {{"format", kSplitFormat}, {"tool", std::string("hlod ") + HLOD_VERSION}, {"input", input}};
     manifest["up"] = {{"axis", up.axis}, {"reason", up.reason}};
     manifest["options"] = {{"block_triangles", options.blockTriangles}, {"block_size", options.blockSize},
-                           {"up", options.up}, {"allow_outside_input", options.read.allowOutsideInput}};
+                           {"up", options.up}, {"allow_outside_input", options.read.allowOutsideInput},
+                           {"offset", options.read.offset}};
     manifest["grid"] = in.grid ? gridJson(*in.grid) : Ordered(nullptr);
     manifest["bounds"] = in.grid ? boxJson(in.bounds) : Ordered(nullptr);
     manifest["lattice"] = {{"position_bits", options.draco.positionBits}, {"position_step", in.positionStep}};
@@ -207,6 +209,7 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
         adopt(options.blockTriangles, o.at("block_triangles").get<uint64_t>(), "--block-triangles");
         adopt(options.blockSize, o.at("block_size").get<double>(), "--block-size");
         adopt(options.up, o.at("up").get<std::string>(), "--up");
+        adopt(options.read.offset, o.value("offset", Offset{}), "--offset");  // absent: a split before the option
         options.read.allowOutsideInput = options.read.allowOutsideInput || o.at("allow_outside_input").get<bool>();
         if (!j.at("grid").is_null()) w.inputs.grid = gridFrom(j["grid"]), w.inputs.bounds = boxFrom(j.at("bounds"));
         splitBits = j.at("lattice").at("position_bits");

@@ -8,6 +8,7 @@
 
 #include "formats/calibration.h"
 #include "formats/cli/huge_pages.h"
+#include "formats/offset.h"
 #include "pipeline/pipeline.h"
 
 #include <CLI/CLI.hpp>
@@ -131,6 +132,24 @@ void addProgressOptions(CLI::App* sub, ProgressOptions& progress) {
         ->check(CLI::PositiveNumber);
 }
 
+void addOffsetOption(CLI::App* sub, std::array<double, 3>& offset) {
+    const CLI::Validator xyz(
+        [](std::string& text) {
+            try {
+                parseOffset(text, "value");  // CLI11 names the option
+                return std::string();
+            } catch (const std::invalid_argument& e) {
+                return std::string(e.what());
+            }
+        },
+        "X,Y,Z");
+    sub->add_option_function<std::string>(
+           "--offset", [&offset](const std::string& text) { offset = parseOffset(text, "--offset"); },
+           "subtracted from every input position before it is stored as a 32-bit float, recorded in the database "
+           "(META offset): for a model far from the origin, e.g. a scan in UTM metres (README \"Far from the origin\")")
+        ->check(xyz);
+}
+
 void addBuild(CLI::App& app, int& status) {
     auto a = std::make_shared<BuildArgs>();
     BuildOptions& o = a->request.options;
@@ -196,6 +215,7 @@ void addBuild(CLI::App& app, int& status) {
                   "textures, glTF buffers and images, the meshes of a folder input");
     sub->add_option("--up", o.up, "up axis of the input, recorded in the database (default: y for glTF, z for OBJ/PLY)")
         ->check(CLI::IsMember({"y", "z"}));
+    addOffsetOption(sub, o.read.offset);
     addProgressOptions(sub, a->progress);
     sub->add_flag("--strict", o.strict,
                   "an unusable texture (missing, empty, not an image, absurd size, corrupt) is fatal (exit 2) instead "

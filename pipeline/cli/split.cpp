@@ -1,7 +1,7 @@
 // `hlod split INPUT -o WORK`: reads the input and splits it on the block grid once, into a work
 // folder (pipeline/split_work.h) that shard builds start from (`hlod build WORK --shard --blocks
 // A:B`) on one machine or many (README "Beyond one machine"). The options that decide the blocks
-// (--block-triangles, --block-size, --up, --allow-outside-input) belong to the split; the build
+// (--block-triangles, --block-size, --up, --offset, --allow-outside-input) belong to the split; the build
 // adopts them from the work folder.
 #include "pipeline/cli/subcommands.h"
 
@@ -55,6 +55,7 @@ void addSplit(CLI::App& app, int& status) {
     sub->add_option("--up", o.up, "up axis of the input, recorded in the database (default: y for glTF, z for OBJ/PLY)")
         ->check(CLI::IsMember({"y", "z"}));
     sub->add_flag("--strict", o.strict, "an unusable texture found while reading is fatal (exit 2)");
+    addOffsetOption(sub, o.read.offset);
     addProgressOptions(sub, a->progress);
     sub->callback([a, &status] { status = runGuarded("split", [&] { return runSplit(*a); }); });
 }

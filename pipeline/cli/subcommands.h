@@ -3,6 +3,8 @@
 
 #include "formats/cli/command.h"
 
+#include <array>
+
 namespace hlod {
 struct ProgressOptions;
 }
@@ -22,5 +24,7 @@ void addSynth(CLI::App& app, int& status);
 
 // --progress-json and --progress-interval, the same for build, split and merge.
 void addProgressOptions(CLI::App* sub, ProgressOptions& progress);  // defined in build.cpp
+// --offset X,Y,Z (ReadOptions::offset), the same for build and split; defined in build.cpp.
+void addOffsetOption(CLI::App* sub, std::array<double, 3>& offset);
 
 }  // namespace hlod::cli

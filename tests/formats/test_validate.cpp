@@ -181,5 +181,29 @@ TEST_F(Validate, CTexturedFromMetadata) {
     EXPECT_FALSE(validate(Database::open(path), o).empty());
 }
 
+// META keys the readers interpret: a value they refuse is a violation; a well-formed one is not.
+TEST_F(Validate, UpAndOffsetMetadata) {
+    for (const auto& [key, value, violation] : std::vector<std::array<std::string, 3>>{
+             {"up", "y", ""},
+             {"up", "x", "META up 'x' is neither y nor z"},
+             {"offset", "512360,4123471.5,-250", ""},
+             {"offset", "1,2", "META offset '1,2': expected X,Y,Z (three finite numbers)"},
+             {"offset", "1,nan,2", "META offset '1,nan,2': expected X,Y,Z (three finite numbers)"}}) {
+        {
+            Writer w(path, 0.127);
+            w.setMeta(key, value);
+            w.addNode(node(kNone, 0, {{0, 0, 0}, {1, 1, 1}}, 0));
+            w.finish();
+        }
+        const std::vector<Violation> found = run();
+        if (violation.empty()) {
+            EXPECT_TRUE(found.empty()) << key << "=" << value;
+            continue;
+        }
+        ASSERT_EQ(found.size(), 1u) << key << "=" << value;
+        EXPECT_EQ(found[0].message, violation);
+    }
+}
+
 }  // namespace
 }  // namespace hlod::test

@@ -255,7 +255,7 @@ std::vector<std::string> linesOf(const std::string& s) {
 // position lattice and detail below that step is lost at the read: the build warns, once per
 // input (a folder's block file by name), with a translation near the origin, and still builds.
 // The same mesh near the origin does not warn.
-TEST(Inputs, FarFromTheOriginWarnsWithATranslation) {
+TEST(Inputs, FarFromTheOriginWarnsWithAnOffset) {
     TempDir dir;
     Piece far = terrain(20);  // 100 units: 14-bit lattice step 2^-8, floats at 2^22 step 2^-1
     for (size_t v = 0; v < far.mesh.vertexCount(); ++v) far.mesh.positions[3 * v] += 4194304, far.mesh.positions[3 * v + 1] += 512;
@@ -271,7 +271,7 @@ TEST(Inputs, FarFromTheOriginWarnsWithATranslation) {
         const size_t at = r.outAndErr().find("warning: " + named + warned);
         EXPECT_NE(at, std::string::npos) << r.outAndErr();
         EXPECT_EQ(r.outAndErr().find("from the origin", at + named.size() + warned.size()), std::string::npos) << r.outAndErr();  // once
-        EXPECT_NE(r.outAndErr().find("e.g. by (-4194354, -562, 0)"), std::string::npos) << r.outAndErr();
+        EXPECT_NE(r.outAndErr().find("build with --offset 4194354,562,0 "), std::string::npos) << r.outAndErr();
     }
     const RunResult r = runHlod({"build", dir.file("near.ply"), "-o", dir.file("near.hlod")});
     ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
@@ -287,6 +287,55 @@ TEST(Inputs, FloatPrecisionWarningThresholdIsTheLatticeStep) {
     EXPECT_NE(floatPrecisionWarning("m", Box3f{{-4194304, 0, 0}, {0, 1, 1}}, 0.25), "");  // negative coordinates too
     EXPECT_EQ(floatPrecisionWarning("m", Box3f{{0, 0, 0}, {0, 0, 0}}, 0.25), "");
     EXPECT_EQ(floatPrecisionWarning("m", box, 0), "");
+}
+
+// An OBJ written with full double precision: 8 x 8 quads 0.1 apart, moved to (4194304, 1048576),
+// where 32-bit floats step by 0.5 and 0.125.
+void writeFarObj(const std::string& path) {
+    const Piece p = terrain(8, 0.8f);
+    std::ofstream out(path);
+    out.precision(17);
+    for (size_t v = 0; v < p.mesh.vertexCount(); ++v)
+        out << "v " << 4194304.0 + p.mesh.positions[3 * v] << ' ' << 1048576.0 + p.mesh.positions[3 * v + 1] << ' '
+            << p.mesh.positions[3 * v + 2] << '\n';
+    for (size_t t = 0; t < p.mesh.triangleCount(); ++t)
+        out << "f " << p.mesh.indices[3 * t] + 1 << ' ' << p.mesh.indices[3 * t + 1] + 1 << ' ' << p.mesh.indices[3 * t + 2] + 1 << '\n';
+}
+
+// --offset subtracts in double before the floats: the far model keeps every triangle (without it,
+// vertices 0.1 apart collapse onto 0.5 steps), no warning, META offset and the tileset record it;
+// `hlod split --offset` carries it to the shard builds, which refuse another; a bad value is a usage error.
+TEST(Inputs, OffsetKeepsDetailFarFromTheOriginAndIsRecorded) {
+    TempDir dir;
+    writeFarObj(dir.file("far.obj"));
+    const RunResult lost = runHlod({"build", dir.file("far.obj"), "-o", dir.file("lost.hlod")});
+    ASSERT_EQ(lost.exitCode, 0) << lost.outAndErr();
+    EXPECT_NE(lost.outAndErr().find("degenerate triangles"), std::string::npos) << lost.outAndErr();
+    EXPECT_NE(lost.outAndErr().find("build with --offset 4194305,1048576,0 "), std::string::npos) << lost.outAndErr();
+    const RunResult kept = runHlod({"build", dir.file("far.obj"), "-o", dir.file("kept.hlod"), "--offset", "4194304,1048576,0"});
+    ASSERT_EQ(kept.exitCode, 0) << kept.outAndErr();
+    EXPECT_EQ(kept.outAndErr().find("degenerate"), std::string::npos) << kept.outAndErr();
+    EXPECT_EQ(kept.outAndErr().find("from the origin"), std::string::npos) << kept.outAndErr();
+    std::ifstream report(dir.file("kept.hlod.build.json"));
+    EXPECT_EQ(nlohmann::json::parse(report).at("input_triangles"), 128);
+    EXPECT_NE(runHlod({"inspect", dir.file("kept.hlod")}).out.find("offset: 4194304,1048576,0\n"), std::string::npos);
+    ASSERT_EQ(runHlod({"export", "tiles", dir.file("kept.hlod"), "-o", dir.file("tiles")}).exitCode, 0);
+    std::ifstream tileset(dir.file("tiles/tileset.json"));
+    EXPECT_EQ(nlohmann::json::parse(tileset).at("asset").at("extras").at("hlod").at("offset"), nlohmann::json({4194304.0, 1048576.0, 0.0}));
+
+    ASSERT_EQ(runHlod({"split", dir.file("far.obj"), "-o", dir.file("work"), "--offset", "4194304,1048576,0"}).exitCode, 0);
+    const RunResult shard = runHlod({"build", dir.file("work"), "-o", dir.file("fromwork.hlod")});
+    ASSERT_EQ(shard.exitCode, 0) << shard.outAndErr();
+    EXPECT_EQ(readFile(dir.file("fromwork.hlod")), readFile(dir.file("kept.hlod")));
+    const RunResult other = runHlod({"build", dir.file("work"), "-o", dir.file("other.hlod"), "--offset", "1,2,3"});
+    EXPECT_EQ(other.exitCode, 2);
+    EXPECT_NE(other.outAndErr().find("--offset differs from the split of"), std::string::npos) << other.outAndErr();
+    for (const char* bad : {"1,2", "1,2,3,4", "1,x,3", "1,inf,3", ""}) {
+        const RunResult r = runHlod({"build", dir.file("far.obj"), "-o", dir.file("bad.hlod"), "--offset", bad});
+        EXPECT_EQ(r.exitCode, 2) << bad;
+        EXPECT_NE(r.outAndErr().find("expected X,Y,Z"), std::string::npos) << r.outAndErr();
+        EXPECT_FALSE(std::filesystem::exists(dir.file("bad.hlod")));
+    }
 }
 
 TEST(Progress, APipeGetsALineEveryIntervalAndNoEtaBeforeARate) {
