@@ -349,7 +349,7 @@ bool replaceableShard(const std::string& output) {
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     BuildOptions options = request.options;
     validateConstants(options.constants, kUsedByBuild);
-    checkBottomUpError(options);
+    checkBuildOptions(options);
     if (request.shard && !replaceableShard(request.output))
         throw std::invalid_argument(request.output + ": exists and is not a shard folder (refusing to replace it)");
     std::optional<SplitWork> work;  // an `hlod split` work folder: its blocks, options and input

@@ -365,7 +365,12 @@ void topDownLevel(Level& level, uint32_t levelBase, const BuildOptions& options,
 
 }  // namespace
 
-void checkBottomUpError(const BuildOptions& o) {
+void checkBuildOptions(const BuildOptions& o) {
+    if (o.jobs < 0 || o.jobs > kMaxJobs)
+        throw std::invalid_argument("jobs " + std::to_string(o.jobs) + " is not in 0.." + std::to_string(kMaxJobs));
+    if (!std::isfinite(o.blockSize) || o.blockSize < 0) throw std::invalid_argument("block size must be a finite number >= 0");
+    if (!std::isfinite(o.draco.positionStep) || o.draco.positionStep < 0)
+        throw std::invalid_argument("position step must be a finite number >= 0");
     if (o.mode == BuildMode::BottomUp && o.bottomUpError == BottomUpError::Simplifier && o.simplifier != Simplifier::Meshopt)
         throw std::invalid_argument("--bottom-up-error simplifier needs --simplifier meshopt (OpenMesh's decimater reports no "
                                     "error of its own; pipeline/BUILD_SPEED.md)");
@@ -373,7 +378,7 @@ void checkBottomUpError(const BuildOptions& o) {
 
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
                       const BuildOptions& blockOptions, Progress* progress, const std::function<void(NodeRecord&&)>& emit) {
-    checkBottomUpError(blockOptions);
+    checkBuildOptions(blockOptions);
     BuildOptions options = blockOptions;  // every node of the block on one position lattice
     if (options.draco.positionStep <= 0)
         options.draco.positionStep = positionLatticeStep(pieceBounds(block.mesh), options.draco.positionBits);

@@ -11,6 +11,7 @@
 #include "formats/codec.h"
 #include "formats/constants.h"
 #include "formats/db.h"
+#include "pipeline/progress.h"
 #include "pipeline/spill_array.h"
 #include "pipeline/tree_rules.h"
 
@@ -65,8 +66,6 @@ struct SourceMesh {
     std::vector<Material> materials;
     ReadStats stats;
 };
-
-class Progress;
 
 // raw_mesh.cpp: a PLY, OBJ or glTF mesh as parsed, before welding. The arrays live in memory (a block
 // file; a single input while they fit a budget) or spill to disk (a single large input is never
@@ -289,9 +288,9 @@ class TextureStore;  // pipeline/texture_store.h
 // `simplified` carries positions and indices (texcoords, if any, are replaced); each source is the
 // original triangles of one material and its texture (nullptr = untextured: vertex colours, else
 // grey), best prefiltered to about the node's texel density (downsampleTexture by the node's
-// factor): each texel takes 2 x 2 bilinear sub-samples. The result's triangles are grouped by chart, its vertices split where charts meet, its
-// zero-area triangles (zeroArea) dropped; the
-// atlas (RGB) holds at most texelBudget texels unless there are more than texelBudget / 64 charts.
+// factor): each texel takes 2 x 2 bilinear sub-samples. The result's triangles are grouped by
+// chart, its vertices split where charts meet, its zero-area triangles (zeroArea) dropped; the atlas
+// (RGB) holds at most texelBudget texels unless there are more than texelBudget / 64 charts.
 struct BakeSource { const MeshData* mesh = nullptr; const Image* texture = nullptr; };  // original triangles of one material; texture nullptr = untextured
 struct BakedTexture {
     MeshData mesh;              // `simplified` with new texcoords (vertices split where charts meet)
@@ -315,7 +314,7 @@ struct BuildOptions {
     uint64_t blockTriangles = 0;   // target triangles per block of a single-mesh input; 0 = auto (671,088)
     double blockSize = 0;          // block side in input units; overrides blockTriangles when > 0
     uint64_t memoryLimit = 1ull << 30;
-    int jobs = 0;                  // 0 = all cores
+    int jobs = 0;                  // 0 = all cores; at most kMaxJobs (checkBuildOptions)
     std::string tempDir;           // runBuild: empty = next to the output; buildBlock: runBuild's own folder (empty: the system's)
     ReadOptions read;              // --allow-outside-input
     bool strict = false;           // --strict: a TextureProblem is fatal (InputError, exit 2)
@@ -332,39 +331,6 @@ struct UpChoice {
     std::string reason;
 };
 UpChoice chooseUpAxis(const std::string& input, const std::string& requested);
-
-// progress.cpp: per-stage figures and a progress line at least every `interval` seconds while a
-// stage runs: on a terminal one line redrawn in place (every 0.25 s), otherwise (a pipe, a log
-// file) one plain line per `interval` (5 s), or one JSON object per line with --progress-json.
-// A line names the stage, its percent, the textures loaded so far and an ETA only once the stage
-// has a rate ("ETA --" before). Each stage also ends with one summary line. Thread-safe.
-struct ProgressOptions {
-    bool live = false;          // a terminal: redraw one line in place
-    bool json = false;          // {"stage", "done", "total", "unit", "textures", "texels", "elapsed_s", "eta_s"} per line
-    double interval = 5;        // seconds between lines when not live
-    bool thread = true;         // a ticker thread calls poll(); false: the caller does (tests)
-    std::function<double()> clock;  // seconds; empty = std::chrono::steady_clock
-};
-class Progress {
-public:
-    Progress(std::ostream& out, bool live);  // ProgressOptions{live}
-    Progress(std::ostream& out, ProgressOptions options);
-    ~Progress();
-    void beginStage(const std::string& name, uint64_t totalItems, const std::string& unit = "tri");
-    void advance(uint64_t items);
-    void textureLoaded(uint64_t texels);  // a source texture decoded (work the item count does not show)
-    void endStage();
-    void message(const std::string& line);  // a warning or note, on its own line
-    void poll();  // prints the progress line if one is due (the ticker thread calls it)
-    std::vector<BuildStage> stages() const;
-
-private:
-    struct Impl;
-    std::unique_ptr<Impl> impl_;
-};
-uint64_t currentRss();  // bytes
-uint64_t peakRss();     // bytes
-std::string formatBytes(uint64_t bytes);
 
 // memory_gate.cpp: admits blocks into the parallel build while their estimated working sets fit
 // --memory-limit together; a block larger than the limit alone waits until it runs by itself.
@@ -426,7 +392,11 @@ struct BlockStats {
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
                       const BuildOptions& options, Progress* progress,
                       const std::function<void(NodeRecord&&)>& emit);
-void checkBottomUpError(const BuildOptions& options);  // the check of buildBlock, for runBuild to refuse early
+// The checks of buildBlock, for runBuild and writeSplitWork to refuse early (std::invalid_argument):
+// jobs in 0..kMaxJobs, a finite blockSize and position step >= 0, a bottom-up error the
+// simplifier can give.
+inline constexpr int kMaxJobs = 1024;
+void checkBuildOptions(const BuildOptions& options);
 
 // pack.cpp: encodes a node's sub-meshes (Draco) and textures (JPEG) and fills §3.3 attributes.
 // gridPositionStep: the position lattice step for every block of `grid` over `bounds` (from

@@ -119,6 +119,7 @@ bool isSplitWork(const std::string& path) {
 
 SplitSummary writeSplitWork(const std::string& input, const BuildOptions& options, const std::string& work,
                             Progress& progress) {
+    checkBuildOptions(options);
     const fs::path target = fs::absolute(work).lexically_normal();
     std::error_code ec;
     if (fs::exists(target, ec) && !isSplitWork(work) && !(fs::is_directory(target, ec) && fs::is_empty(target, ec)))

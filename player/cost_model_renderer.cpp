@@ -49,7 +49,9 @@ double CostModelRenderer::drawFrame(const Camera&, std::span<const DrawItem> ite
     for (const DrawItem& item : items) ms += trueCostMs(item.node);
     std::normal_distribution<double> noise(0.0, model_.noise);
     ms *= std::max(0.1, 1 + noise(rng_));
-    if (model_.realTime) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(ms));
+    // At most a second of real time a frame: far beyond any frame budget, and a modelled time of
+    // hours (an absurd --model-* option) neither hangs the replay nor overflows the clock.
+    if (model_.realTime) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(std::min(ms, 1000.0)));
     return ms;
 }
 

@@ -20,7 +20,7 @@ struct CostModel {
     double nodeError = 0;                 // each node's true cost is off by a fixed factor in [-e, e]
     uint64_t seed = 1;
     bool realTime = false;                // sleep for the modelled time, so that a loading thread
-                                          // gets the wall-clock time a real frame would give it
+                                          // gets the wall-clock time a real frame would give it (at most 1 s)
 };
 
 // The untextured rate that makes the model agree with eq. 3.1 (cost = textured x c_textured +

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -147,6 +148,21 @@ CameraKey key(double time, const Vector3d& p, const Vector3d& forward, const Vec
     return k;
 }
 
+// A path the reader takes back (camera_path.h): within kMaxCameraTime, and at most kMaxCameraKeys
+// keys (an erratic path adds one key per turn or teleport, every 2 s at most).
+double checkedDuration(double duration, double keyInterval) {
+    std::ostringstream s;
+    s << "a path of " << duration << " s";
+    if (!(duration <= kMaxCameraTime))
+        throw std::invalid_argument(s.str() + " is longer than one day (" + std::to_string(int(kMaxCameraTime)) +
+                                    " s): give --duration or a higher --speed");
+    if (duration / keyInterval + duration / 2 + 2 > double(kMaxCameraKeys)) {
+        s << " with a key every " << keyInterval << " s has more than " << kMaxCameraKeys << " keys: raise --key-interval";
+        throw std::invalid_argument(s.str());
+    }
+    return duration;
+}
+
 }  // namespace
 
 size_t countCrossings(const CameraPath& path, const SurfaceHeights& surfaces) {
@@ -225,7 +241,9 @@ PathPlan planPath(const Skeleton& skeleton, const PathOptions& o) {
 CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const SurfaceHeights* surfaces) {
     if (skeleton.nodes.empty()) throw std::invalid_argument("the database has no nodes");
     if (o.upAxis != 1 && o.upAxis != 2) throw std::invalid_argument("up axis must be y or z");
-    if (!(o.keyInterval > 0) || o.duration < 0 || o.speed < 0) throw std::invalid_argument("durations and speeds must be positive");
+    if (!(o.keyInterval > 0) || !(o.duration >= 0) || !(o.speed >= 0) || !std::isfinite(o.keyInterval + o.duration + o.speed) ||
+        !std::isfinite(o.eyeHeight))
+        throw std::invalid_argument("durations, speeds and the eye height must be finite, durations and speeds positive");
     const PathPlan plan = planPath(skeleton, o);
     Frame f = frameFor(o.upAxis);
     Box3f b = modelBounds(skeleton);
@@ -240,7 +258,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
     if (o.kind == PathKind::Fly) {
         double radius = 0.5 * (hi - lo).norm();
         double distance = radius / std::sin(30.0 * M_PI / 180.0);  // whole sphere within a 60-degree view
-        double duration = o.duration > 0 ? o.duration : 60;
+        double duration = checkedDuration(o.duration > 0 ? o.duration : 60, o.keyInterval);
         for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
             double angle = 2 * M_PI * t / duration * (plan.speed > 0 ? plan.speed * duration / (2 * M_PI * distance) : 1);
             Vector3d horizontal = std::cos(angle) * unit(f.a) + std::sin(angle) * unit(f.b);
@@ -287,7 +305,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
                                            : std::vector<Vector3d>{at(0, 0), at(0.25, 1), at(0.5, 0), at(0.75, 1), at(1, 0)};
         double length = 0;
         for (size_t i = 1; i < points.size(); ++i) length += (points[i] - points[i - 1]).norm();
-        double duration = o.duration > 0 ? o.duration : length / plan.speed;
+        double duration = checkedDuration(o.duration > 0 ? o.duration : length / plan.speed, o.keyInterval);
         for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
             double s = std::min(t * plan.speed, length);
             size_t leg = 1;
@@ -299,7 +317,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
         }
         return settle();
     }
-    double duration = o.duration > 0 ? o.duration : route.perimeter() / plan.speed;
+    double duration = checkedDuration(o.duration > 0 ? o.duration : route.perimeter() / plan.speed, o.keyInterval);
     std::mt19937 rng(o.seed);
     std::uniform_real_distribution<double> gap(2.0, 5.0), angle(0, 2 * M_PI), coin(0, 1);
     double theta = 0, direction = 1, nextEvent = gap(rng);

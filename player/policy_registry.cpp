@@ -1,6 +1,7 @@
 // The table of selection policies by name (player/policy.h "HOW TO ADD A POLICY").
 #include "player/policy.h"
 
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -107,8 +108,9 @@ PolicyOptions parsePolicySettings(std::span<const std::string> settings) {
         } catch (const std::exception&) {
             used = 0;
         }
-        if (eq == std::string::npos || text.find('.') > eq || used == 0 || used != text.size() - eq - 1)
-            throw std::invalid_argument("--policy-set '" + text + "': expected POLICY.SETTING=NUMBER");
+        if (eq == std::string::npos || text.find('.') > eq || used == 0 || used != text.size() - eq - 1 ||
+            !std::isfinite(value))
+            throw std::invalid_argument("--policy-set '" + text + "': expected POLICY.SETTING=NUMBER (a finite number)");
         options.values[text.substr(0, eq)] = value;
     }
     return options;

@@ -7,7 +7,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
+#include <sstream>
 
 namespace hlod::cli {
 
@@ -33,7 +37,55 @@ void checkUsed(const ConstantOptions& options, const std::string& assignment) {
                                     " (used by: " + subcommandsUsing(info->use) + ")");
 }
 
+// A validator accepting the finite numbers `accept` admits; `what` names them in the error and
+// the help ("FLOAT:what").
+CLI::Validator finiteWhere(const std::string& what, std::function<bool(double)> accept) {
+    return CLI::Validator(
+        [what, accept](std::string& input) {
+            char* end = nullptr;
+            const double v = std::strtod(input.c_str(), &end);
+            if (input.empty() || *end != '\0' || !std::isfinite(v) || !accept(v))
+                return "value '" + input + "': expected " + what;
+            return std::string();
+        },
+        what);
+}
+
+std::string number(double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+}
+
 }  // namespace
+
+CLI::Validator finiteNumber() {
+    return finiteWhere("a finite number", [](double) { return true; });
+}
+
+CLI::Validator finiteAtLeast(double lo) {
+    return finiteWhere("a finite number >= " + number(lo), [lo](double v) { return v >= lo; });
+}
+
+CLI::Validator finitePositive() {
+    return finiteWhere("a finite number > 0", [](double v) { return v > 0; });
+}
+
+CLI::Validator finiteIn(double lo, double hi) {
+    return finiteWhere("a finite number in [" + number(lo) + ", " + number(hi) + "]",
+                       [lo, hi](double v) { return v >= lo && v <= hi; });
+}
+
+CLI::Validator wholeNumber() {
+    return CLI::Validator(
+        [](std::string& input) {
+            const size_t first = input.find_first_not_of(" \t");
+            if (first == std::string::npos || !std::isdigit(static_cast<unsigned char>(input[first])))
+                return "value '" + input + "': expected a whole number >= 0";
+            return std::string();
+        },
+        "");  // the help's UINT says it
+}
 
 int runGuarded(const std::string& command, const std::function<int()>& body) {
     auto fail = [&](const std::exception& e, int status) {

@@ -16,6 +16,7 @@
 
 namespace CLI {
 class App;
+class Validator;
 }
 
 namespace hlod::cli {
@@ -30,6 +31,16 @@ using AddSubcommand = void (*)(CLI::App& app, int& status);
 // UnreadableDatabase and std::invalid_argument (usage) give 2; FormatError and any other
 // failure give 1.
 int runGuarded(const std::string& command, const std::function<int()>& body);
+
+// Checks for numeric options. CLI11's own number checks let nan and inf through and print
+// DBL_MAX as a bound, and an unsigned option wraps "-1" around, so every floating-point option of
+// every subcommand takes one of the first four and every count option wholeNumber(); a value
+// outside is a usage error (exit 2) naming the option and what it accepts.
+CLI::Validator finiteNumber();                  // any finite number (a negative one may mean "the default")
+CLI::Validator finiteAtLeast(double lo);        // a finite number >= lo
+CLI::Validator finitePositive();                // a finite number > 0
+CLI::Validator finiteIn(double lo, double hi);  // a finite number in [lo, hi]
+CLI::Validator wholeNumber();                   // written without a sign
 
 // The positional database argument, named DB in every subcommand.
 void addDatabaseArgument(CLI::App& sub, std::string& path);

@@ -58,7 +58,8 @@ void addValidate(CLI::App& app, int& status) {
     sub->add_flag("--json", args->json, "machine-readable JSON output");
     sub->add_option("--bounds-tolerance", args->boundsTolerance,
                     "child bounds may exceed the parent's by this fraction of its diagonal")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(finiteAtLeast(0));
     sub->callback([args, &status] { status = runGuarded("validate", [&] { return runValidate(*args); }); });
 }
 

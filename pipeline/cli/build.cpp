@@ -15,6 +15,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -41,15 +42,16 @@ double cpuSeconds() {
     return u.ru_utime.tv_sec + u.ru_stime.tv_sec + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
 }
 
+// FIRST:LAST, two whole numbers below 2^32 and nothing else (no sign, no third part).
 void parseBlockRange(const std::string& text, BuildRequest& r) {
     const size_t colon = text.find(':');
-    try {
-        if (colon == std::string::npos) throw std::invalid_argument(text);
-        r.firstBlock = static_cast<uint32_t>(std::stoul(text.substr(0, colon)));
-        r.lastBlock = static_cast<uint32_t>(std::stoul(text.substr(colon + 1)));
-    } catch (const std::exception&) {
+    const auto whole = [](std::string_view digits, uint32_t& value) {
+        const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+        return !digits.empty() && error == std::errc() && end == digits.data() + digits.size();
+    };
+    const std::string_view all(text);
+    if (colon == std::string::npos || !whole(all.substr(0, colon), r.firstBlock) || !whole(all.substr(colon + 1), r.lastBlock))
         throw std::invalid_argument("--blocks '" + text + "': expected FIRST:LAST (block indices, LAST excluded)");
-    }
 }
 
 void writeReport(const std::string& db, const std::vector<BuildStage>& stages, const BuildSummary& summary, double wall,
@@ -129,7 +131,7 @@ void addProgressOptions(CLI::App* sub, ProgressOptions& progress) {
                   "progress as one JSON object per line (stage, done, total, unit, textures, texels, elapsed_s, eta_s; "
                   "null eta_s until the stage has a rate) instead of the progress line");
     sub->add_option("--progress-interval", progress.interval, "seconds between progress lines when stdout is not a terminal (default 5)")
-        ->check(CLI::PositiveNumber);
+        ->check(finitePositive());
 }
 
 void addOffsetOption(CLI::App* sub, std::array<double, 3>& offset) {
@@ -156,7 +158,8 @@ void addBuild(CLI::App& app, int& status) {
     CLI::App* sub = app.add_subcommand("build", "build an HLOD database from a mesh (PLY, OBJ, glTF) or a folder of block meshes");
     sub->add_option("INPUT", a->request.input, "mesh file, folder of meshes (one block per file, ordered by name), or work folder of `hlod split`")->required();
     sub->add_option("-o,--output", a->request.output, "database to write (a shard folder with --shard)")->required();
-    sub->add_option("-j,--jobs", o.jobs, "threads (default: all cores): the nodes of a block are built in parallel, one more block at once per 4 threads");
+    sub->add_option("-j,--jobs", o.jobs, "threads (default: all cores): the nodes of a block are built in parallel, one more block at once per 4 threads")
+        ->check(CLI::Range(0, kMaxJobs));
     sub->add_option("--simplifier", a->simplifier, "meshopt (fast, default) or openmesh (Decimater, ModQuadric)")
         ->check(CLI::IsMember({"meshopt", "openmesh"}));
     sub->add_option("--leaf-rule", a->leafRule,
@@ -178,10 +181,13 @@ void addBuild(CLI::App& app, int& status) {
                     "balanced (default: triangle-count quantiles avoiding dense surfaces) or even (evenly spaced, "
                     "empty pieces dropped)")
         ->check(CLI::IsMember({"balanced", "even"}));
-    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088, whatever the memory limit)");
-    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)");
+    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088, whatever the memory limit)")
+        ->check(wholeNumber());
+    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)")
+        ->check(finiteAtLeast(0));
     sub->add_option("--memory-limit", o.memoryLimit, "working-set bound, e.g. 512M, 2G (default 1G)")
-        ->transform(CLI::AsSizeValue(false));
+        ->transform(CLI::AsSizeValue(false))
+        ->transform(wholeNumber());  // inserted before the size transform: "-1" is refused, not wrapped
     sub->add_option("--draco-position-bits", o.draco.positionBits,
                     "Draco position bits over the largest block (one lattice for all nodes, FORMAT.md)")
         ->check(CLI::Range(8, kMaxPositionBits));
@@ -191,7 +197,7 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_option("--draco-position-step", o.draco.positionStep,
                     "position lattice step in input units, rounded down to a power of two (default: from the block grid; "
                     "a folder input gets one per block unless this is given)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(finiteAtLeast(0));
     sub->add_option("--draco-level", o.draco.compressionLevel, "Draco compression level 0..10")->check(CLI::Range(0, 10));
     sub->add_option("--jpeg-quality", o.jpegQuality,
                     "JPEG quality of node textures (at most a JPEG source's own; pipeline/TEXTURE_SIZE.md)")

@@ -43,10 +43,13 @@ void addSplit(CLI::App& app, int& status) {
     CLI::App* sub = app.add_subcommand("split", "read and split a mesh (or list a folder of block meshes) once, into a work folder for shard builds");
     sub->add_option("INPUT", a->input, "mesh file, or folder of meshes (one block per file, ordered by name)")->required();
     sub->add_option("-o,--output", a->work, "work folder to write (absent, empty, or an earlier work folder)")->required();
-    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088)");
-    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)");
+    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088)")
+        ->check(wholeNumber());
+    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)")
+        ->check(finiteAtLeast(0));
     sub->add_option("--memory-limit", o.memoryLimit, "bound on the split's buffers, e.g. 512M, 2G (default 1G)")
-        ->transform(CLI::AsSizeValue(false));
+        ->transform(CLI::AsSizeValue(false))
+        ->transform(wholeNumber());  // inserted before the size transform: "-1" is refused, not wrapped
     sub->add_option("--draco-position-bits", o.draco.positionBits,
                     "Draco position bits the recorded lattice is for (a build with other bits recomputes it)")
         ->check(CLI::Range(8, kMaxPositionBits));

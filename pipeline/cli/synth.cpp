@@ -21,10 +21,14 @@ void addSynth(CLI::App& app, int& status) {
     auto dir = std::make_shared<std::string>();
     city->add_option("-o,--output", *dir, "output folder")->required();
     city->add_option("--scale", options->scale,
-                     "fraction of the thesis model (1 = 114 blocks, 8.95 M triangles, 937 M texels)");
-    city->add_option("--seed", options->seed, "random seed (same seed and scale = same bytes)");
-    city->add_option("--jpeg-quality", options->jpegQuality, "JPEG quality 1..100");
-    city->add_option("--city-blocks", options->cityBlocks, "number of city blocks (default round(25 sqrt(scale)))");
+                     "fraction of the thesis model (1 = 114 blocks, 8.95 M triangles, 937 M texels)")
+        ->check(finiteIn(0, 4));
+    city->add_option("--seed", options->seed, "random seed (same seed and scale = same bytes)")
+        ->check(wholeNumber());
+    city->add_option("--jpeg-quality", options->jpegQuality, "JPEG quality 1..100")
+        ->check(CLI::Range(1, 100));
+    city->add_option("--city-blocks", options->cityBlocks, "number of city blocks (default round(25 sqrt(scale)))")
+        ->check(wholeNumber());
     city->callback([options, dir, &status] {
         status = runGuarded("synth city", [&] {
             const auto start = std::chrono::steady_clock::now();

@@ -231,20 +231,29 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_option("--path", a->path, "camera path file (player/CAMERA_PATH.md; see `hlod path`)")->required();
     sub->add_option("--policies", a->policies, "comma-separated policies: " + policyNamesList())->required();
     sub->add_option("--policy-set", a->policySettings, "policy setting P.NAME=VALUE (repeatable; player/POLICIES.md)");
-    sub->add_option("--step-ms", a->stepMs, "fixed step: frame i sampled at i x this (ms); 0 (default): simulated time as `hlod play`");
+    sub->add_option("--step-ms", a->stepMs, "fixed step: frame i sampled at i x this (ms); 0 (default): simulated time as `hlod play`")
+        ->check(finiteAtLeast(0));
     sub->add_flag("--preload", a->preload, "decode and upload every node at start, never evict (everything resident)");
     sub->add_option("-o,--output", a->prefix, "write PREFIX.txt, .csv, .json, -frames.csv, -frame-time.png, -triangles.png, -gap.png");
     sub->add_flag("!--no-plots", a->plots, "skip the gnuplot PNGs");
-    sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path)");
-    sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half)");
-    sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none)");
-    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "nodes loaded per frame (synchronous loader)");
+    sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path)")
+        ->check(wholeNumber());
+    sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half)")
+        ->check(wholeNumber());
+    sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none)")
+        ->check(wholeNumber());
+    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "nodes loaded per frame (synchronous loader)")
+        ->check(wholeNumber());
     addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
     sub->add_option("--renderer", a->renderer, "model (default) or gl")->check(CLI::IsMember({"model", "gl"}));
-    sub->add_option("--width", a->width, "viewport width, pixels");
-    sub->add_option("--height", a->height, "viewport height, pixels (benefit and pixel thresholds)");
-    sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)");
-    sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured)");
+    sub->add_option("--width", a->width, "viewport width, pixels")
+        ->check(CLI::Range(1, 16384));
+    sub->add_option("--height", a->height, "viewport height, pixels (benefit and pixel thresholds)")
+        ->check(CLI::Range(1, 16384));
+    sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)")
+        ->check(finiteAtLeast(0));
+    sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured)")
+        ->check(finiteNumber());
     addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);
     sub->callback([a, &status] { status = runGuarded("compare", [&] { return runCompare(*a); }); });

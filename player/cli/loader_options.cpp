@@ -17,19 +17,19 @@ void addLoaderOptions(CLI::App& sub, PlayerOptions& o, std::string& loader, std:
                    "a wanted node not loaded: parent (draw the loaded parent, never wait; default) or wait (the "
                    "frame waits for its fetch: the disk model's time with --sync-loader)")
         ->check(CLI::IsMember({"parent", "wait"}));
-    sub.add_option("--disk-seek-ms", o.disk.seekMs, "disk model: ms per node fetched")->check(CLI::NonNegativeNumber);
-    sub.add_option("--disk-mbs", o.disk.bandwidthMBs, "disk model: stored MB/s")->check(CLI::PositiveNumber);
+    sub.add_option("--disk-seek-ms", o.disk.seekMs, "disk model: ms per node fetched")->check(finiteAtLeast(0));
+    sub.add_option("--disk-mbs", o.disk.bandwidthMBs, "disk model: stored MB/s")->check(finitePositive());
     sub.add_option("--disk-decode-ns", o.disk.decodeNsPerByte, "disk model: decode ns per decoded byte")
-        ->check(CLI::NonNegativeNumber);
+        ->check(finiteAtLeast(0));
     sub.add_option("--vm-tolerance", o.vm.tolerance,
                    "vm: error tolerance epsilon for selectors without one (thesis: the units of the time-slice "
                    "mapping; sse uses sse.tolerance)")
-        ->check(CLI::PositiveNumber);
-    sub.add_option("--vm-delta", o.vm.deltaRatio, "vm: delta / epsilon, the last bin (Fig. 5: 1.2)")->check(CLI::PositiveNumber);
-    sub.add_option("--vm-bins", o.vm.binsPerTolerance, "vm: bins per epsilon (Fig. 5: 10)")->check(CLI::PositiveNumber);
+        ->check(finitePositive());
+    sub.add_option("--vm-delta", o.vm.deltaRatio, "vm: delta / epsilon, the last bin (Fig. 5: 1.2)")->check(finitePositive());
+    sub.add_option("--vm-bins", o.vm.binsPerTolerance, "vm: bins per epsilon (Fig. 5: 10)")->check(finitePositive());
     sub.add_option("--vm-margin-deg", o.vm.marginDegrees,
                    "vm: prefetch frustum half-angle = render's + this + angular speed x --lookahead")
-        ->check(CLI::NonNegativeNumber);
+        ->check(finiteAtLeast(0));
 }
 
 void appendLoaderInfo(std::vector<std::pair<std::string, std::string>>& info, const PlayerOptions& o) {

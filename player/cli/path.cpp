@@ -102,14 +102,19 @@ void addPath(CLI::App& app, int& status) {
     sub->add_option("-o,--output", a->output, "camera path file to write")->required();
     sub->add_option("--kind", a->kind, "walk, drive (10x the walk), fly (whole model in view), erratic, line, zigzag (Robin Hood Table 2)")
         ->check(CLI::IsMember({"walk", "drive", "fly", "erratic", "line", "zigzag"}));
-    sub->add_option("--duration", a->options.duration, "seconds (default: one lap; fly 60 s)");
+    sub->add_option("--duration", a->options.duration, "seconds (default: one lap; fly 60 s)")
+        ->check(finiteIn(0, kMaxCameraTime));
     sub->add_option("--speed", a->options.speed,
-                    "metres per second (default: city-like 1.5 walk, 15 drive; object: one lap in 60 s, drive 6 s)");
+                    "metres per second (default: city-like 1.5 walk, 15 drive; object: one lap in 60 s, drive 6 s)")
+        ->check(finiteAtLeast(0));
     sub->add_option("--eye-height", a->options.eyeHeight,
-                    "metres above the ground estimate (city-like) or the model's bottom (object; default: half its height)");
+                    "metres above the ground estimate (city-like) or the model's bottom (object; default: half its height)")
+        ->check(finiteNumber());
     sub->add_option("--units", a->units, "what one database unit is: m (default), cm, mm, km or a number of metres");
-    sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys");
-    sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports");
+    sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys")
+        ->check(finitePositive());
+    sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports")
+        ->check(wholeNumber());
     sub->add_option("--up", a->up, "up axis of the model, y or z (default: the one the database records; z for a database without one)");
     sub->add_flag("--look-at-center", a->options.lookAtCenter,
                   "walk, drive, erratic: look at the model's centre, not ahead (walking around an object scan)");

@@ -176,14 +176,20 @@ int runPlay(PlayArgs& a) {
 }  // namespace
 
 void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>& flatRate) {
-    sub.add_option("--model-overhead-ms", model.overheadMs, "cost model: fixed ms per frame");
-    sub.add_option("--model-ms-per-tri", model.msPerTexturedTriangle, "cost model: ms per textured triangle");
+    sub.add_option("--model-overhead-ms", model.overheadMs, "cost model: fixed ms per frame")
+        ->check(finiteIn(0, 1e4));
+    sub.add_option("--model-ms-per-tri", model.msPerTexturedTriangle, "cost model: ms per textured triangle")
+        ->check(finiteIn(0, 1));
     sub.add_option("--model-ms-per-flat-tri", flatRate,
                    "cost model: ms per untextured triangle (default: --model-ms-per-tri x (1 - c_textured) / "
-                   "c_textured, the database's eq. 3.1 weights)");
-    sub.add_option("--model-noise", model.noise, "cost model: relative sd of per-frame noise");
-    sub.add_option("--model-node-error", model.nodeError, "cost model: per-node cost error in [-e, e]");
-    sub.add_option("--seed", model.seed, "cost model: noise and error seed (the same for every policy of `compare`)");
+                   "c_textured, the database's eq. 3.1 weights)")
+        ->check(finiteIn(0, 1));
+    sub.add_option("--model-noise", model.noise, "cost model: relative sd of per-frame noise")
+        ->check(finiteIn(0, 10));
+    sub.add_option("--model-node-error", model.nodeError, "cost model: per-node cost error in [-e, e]")
+        ->check(finiteIn(0, 1));
+    sub.add_option("--seed", model.seed, "cost model: noise and error seed (the same for every policy of `compare`)")
+        ->check(wholeNumber());
 }
 
 void warnLoadFailure(const std::string& command, const Database& db, const LoadFailure& failure) {
@@ -203,44 +209,62 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--policy", a->player.policy, "selection policy (player/POLICIES.md): " + policyNamesList() +
                                                       "; default thesis");
     sub->add_option("--policy-set", a->policySettings, "policy setting P.NAME=VALUE (repeatable; player/POLICIES.md)");
-    sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none); lowest-priority nodes are evicted");
+    sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none); lowest-priority nodes are evicted")
+        ->check(wholeNumber());
     sub->add_flag("--strict", a->player.strictLoads,
                   "a node that cannot be read or decoded ends the run (exit 1); by default it is skipped with "
                   "one warning, its parent stays drawn and failed_loads counts it");
     sub->add_flag("--require-loaded-children", a->player.requireLoadedChildren,
                   "switch to children only when all of them are loaded (thesis §5.2)");
-    sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path)");
-    sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions");
+    sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path)")
+        ->check(wholeNumber());
+    sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions")
+        ->check(wholeNumber());
     sub->add_flag("--sync-loader", a->syncLoader,
                   "step the loader in the render thread: exactly repeatable and as fast as the CPU allows "
                   "(otherwise the cost model sleeps for each modelled frame time, so the loading thread gets "
                   "real time)");
-    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame");
+    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame")
+        ->check(wholeNumber());
     addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
-    sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most");
-    sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)");
-    sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured with drawing off)");
+    sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most")
+        ->check(wholeNumber());
+    sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)")
+        ->check(finiteAtLeast(0));
+    sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured with drawing off)")
+        ->check(finiteNumber());
     sub->add_option("--calibration", a->calibration,
                     "calibration file of `hlod calibrate`: sets the initial v_time and the fixed overhead");
     sub->add_option("--lookahead", a->player.lookaheadSeconds,
-                    "s: distance is also measured from the eye moved ahead by velocity x this (player/SELECTION.md)");
-    sub->add_option("--teleport-speed", a->player.teleportSpeed, "m/s: faster camera moves count as this speed");
-    sub->add_option("--v-time-gain", a->player.vTimeGain, "first feedback loop: fraction of the v_time error corrected per frame");
+                    "s: distance is also measured from the eye moved ahead by velocity x this (player/SELECTION.md)")
+        ->check(finiteAtLeast(0));
+    sub->add_option("--teleport-speed", a->player.teleportSpeed, "m/s: faster camera moves count as this speed")
+        ->check(finitePositive());
+    sub->add_option("--v-time-gain", a->player.vTimeGain, "first feedback loop: fraction of the v_time error corrected per frame")
+        ->check(finiteIn(0, 1));
     sub->add_option("--share-band", a->player.shareLoop.band,
-                    "second feedback loop: frames outside target x (1 -+ band) move the hlod0 share");
+                    "second feedback loop: frames outside target x (1 -+ band) move the hlod0 share")
+        ->check(finiteIn(0, 1));
     sub->add_option("--share-gain", a->player.shareLoop.gain,
-                    "second feedback loop: relative change of the hlod0 share per unit of relative frame-time error");
+                    "second feedback loop: relative change of the hlod0 share per unit of relative frame-time error")
+        ->check(finiteAtLeast(0));
     sub->add_option("--share-leak", a->player.shareLoop.leak,
-                    "second feedback loop: fraction of ln(target / share) recovered per frame");
+                    "second feedback loop: fraction of ln(target / share) recovered per frame")
+        ->check(finiteIn(0, 1));
     sub->add_option("--share-step", a->player.shareLoop.step,
-                    "second feedback loop: largest relative change of the hlod0 share per frame");
+                    "second feedback loop: largest relative change of the hlod0 share per frame")
+        ->check(finiteIn(0, 1));
     sub->add_option("--initial-hyst", a->player.initialHystSwitches,
-                    "hysteresis counter of a node evaluated first, in units of c_hystSwitch (default -1)");
+                    "hysteresis counter of a node evaluated first, in units of c_hystSwitch (default -1)")
+        ->check(finiteNumber());
     sub->add_option("--frames-dir", a->framesDir, "write PNG frames here (needs --renderer gl)");
-    sub->add_option("--every", a->every, "with --frames-dir: every Nth frame");
+    sub->add_option("--every", a->every, "with --frames-dir: every Nth frame")
+        ->check(wholeNumber());
     sub->add_flag("--color-by-level", a->player.frameOptions.colorByLevel, "shade nodes by level");
-    sub->add_option("--width", a->width, "frame width (gl)");
-    sub->add_option("--height", a->height, "frame height (gl)");
+    sub->add_option("--width", a->width, "frame width (gl)")
+        ->check(CLI::Range(1, 16384));
+    sub->add_option("--height", a->height, "frame height (gl)")
+        ->check(CLI::Range(1, 16384));
     addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);
     sub->callback([a, &status] { status = runGuarded("play", [&] { return runPlay(*a); }); });

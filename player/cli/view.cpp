@@ -192,13 +192,14 @@ void addView(CLI::App& app, int& status) {
     sub->add_option("--record", args->record, "write the flight to this camera path file on exit");
     sub->add_option("--width", args->gl.width, "window width")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_option("--height", args->gl.height, "window height")->capture_default_str()->check(CLI::Range(1, 16384));
-    sub->add_option("--memory", args->memoryBudget, "memory budget in bytes (thesis §4.3); 0 = none")->capture_default_str();
+    sub->add_option("--memory", args->memoryBudget, "memory budget in bytes (thesis §4.3); 0 = none")->capture_default_str()
+        ->check(wholeNumber());
     sub->add_flag("--color-by-level", args->colorByLevel, "shade nodes by level (grey levels)");
     addLoaderOptions(*sub, args->loading, args->loader, args->onMiss);
     sub->add_flag("--strict", args->strict,
                   "a node that cannot be read or decoded ends the session (exit 1); by default it is skipped "
                   "with one warning and its parent stays drawn");
-    sub->add_option("--speed", args->speed, "initial speed in m/s (default: model diagonal / 20)")->check(CLI::NonNegativeNumber);
+    sub->add_option("--speed", args->speed, "initial speed in m/s (default: model diagonal / 20)")->check(finiteAtLeast(0));
     sub->add_option("--up", args->up, "up axis of the model (default: the one the database records; z for a database without one)")
         ->check(CLI::IsMember({"y", "z"}));
     addConstantOptions(*sub, args->constants);

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <regex>
+#include <sstream>
 
 namespace hlod::test {
 namespace {
@@ -156,6 +158,72 @@ TEST_F(Conventions, AbsurdConstantsAreStatusTwoWithOneLine) {
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(r.err, "hlod build: c_levelFactor = 1: must be in [2, 64] (children per node)\n");
     EXPECT_FALSE(std::filesystem::exists(dir.file("t.hlod")));
+}
+
+// Every number option of every subcommand, found in its --help: a floating-point one refuses
+// nan and +-inf, a count (INT, UINT) refuses -1, each with status 2 and one line naming the
+// option and the value (formats/cli/command.h), before any work.
+TEST_F(Conventions, NumberOptionsRefuseNanInfinityAndNegativeCounts) {
+    const std::string obj = dir.file("t.obj");
+    std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const std::vector<std::vector<std::string>> commands = {
+        {"build", obj, "-o", dir.file("n.hlod")}, {"split", obj, "-o", dir.file("nw")},
+        {"merge", dir.file("shard"), "-o", dir.file("m.hlod")}, {"inspect", db}, {"validate", db}, {"stats", db},
+        {"play", db, "--path", path, "--sync-loader"}, {"path", db, "-o", dir.file("n.path")}, {"view", db},
+        {"calibrate"}, {"compare", db, "--path", path, "--policies", "thesis"},
+        {"export", "tiles", db, "-o", dir.file("nt")}, {"synth", "city", "-o", dir.file("nc"), "--scale", "0.01"}};
+    const std::regex option(R"(^\s+(?:-\w,)?(--[a-z][a-z-]*) (FLOAT|INT|UINT)\b.*?(?: x (\d+))?(?: |$))");
+    size_t checked = 0;
+    for (const auto& base : commands) {
+        std::vector<std::string> help = base;
+        help.push_back("--help");
+        std::istringstream lines(runHlod(help).out);
+        for (std::string line; std::getline(lines, line);) {
+            std::smatch m;
+            if (!std::regex_search(line, m, option)) continue;
+            const int repeat = m[3].matched ? std::stoi(m[3]) : 1;
+            const std::vector<std::string> values =
+                m[2] == "FLOAT" ? std::vector<std::string>{"nan", "inf", "-inf"} : std::vector<std::string>{"-1"};
+            for (const std::string& value : values) {
+                std::vector<std::string> args = base;
+                args.push_back(m[1]);
+                for (int i = 0; i < repeat; ++i) args.push_back(value);
+                const RunResult r = runHlod(args);
+                const std::string what = base[0] + " " + std::string(m[1]) + " " + value;
+                EXPECT_EQ(r.exitCode, 2) << what << ": " << r.err;
+                expectOneErrorLine(r, "hlod: ");
+                EXPECT_NE(r.err.find(m[1]), std::string::npos) << what << ": " << r.err;
+                EXPECT_NE(r.err.find(value), std::string::npos) << what << ": " << r.err;
+                ++checked;
+            }
+        }
+    }
+    EXPECT_GT(checked, 150u);  // the sweep found the options (about 70 of them)
+}
+
+// Finite but absurd numbers that once crashed (-j 99999: TBB) or ran until memory ran out (a path
+// of 1e300 s, or of a key every nanosecond, or a lap at 1e-300 m/s), and block ranges that were
+// wrapped around or cut short: status 2, one line.
+TEST_F(Conventions, AbsurdNumbersAreStatusTwoNotACrashOrAHang) {
+    const std::string obj = dir.file("t.obj");
+    std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const std::string out = dir.file("absurd.path");
+    std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"build", obj, "-o", dir.file("j.hlod"), "-j", "99999"}, "hlod: --jobs: Value 99999 not in range 0 to 1024"},
+        {{"path", db, "-o", out, "--duration", "1e300"}, "hlod: --duration: value '1e300': expected a finite number in [0, 86400]"},
+        {{"path", db, "-o", out, "--key-interval", "1e-9"}, "hlod path: a path of "},
+        {{"path", db, "-o", out, "--speed", "1e-300"}, "hlod path: a path of "},
+        {{"play", db, "--path", path, "--model-overhead-ms", "1e300"}, "hlod: --model-overhead-ms: value '1e300': expected"}};
+    for (const std::string blocks : {"-1:3", "0:1:2", "0:4294967297", " 0:1"})  // no wrap-around, no truncation
+        cases.push_back({{"build", obj, "-o", dir.file("j.hlod"), "--shard", "--blocks", blocks},
+                         "hlod build: --blocks '" + blocks + "': expected FIRST:LAST"});
+    for (const auto& [args, message] : cases) {
+        const RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << args[0] << ": " << r.err;
+        expectOneErrorLine(r, message);
+    }
+    EXPECT_FALSE(std::filesystem::exists(out));
+    EXPECT_FALSE(std::filesystem::exists(dir.file("j.hlod")));
 }
 
 TEST_F(Conventions, HelpAndVersionAreStatusZero) {

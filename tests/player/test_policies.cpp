@@ -70,8 +70,10 @@ TEST(Policies, RegistryKnowsThesisAndRejectsUnknownNames) {
     EXPECT_THROW(checkPolicySettings(names, bad), std::invalid_argument);
     std::string ok[] = {"x.y=1.5"};
     EXPECT_EQ(parsePolicySettings(ok).get("x.y", 0), 1.5);
-    std::string malformed[] = {"x.y=abc"};
-    EXPECT_THROW(parsePolicySettings(malformed), std::invalid_argument);
+    for (const std::string text : {"x.y=abc", "x.y=nan", "x.y=inf", "x.y=-inf", "x.y=1e999"}) {
+        const std::string malformed[] = {text};
+        EXPECT_THROW(parsePolicySettings(malformed), std::invalid_argument) << text;
+    }
 }
 
 // The thesis through the interface (policy select + shared accounting) against selectFront with
