@@ -2,11 +2,16 @@
 #include "formats/temp_files.h"
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <charconv>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <stdexcept>
+#include <utility>
 
 namespace hlod {
 
@@ -30,6 +35,41 @@ void removeStaleTemporaries(const std::string& prefix) {
         std::error_code ignored;
         fs::remove_all(it->path(), ignored);
     }
+}
+
+TextFileWriter::TextFileWriter(std::string path, std::string what) : path_(std::move(path)), what_(std::move(what)) {
+    removeStaleTemporaries(path_ + ".tmp");
+    std::string name = temporaryPattern(path_ + ".tmp");
+    const int fd = ::mkstemp(name.data());
+    if (fd < 0) fail(std::strerror(errno));
+    ::fchmod(fd, 0644);  // mkstemp's 0600 would hide the output from other readers
+    ::close(fd);
+    temporary_ = name;
+    out_.open(temporary_, std::ios::trunc);
+    if (!out_) fail("cannot open a temporary file beside it");
+}
+
+TextFileWriter::~TextFileWriter() {
+    if (!committed_ && !temporary_.empty()) std::remove(temporary_.c_str());
+}
+
+void TextFileWriter::fail(const std::string& reason) {
+    if (!temporary_.empty()) std::remove(temporary_.c_str());
+    temporary_.clear();
+    throw std::runtime_error(path_ + ": cannot write " + what_ + " (" + reason + ")");
+}
+
+void TextFileWriter::commit() {
+    out_.close();
+    if (!out_) fail("write failed");
+    if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail(std::strerror(errno));
+    committed_ = true;
+}
+
+void writeTextFile(const std::string& path, const std::string& what, const std::string& text) {
+    TextFileWriter file(path, what);
+    file.stream() << text;
+    file.commit();
 }
 
 }  // namespace hlod

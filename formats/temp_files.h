@@ -4,6 +4,7 @@
 // process keeps its stale temporary until that process ends.
 #pragma once
 
+#include <fstream>
 #include <string>
 
 namespace hlod {
@@ -13,5 +14,27 @@ std::string temporaryPattern(const std::string& prefix);
 // Removes FOLDER/NAME-PID-* (files or folders) where PREFIX = FOLDER/NAME and PID is not a
 // running process; errors are ignored (another run may remove them at the same time).
 void removeStaleTemporaries(const std::string& prefix);
+
+// A text output (a camera path, the statistics CSV, a JSON summary, compare's tables) written as
+// PATH.tmp-PID-XXXXXX next to PATH and renamed onto it by commit(), so a failed write, a PATH that
+// cannot be replaced (a folder) or an interrupted run leaves neither a half-written PATH nor the
+// temporary (the destructor removes an uncommitted one; the next writer of PATH, a killed one's).
+// Errors throw std::runtime_error "PATH: cannot write WHAT (reason)".
+class TextFileWriter {
+public:
+    TextFileWriter(std::string path, std::string what);
+    ~TextFileWriter();
+    TextFileWriter(const TextFileWriter&) = delete;
+    TextFileWriter& operator=(const TextFileWriter&) = delete;
+    std::ostream& stream() { return out_; }
+    void commit();
+
+private:
+    [[noreturn]] void fail(const std::string& reason);
+    std::string path_, what_, temporary_;
+    std::ofstream out_;
+    bool committed_ = false;
+};
+void writeTextFile(const std::string& path, const std::string& what, const std::string& text);
 
 }  // namespace hlod

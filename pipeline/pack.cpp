@@ -31,13 +31,14 @@ std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds,
     for (int k = 0; k < 3; ++k) far = std::max({far, std::abs(lo[k]), std::abs(hi[k])});
     if (!(positionStep > 0) || !(far > 0) || !std::isfinite(far)) return "";
     const double floatStep = std::ldexp(1.0, std::ilogb(far) - 23);  // binary32: 24-bit significand
-    if (floatStep <= positionStep) return "";
+    if (floatStep <= positionStep) return "";  // the same answer as against the step rounded down to a power of two
+    const double lattice = std::ldexp(1.0, std::ilogb(positionStep));  // the step the codec uses (codec.h)
     std::vector<char> text(input.size() + 400);
     std::snprintf(text.data(), text.size(),
                   "%s: coordinates reach %.6g units from the origin, where positions (32-bit floats) step by %g, coarser than "
                   "the position lattice step %g: detail finer than %g is lost; build with --offset %.0f,%.0f,%.0f (the "
                   "centre of its bounds, rounded) to keep it",
-                  input.c_str(), far, floatStep, positionStep, floatStep, 0.0 + std::round((lo[0] + hi[0]) / 2),
+                  input.c_str(), far, floatStep, lattice, floatStep, 0.0 + std::round((lo[0] + hi[0]) / 2),
                   0.0 + std::round((lo[1] + hi[1]) / 2), 0.0 + std::round((lo[2] + hi[2]) / 2));  // 0.0 +: no "-0"
     return text.data();
 }

@@ -3,6 +3,7 @@
 #include "player/camera_path.h"
 
 #include "formats/errors.h"
+#include "formats/temp_files.h"
 
 #include <Eigen/Geometry>
 
@@ -10,11 +11,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace hlod {
 namespace {
@@ -110,18 +109,9 @@ void writeCameraPath(std::ostream& out, const CameraPath& path) {
 }
 
 void writeCameraPathFile(const std::string& path, const CameraPath& cameraPath) {
-    std::string tmp = path + ".tmp-" + std::to_string(getpid());
-    {
-        std::ofstream out(tmp);
-        if (!out) throw std::runtime_error(path + ": cannot write camera path");
-        writeCameraPath(out, cameraPath);
-        out.flush();
-        if (!out) {
-            std::filesystem::remove(tmp);
-            throw std::runtime_error(path + ": write failed");
-        }
-    }
-    std::filesystem::rename(tmp, path);
+    TextFileWriter file(path, "camera path");
+    writeCameraPath(file.stream(), cameraPath);
+    file.commit();
 }
 
 Camera sampleCameraPath(const CameraPath& path, double time, double aspect) {

@@ -40,7 +40,7 @@ inline constexpr double kMaxCameraCoordinate = 1e15; // |px|, |py|, |pz|
 CameraPath parseCameraPath(std::istream& in, const std::string& name);
 CameraPath readCameraPath(const std::string& path);
 void writeCameraPath(std::ostream& out, const CameraPath& path);
-void writeCameraPathFile(const std::string& path, const CameraPath& cameraPath);  // atomic (tmp + rename)
+void writeCameraPathFile(const std::string& path, const CameraPath& cameraPath);  // atomic (TextFileWriter)
 
 // Position and field of view interpolated linearly, orientation by slerp; clamped at the ends.
 Camera sampleCameraPath(const CameraPath& path, double time, double aspect = 16.0 / 9.0);

@@ -9,6 +9,7 @@
 
 #include "formats/constants.h"
 #include "formats/db.h"
+#include "formats/temp_files.h"
 #include "player/compare.h"
 #include "player/cost_model_renderer.h"
 #include "player/gl/gl_renderer.h"
@@ -18,7 +19,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -81,11 +81,6 @@ PolicyRun runPolicy(const CompareArgs& a, const Database& db, const Constants& c
         if (!problem.empty() && run.invalidCuts++ == 0) run.firstInvalid = "frame " + std::to_string(f.frame) + ": " + problem;
     });
     return run;
-}
-
-void writeFile(const std::string& file, const std::string& text) {
-    std::ofstream out(file);
-    if (!(out << text)) throw std::runtime_error(file + ": cannot write");
 }
 
 std::string framesCsv(const std::vector<PolicyRun>& runs, const PolicyRun* oracle) {
@@ -205,12 +200,12 @@ int runCompare(CompareArgs& a) {
             {"model_ms_per_flat_tri", std::to_string(a.model.msPerUntexturedTriangle)}, {"seed", std::to_string(a.model.seed)},
             {"loader_policy", a.loader}, {"on_miss", a.onMiss}};
         appendLoaderInfo(setup, a.player);
-        writeFile(a.prefix + ".txt", text.str());
+        writeTextFile(a.prefix + ".txt", "the table", text.str());
         std::ostringstream csv;
         writeCompareCsv(csv, rows);
-        writeFile(a.prefix + ".csv", csv.str());
-        writeFile(a.prefix + ".json", compareJson(rows, setup) + "\n");
-        writeFile(a.prefix + "-frames.csv", framesCsv(runs, oracle));
+        writeTextFile(a.prefix + ".csv", "the table", csv.str());
+        writeTextFile(a.prefix + ".json", "the table", compareJson(rows, setup) + "\n");
+        writeTextFile(a.prefix + "-frames.csv", "the frames", framesCsv(runs, oracle));
         std::cout << "wrote " << a.prefix << ".txt, .csv, .json, -frames.csv\n";
         if (a.plots) {
             if (plot(a.prefix, runs, oracle))

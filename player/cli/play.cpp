@@ -7,6 +7,7 @@
 #include "formats/constants.h"
 #include "formats/db.h"
 #include "formats/image_io.h"
+#include "formats/temp_files.h"
 #include "player/cost_model_renderer.h"
 #include "player/gl/gl_renderer.h"
 #include "player/replay.h"
@@ -17,12 +18,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
 
-#include <unistd.h>
 
 namespace hlod::cli {
 namespace {
@@ -40,34 +39,6 @@ struct PlayArgs {
     std::string calibration;
     std::vector<std::string> policySettings;  // --policy-set P.NAME=VALUE
     std::string loader = "thesis", onMiss = "parent";
-};
-
-// The CSV goes to FILE.tmp-PID and is renamed when the run completes (no half-written output).
-class StatsFile {
-public:
-    explicit StatsFile(const std::string& path) : path_(path), tmp_(path + ".tmp-" + std::to_string(getpid())) {
-        if (!path.empty()) {
-            out_.open(tmp_);
-            if (!out_) throw std::runtime_error(path + ": cannot write statistics");
-        }
-    }
-    ~StatsFile() {
-        if (out_.is_open()) {
-            out_.close();
-            std::filesystem::remove(tmp_);
-        }
-    }
-    std::ostream* stream() { return out_.is_open() ? &out_ : nullptr; }
-    void commit() {
-        if (!out_.is_open()) return;
-        out_.close();
-        if (!out_) throw std::runtime_error(path_ + ": write failed");
-        std::filesystem::rename(tmp_, path_);
-    }
-
-private:
-    std::string path_, tmp_;
-    std::ofstream out_;
 };
 
 // The c_textured the database's node costs were computed with (eq. 3.1), from its metadata.
@@ -144,21 +115,22 @@ int runPlay(PlayArgs& a) {
         {"initial_hyst", std::to_string(a.player.initialHystSwitches * c.hystSwitch)},
         {"time", "simulated (camera sampled at the sum of measured frame times)"}});
     for (const auto& [k, v] : info) std::cout << k << ": " << v << '\n';
-    StatsFile csv(a.stats);
-    if (std::ostream* os = csv.stream()) writeStatsPreamble(*os, c, info, player.levelCount());
+    std::optional<TextFileWriter> csv;  // renamed into place when the run completes
+    if (!a.stats.empty()) csv.emplace(a.stats, "statistics");
+    if (csv) writeStatsPreamble(csv->stream(), c, info, player.levelCount());
 
     ReplayOptions ro;
     ro.maxFrames = a.maxFrames;
     ro.aspect = double(a.width) / a.height;
     auto frames = replayPath(player, path, ro, [&](const FrameStats& s) {
-        if (std::ostream* os = csv.stream()) writeStatsRow(*os, s, player.levelCount());
+        if (csv) writeStatsRow(csv->stream(), s, player.levelCount());
         if (!a.framesDir.empty() && s.frame % a.every == 0) {
             char name[64];
             std::snprintf(name, sizeof name, "/frame_%06llu.png", (unsigned long long)s.frame);
             writePngFile(a.framesDir + name, renderer->readPixels());
         }
     });
-    csv.commit();
+    if (csv) csv->commit();
     StatsSummary summary = summarize(frames, a.warmup);
     printSummary(std::cout, summary);
     if (!a.json.empty()) {
@@ -166,8 +138,7 @@ int runPlay(PlayArgs& a) {
         if (a.json == "-") {
             std::cout << text;
         } else {
-            std::ofstream out(a.json);
-            if (!(out << text)) throw std::runtime_error(a.json + ": cannot write summary");
+            writeTextFile(a.json, "summary", text);
         }
     }
     return 0;

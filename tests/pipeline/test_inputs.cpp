@@ -287,6 +287,8 @@ TEST(Inputs, FloatPrecisionWarningThresholdIsTheLatticeStep) {
     EXPECT_NE(floatPrecisionWarning("m", Box3f{{-4194304, 0, 0}, {0, 1, 1}}, 0.25), "");  // negative coordinates too
     EXPECT_EQ(floatPrecisionWarning("m", Box3f{{0, 0, 0}, {0, 0, 0}}, 0.25), "");
     EXPECT_EQ(floatPrecisionWarning("m", box, 0), "");
+    EXPECT_EQ(floatPrecisionWarning("m", box, 0.7), "");  // the codec's lattice: 0.5
+    EXPECT_NE(floatPrecisionWarning("m", box, 0.45).find("the position lattice step 0.25:"), std::string::npos);
 }
 
 // An OBJ written with full double precision: 8 x 8 quads 0.1 apart, moved to (4194304, 1048576),

@@ -99,6 +99,34 @@ TEST_F(Cli, TruncatedDatabaseIsOneLineStatus2AndNoCsv) {  // cannot be opened as
     EXPECT_FALSE(fs::exists(csv));
 }
 
+// An output that cannot be replaced (here a folder in its place; a full disk and a missing folder
+// take the same way): status 1, one line naming it and why, and nothing left beside it: no
+// temporary, no half-written file, the folder untouched (formats/temp_files.h TextFileWriter).
+TEST_F(Cli, TextOutputsThatCannotBeWrittenLeaveNothingBehind) {
+    const std::string path = walk();
+    const fs::path taken = dir / "taken";
+    for (const char* name : {"stats.csv", "summary.json", "out.path", "cmp.txt", "cmp.csv"}) fs::create_directories(taken / name);
+    const std::string in = (taken / "").string();
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"play", db, "--path", path, "--sync-loader", "--stats", in + "stats.csv"}, in + "stats.csv: cannot write statistics (Is a directory)"},
+        {{"play", db, "--path", path, "--sync-loader", "--json", in + "summary.json"}, in + "summary.json: cannot write summary (Is a directory)"},
+        {{"path", db, "-o", in + "out.path"}, in + "out.path: cannot write camera path (Is a directory)"},
+        {{"compare", db, "--path", path, "--policies", "thesis", "--no-plots", "-o", in + "cmp"}, in + "cmp.txt: cannot write the table (Is a directory)"},
+        {{"path", db, "-o", (dir / "absent" / "x.path").string()}, (dir / "absent" / "x.path").string() + ": cannot write camera path ("}};
+    for (const auto& [args, message] : cases) {
+        const RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 1) << args[0] << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1) << r.err;
+        EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    }
+    size_t entries = 0;
+    for (const auto& e : fs::directory_iterator(taken)) {
+        EXPECT_TRUE(e.is_directory() && fs::is_empty(e.path())) << e.path();
+        ++entries;
+    }
+    EXPECT_EQ(entries, 5u);  // the five folders, nothing else
+}
+
 TEST_F(Cli, BadPathFileIsOneLineWithLineNumber) {
     std::string bad = (dir / "bad.path").string();
     std::ofstream(bad) << "hlod-camera-path 1\n0 0 0 1.7 0 0 0 1 60\n1 0 0 1.7 0 0 0 1\n";
