@@ -3,6 +3,7 @@
 
 #include "formats/errors.h"
 #include "formats/setting_lines.h"
+#include "formats/temp_files.h"
 
 #include <charconv>
 #include <cmath>
@@ -34,33 +35,29 @@ double* fitField(Calibration& c, const std::string& name) {
 
 }  // namespace
 
+void writeCalibration(const Calibration& c, std::ostream& out) {
+    out << std::setprecision(8);
+    out << "# hlod calibrate: render-time model (formats/calibration.h)\n"
+        << "# time_ms = overhead + perTri * triangles; c_textured = perTexturedTri / (perTexturedTri + perUntexturedTri)\n"
+        << "renderer = " << c.renderer << "\n"
+        << "c_textured = " << c.cTextured << "\n"
+        << "ms_per_cost = " << c.msPerCost << "\n"
+        << "fixed_overhead_ms = " << c.fixedOverheadMs << "\n"
+        << "textured_ms_per_tri = " << c.textured.slope << "\n"
+        << "untextured_ms_per_tri = " << c.untextured.slope << "\n"
+        << "textured_intercept_ms = " << c.textured.intercept << "\n"
+        << "untextured_intercept_ms = " << c.untextured.intercept << "\n"
+        << "ms_per_pixel = " << c.msPerPixel << "\n";
+    for (const CalibrationSample& s : c.samples)
+        out << "# sample " << (s.textured ? "textured" : "untextured") << " triangles=" << s.triangles
+            << " ms=" << s.ms << "\n";
+    for (const auto& [pixels, ms] : c.pixelSamples) out << "# sample pixels=" << pixels << " ms=" << ms << "\n";
+}
+
 void writeCalibration(const Calibration& c, const std::string& path) {
-    const std::string temporary = path + ".tmp";
-    {
-        std::ofstream out(temporary);
-        if (!out) throw std::runtime_error(path + ": cannot be written");
-        out << std::setprecision(8);
-        out << "# hlod calibrate: render-time model (formats/calibration.h)\n"
-            << "# time_ms = overhead + perTri * triangles; c_textured = perTexturedTri / (perTexturedTri + perUntexturedTri)\n"
-            << "renderer = " << c.renderer << "\n"
-            << "c_textured = " << c.cTextured << "\n"
-            << "ms_per_cost = " << c.msPerCost << "\n"
-            << "fixed_overhead_ms = " << c.fixedOverheadMs << "\n"
-            << "textured_ms_per_tri = " << c.textured.slope << "\n"
-            << "untextured_ms_per_tri = " << c.untextured.slope << "\n"
-            << "textured_intercept_ms = " << c.textured.intercept << "\n"
-            << "untextured_intercept_ms = " << c.untextured.intercept << "\n"
-            << "ms_per_pixel = " << c.msPerPixel << "\n";
-        for (const CalibrationSample& s : c.samples)
-            out << "# sample " << (s.textured ? "textured" : "untextured") << " triangles=" << s.triangles
-                << " ms=" << s.ms << "\n";
-        for (const auto& [pixels, ms] : c.pixelSamples) out << "# sample pixels=" << pixels << " ms=" << ms << "\n";
-        if (!out.flush()) throw std::runtime_error(path + ": write failed");
-    }
-    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-        std::remove(temporary.c_str());
-        throw std::runtime_error(path + ": cannot be written");
-    }
+    TextFileWriter file(path, "calibration");
+    writeCalibration(c, file.stream());
+    file.commit();
 }
 
 Calibration readCalibration(const std::string& path) {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <iosfwd>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,7 +43,10 @@ struct Calibration {
     std::vector<CalibrationSample> samples;  // written as comments, not read back
 };
 
-// Writes the file atomically (temporary + rename); throws std::runtime_error "PATH: problem".
+// The file's text (name = value lines; the samples as comments).
+void writeCalibration(const Calibration& calibration, std::ostream& out);
+// Writes it through a TextFileWriter (formats/temp_files.h): PATH appears complete or not at all;
+// throws std::runtime_error "PATH: cannot write calibration (reason)".
 void writeCalibration(const Calibration& calibration, const std::string& path);
 
 // Reads a file written by writeCalibration. Throws InputError "PATH[:LINE]: problem" for a

@@ -2,14 +2,13 @@
 // ("measured render time", §3.3) plus the per-triangle cost and fixed overhead the feedback
 // loop of §4.2 starts from, and writes them to a calibration file (formats/calibration.h) that
 // `hlod build --calibration` and `hlod play --calibration` read.
+#include "formats/temp_files.h"
 #include "player/cli/subcommands.h"
 
 #include "player/gl/gl_renderer.h"
 
 #include <CLI/CLI.hpp>
 
-#include <cstdio>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 
@@ -38,15 +37,15 @@ void printCalibration(std::ostream& os, const Calibration& c) {
 }
 
 int runCalibrate(const CalibrateArgs& args) {
-    if (!std::ofstream(args.output + ".tmp")) throw std::runtime_error(args.output + ": cannot be written");
-    std::remove((args.output + ".tmp").c_str());
+    TextFileWriter file(args.output, "calibration");  // an unwritable OUT fails before measuring
     std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
     const double aspect = static_cast<double>(args.gl.width) / args.gl.height;
     CalibrationOptions options = args.calibration;
     options.viewportPixels = double(args.gl.width) * args.gl.height;
     const Calibration calibration = calibrate(*renderer, aspect, options);
     printCalibration(std::cout, calibration);
-    writeCalibration(calibration, args.output);
+    writeCalibration(calibration, file.stream());
+    file.commit();
     std::cout << "wrote " << args.output << "\n";
     return kExitOk;
 }

@@ -12,6 +12,9 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+
+#include <unistd.h>
 
 namespace hlod {
 namespace {
@@ -192,6 +195,15 @@ TEST(Calibrate, UnwritablePathGivesOneLineNamingIt) {
     } catch (const std::runtime_error& e) {
         EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
     }
+    // A folder where the file should go: the temporary beside it is removed, nothing replaced.
+    const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("hlod_calib_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(folder / "c.conf");
+    EXPECT_THROW(writeCalibration(c, (folder / "c.conf").string()), std::runtime_error);
+    size_t entries = 0;
+    for (const auto& e : std::filesystem::directory_iterator(folder)) entries += e.path().filename() != "c.conf";
+    EXPECT_EQ(entries, 0u) << "a temporary was left beside the output";
+    EXPECT_TRUE(std::filesystem::is_directory(folder / "c.conf"));
+    std::filesystem::remove_all(folder);
 }
 
 TEST(Calibrate, MeasuresTheOpenGlRendererWhenAvailable) {

@@ -82,7 +82,7 @@ TEST_F(HlodTool, CalibrateToAnUnwritablePathFailsBeforeMeasuring) {
     const std::string out = (dir_ / "missing-dir" / "c.conf").string();
     const RunResult r = runHlod({"calibrate", "-o", out});
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_EQ(r.outAndErr(), "hlod calibrate: " + out + ": cannot be written\n");
+    EXPECT_EQ(r.outAndErr(), "hlod calibrate: " + out + ": cannot write calibration (No such file or directory)\n");
 }
 
 TEST_F(HlodTool, ViewOfAMissingDatabaseFailsWithOneLine) {
