@@ -37,7 +37,7 @@ Database& Database::operator=(Database&&) noexcept = default;
 Database::~Database() = default;
 
 // Every failure to open is UnreadableDatabase: the file is not a database this reader can use.
-Database Database::open(const std::string& path) try {
+Database Database::open(const std::string& path, bool checkNodeTree) try {
     Database db;
     Impl& d = *db.impl_;
     d.path = path;
@@ -59,6 +59,11 @@ Database Database::open(const std::string& path) try {
     std::vector<uint8_t> skel(h.skeletonSize);
     preadAll(d.fd, h.skeletonOffset, skel, path);
     d.skeleton = parseDatabase(header, skel, d.fileSize, path);
+    if (checkNodeTree)
+        checkTree(d.skeleton, [&](uint32_t node, const std::string& message) {
+            throw FormatError(path + ": " + (node == kNone ? "" : "node " + std::to_string(node) + ": ") + message +
+                              " (`hlod validate` lists every violation)");
+        });
     return db;
 } catch (const FormatError& e) {
     throw UnreadableDatabase(e.what());

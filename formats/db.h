@@ -6,6 +6,7 @@
 #include "formats/errors.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -98,11 +99,18 @@ struct Skeleton {
 // Cost of eq. 3.1: textured * c_textured + untextured * (1 - c_textured).
 float nodeCost(uint32_t texturedTriangles, uint32_t untexturedTriangles, double cTextured);
 
-// Read side. Opening checks the header and skeleton (bounds, counts, checksum); blobs are
-// read on demand with one positioned read each and checked against their checksum.
+// FORMAT.md §Invariants 1–2 (formats/tree_check.cpp): links form one tree per block without
+// cycles or sharing, roots at level 0, level = parent's + 1, block = parent's. Calls `report` for
+// each violation (node kNone: of no one node).
+void checkTree(const Skeleton& s, const std::function<void(uint32_t node, const std::string& message)>& report);
+
+// Read side. Opening checks the header and skeleton (bounds, counts, checksum) and, with
+// checkNodeTree (the default), the node tree (checkTree: no reader walks a cycle); `hlod validate`
+// opens without it to list every violation. Blobs are read on demand with one positioned read
+// each and checked against their checksum.
 class Database {
 public:
-    static Database open(const std::string& path);  // throws UnreadableDatabase
+    static Database open(const std::string& path, bool checkNodeTree = true);  // throws UnreadableDatabase
     Database(Database&&) noexcept;
     Database& operator=(Database&&) noexcept;
     ~Database();
@@ -148,7 +156,8 @@ struct NodeInput {
     std::vector<EncodedBlob> blobs;
 };
 
-// Write side. Writes to "PATH.tmp-XXXXXX" in the same directory, then fsync + rename in
+// Write side. Writes to "PATH.tmp-PID-XXXXXX" in the same directory (an existing PATH that is not a
+// regular file is refused, checkReplaceable), then fsync + rename in
 // finish(). Destroying an unfinished writer removes the temporary file, so a killed or
 // failed writer never leaves a file that opens as a database at PATH.
 class Writer {

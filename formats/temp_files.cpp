@@ -37,7 +37,23 @@ void removeStaleTemporaries(const std::string& prefix) {
     }
 }
 
+void checkReplaceable(const std::string& path, const std::string& what) {
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);  // follows a symbolic link
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+        throw std::runtime_error(path + ": cannot write " + what + " (exists and is not a regular file)");
+}
+
+void refuseOutputOverInputs(const std::string& output, std::initializer_list<std::string> inputs) {
+    for (const std::string& input : inputs) {
+        std::error_code ec;
+        if (!output.empty() && !input.empty() && std::filesystem::equivalent(output, input, ec))
+            throw std::invalid_argument(output + ": is also an input (" + input + "); write the output elsewhere");
+    }
+}
+
 TextFileWriter::TextFileWriter(std::string path, std::string what) : path_(std::move(path)), what_(std::move(what)) {
+    checkReplaceable(path_, what_);
     removeStaleTemporaries(path_ + ".tmp");
     std::string name = temporaryPattern(path_ + ".tmp");
     const int fd = ::mkstemp(name.data());

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <fstream>
+#include <initializer_list>
 #include <string>
 
 namespace hlod {
@@ -15,9 +16,19 @@ std::string temporaryPattern(const std::string& prefix);
 // running process; errors are ignored (another run may remove them at the same time).
 void removeStaleTemporaries(const std::string& prefix);
 
+// An output PATH that exists must be a regular file (or a symbolic link to one, which the output
+// replaces): a device, FIFO, socket or folder is never renamed over (as root, `-o /dev/null`
+// replaced /dev/null before stop 36). Throws std::runtime_error "PATH: cannot write WHAT (exists
+// and is not a regular file)".
+void checkReplaceable(const std::string& path, const std::string& what);
+// Throws std::invalid_argument "OUTPUT: is also an input (INPUT); write the output elsewhere" when
+// OUTPUT and one of INPUTS name the same existing file (after symbolic links; hard links too), so
+// an output never destroys what the run reads. Empty names are skipped.
+void refuseOutputOverInputs(const std::string& output, std::initializer_list<std::string> inputs);
+
 // A text output (a camera path, the statistics CSV, a JSON summary, compare's tables) written as
 // PATH.tmp-PID-XXXXXX next to PATH and renamed onto it by commit(), so a failed write, a PATH that
-// cannot be replaced (a folder) or an interrupted run leaves neither a half-written PATH nor the
+// cannot be replaced (checkReplaceable: refused before anything is written) or an interrupted run leaves neither a half-written PATH nor the
 // temporary (the destructor removes an uncommitted one; the next writer of PATH, a killed one's).
 // Errors throw std::runtime_error "PATH: cannot write WHAT (reason)".
 class TextFileWriter {

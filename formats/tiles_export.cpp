@@ -1,7 +1,9 @@
 // `hlod export tiles` as a function (formats/export_tiles.h): every node's GLB, then tileset.json,
-// into OUT.tmp-XXXXXX next to OUT, renamed onto OUT at the end (swapped with an earlier export in
-// one renameat2(RENAME_EXCHANGE)), like the database writer's atomic rename (FORMAT.md §Atomic
-// writing): a failed or killed export never leaves at OUT a tileset that looks complete.
+// into OUT.tmp-PID-XXXXXX next to OUT, renamed onto OUT at the end (swapped with an earlier export
+// in one renameat2(RENAME_EXCHANGE)), like the database writer's atomic rename (FORMAT.md §Atomic
+// writing): a failed or killed export never leaves at OUT a tileset that looks complete, and the
+// next export to OUT removes a killed one's temporary (formats/temp_files.h).
+#include "formats/temp_files.h"
 #include "formats/tiles_detail.h"
 
 #include <cstdio>
@@ -50,7 +52,8 @@ struct Temporary {
 };
 
 fs::path makeTemporaryFolder(const fs::path& out) {
-    std::string pattern = out.string() + ".tmp-XXXXXX";
+    removeStaleTemporaries(out.string() + ".tmp");  // of exports killed before they renamed theirs
+    std::string pattern = temporaryPattern(out.string() + ".tmp");
     if (!mkdtemp(pattern.data())) throw std::runtime_error(out.string() + ": cannot create a temporary folder beside it");
     return pattern;
 }
@@ -78,6 +81,7 @@ TilesReport exportTiles(const Database& db, const std::string& outPath, const Ti
     const fs::path out = fs::path(outPath).lexically_normal();
     if (out.filename().empty()) throw InputError(outPath + ": not a file or folder name");
     checkTarget(out, options.archive);
+    refuseOutputOverInputs(out.string(), {db.path()});
     const Skeleton& s = db.skeleton();
     Temporary folder(makeTemporaryFolder(out));
     fs::create_directory(folder.path / "tiles");
@@ -99,7 +103,7 @@ TilesReport exportTiles(const Database& db, const std::string& outPath, const Ti
     report.tilesetBytes = json.size();
 
     if (options.archive) {
-        Temporary archive(folder.path.string() + ".3tz");  // OUT.tmp-XXXXXX.3tz
+        Temporary archive(folder.path.string() + ".3tz");  // OUT.tmp-PID-XXXXXX.3tz
         tiles::write3tz(folder.path.string(), archive.path.string());
         report.outputBytes = fs::file_size(archive.path);
         renameOnto(archive.path, out);

@@ -42,45 +42,6 @@ bool inside(const Box3f& c, const Box3f& p, double relTol) {
            c.max.x <= p.max.x + tol && c.max.y <= p.max.y + tol && c.max.z <= p.max.z + tol;
 }
 
-// Walks the root sibling list and every child list; each node may be listed once, so the walk
-// is linear even on corrupt links. Checks tree shape and parent links.
-void checkLinks(const Skeleton& s, Report& r) {
-    const auto n = uint32_t(s.nodes.size());
-    std::vector<uint32_t> rootOfBlock(s.blockCount, kNone);
-    std::vector<uint8_t> listed(n, 0);
-    std::vector<uint32_t> stack;
-    std::vector<uint32_t> roots = s.roots();
-    auto list = [&](uint32_t c) {
-        if (listed[c]) {
-            r.add(c, "is reached twice through the child/sibling links (a cycle or a shared node)");
-            return false;
-        }
-        listed[c] = 1;
-        stack.push_back(c);
-        return true;
-    };
-    for (uint32_t c = roots.empty() ? kNone : roots.front(); c != kNone && list(c); c = s.nodes[c].nextSibling)
-        if (s.nodes[c].parent != kNone) r.add(c, "is in the hlod0 sibling list but has a parent");
-    for (uint32_t root : roots) {
-        const Node& nd = s.nodes[root];
-        if (nd.level != 0) r.add(root, "has no parent but level " + std::to_string(nd.level) + " (hlod0 is level 0)");
-        if (rootOfBlock[nd.block] != kNone) r.add(root, "is a second root of block " + std::to_string(nd.block));
-        else rootOfBlock[nd.block] = root;
-    }
-    for (uint32_t b = 0; b < s.blockCount; ++b)
-        if (rootOfBlock[b] == kNone) r.add(kNone, "block " + std::to_string(b) + " has no root node");
-    while (!stack.empty()) {
-        uint32_t id = stack.back();
-        stack.pop_back();
-        for (uint32_t c = s.nodes[id].firstChild; c != kNone && list(c); c = s.nodes[c].nextSibling)
-            if (s.nodes[c].parent != id)
-                r.add(c, "is in the child list of node " + std::to_string(id) + " but its parent is " +
-                             (s.nodes[c].parent == kNone ? "none" : std::to_string(s.nodes[c].parent)));
-    }
-    for (uint32_t i = 0; i < n; ++i)
-        if (!listed[i]) r.add(i, "is not reachable from the hlod0 list through child/sibling links");
-}
-
 void checkNode(const Skeleton& s, const Node& nd, const ValidateOptions& o, double cTextured, Report& r) {
     const uint32_t id = nd.id;
     if (!finite(nd.bounds.min) || !finite(nd.bounds.max) || nd.bounds.min.x > nd.bounds.max.x ||
@@ -97,11 +58,8 @@ void checkNode(const Skeleton& s, const Node& nd, const ValidateOptions& o, doub
         m << "cost " << nd.cost << " differs from eq. 3.1 (" << expected << " with c_textured=" << cTextured << ")";
         r.add(id, m.str());
     }
-    if (nd.parent == kNone) return;
+    if (nd.parent == kNone) return;  // links, levels and blocks: checkTree
     const Node& p = s.nodes[nd.parent];
-    if (nd.level != p.level + 1)
-        r.add(id, "level " + std::to_string(nd.level) + " is not parent level " + std::to_string(p.level) + " + 1");
-    if (nd.block != p.block) r.add(id, "block " + std::to_string(nd.block) + " differs from its parent's");
     if (!inside(nd.bounds, p.bounds, o.boundsTolerance)) r.add(id, "bounding box is not inside its parent's");
     if (nd.geometricError > p.geometricError)
         r.add(id, "geometric error " + std::to_string(nd.geometricError) + " exceeds its parent's " +
@@ -208,7 +166,7 @@ std::vector<Violation> validate(const Database& db, const ValidateOptions& o) {
     };
     readable([&] { upAxisOf(s, "META"); });
     readable([&] { offsetOf(s, "META"); });
-    checkLinks(s, r);
+    checkTree(s, [&](uint32_t node, const std::string& message) { r.add(node, message); });
     for (const Node& nd : s.nodes) {
         checkNode(s, nd, o, cTextured, r);
         checkCounts(s, nd, r);

@@ -56,6 +56,7 @@ struct Writer::Impl {
 Writer::Writer(const std::string& path, double cTextured) : impl_(std::make_unique<Impl>()) {
     impl_->path = path;
     impl_->cTextured = cTextured;
+    checkReplaceable(path, "database");
     removeStaleTemporaries(path + ".tmp");  // of writers killed before they renamed theirs
     std::string tmpl = temporaryPattern(path + ".tmp");
     impl_->fd = ::mkstemp(tmpl.data());

@@ -120,6 +120,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         else if (ext == ".obj") parseObj(input, raw, options.read);
         else parseGltf(input, raw, readOptions);
         progress.endStage();
+        if (raw.triangles.size() == 0) throw InputError(input + ": empty mesh (no valid triangles)");
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
         enforceTextures(raw.stats.textureProblems, options);
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
@@ -348,6 +349,8 @@ bool replaceableShard(const std::string& output) {
 
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     BuildOptions options = request.options;
+    refuseOutputOverInputs(request.output, {request.input});
+    options.read.output = request.output;  // nor any file the input refers to
     validateConstants(options.constants, kUsedByBuild);
     checkBuildOptions(options);
     if (request.shard && !replaceableShard(request.output))

@@ -62,6 +62,8 @@ std::string resolveReference(const std::string& input, const std::string& folder
     const fs::path base = fs::weakly_canonical(fs::absolute(fs::path(folder), error), error);
     const fs::path resolved = error ? fs::path() : fs::weakly_canonical(base / ref, error);
     if (error) fail("cannot be resolved (" + error.message() + ")", false);  // e.g. a name longer than 255 bytes
+    if (!options.output.empty() && fs::equivalent(resolved, options.output, error))
+        fail("is the output of this run (" + options.output + "; refused)", false);
     if (options.allowOutsideInput) return resolved.string();
     const auto b = std::mismatch(base.begin(), base.end(), resolved.begin(), resolved.end()).first;
     if (b != base.end())

@@ -113,6 +113,9 @@ struct ReadOptions {
     // (`hlod build --offset`): a model far from the origin keeps its detail (README "Far from the
     // origin"); the database records it as META `offset`.
     std::array<double, 3> offset{};
+    // The file the run writes (runBuild sets it to the database): a reference that resolves to it
+    // is refused, so a build never replaces its own texture or MTL library.
+    std::string output;
 };
 void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
 void parseObj(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
@@ -161,7 +164,8 @@ void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const st
 // `reference` (a `kind`, e.g. "texture") is resolved against `folder` (the input's folder) and
 // returned resolved; unless options.allowOutsideInput, an absolute path, a '..' component or a
 // path that resolves (after symlinks) outside `folder` throws InputError
-// "INPUT: KIND 'REFERENCE' ... (refused; --allow-outside-input allows it)".
+// "INPUT: KIND 'REFERENCE' ... (refused; --allow-outside-input allows it)"; one that is
+// options.output throws InputError whatever the options.
 std::string resolveReference(const std::string& input, const std::string& folder, const std::string& reference,
                              const std::string& kind, const ReadOptions& options);
 // The folder of a mesh file (its parent; "." for a bare name), the base of its references.

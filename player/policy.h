@@ -14,7 +14,8 @@
 //     reading its settings with options.get("NAME.setting", default).
 //  2. Declare the factory in player/policy_registry.cpp and add one row to the kPolicies
 //     table there (solvers: below the "Solvers" marker lines): {"name", "one-line summary", "setting1 setting2", makeNamePolicy}.
-//     The name is what `hlod play --policy` and `hlod compare --policies` accept.
+//     The name is what `hlod play --policy` and `hlod compare --policies` accept. A setting name
+//     that is new needs its range in kRanges there too (values outside it are refused).
 //  3. Add the .cpp to player/CMakeLists.txt, its open choices to player/POLICIES.md, and a test
 //     that its fronts pass checkCut (tests/player/test_policies.cpp) and of its defining property.
 // select() may use frame.evaluate (the thesis §4.2 priority and frustumVis of a node) for the
@@ -92,8 +93,13 @@ struct PolicyInfo {
 std::span<const PolicyInfo> policyRegistry();
 // The named policy; std::invalid_argument (naming the known ones) for an unknown name.
 std::unique_ptr<SelectionPolicy> makePolicy(const std::string& name, const PolicyOptions& options = {});
-// Throws std::invalid_argument when a key of `options` is not "P.setting" of one of `names`.
+// Throws std::invalid_argument when a key of `options` is not "P.setting" of one of `names`, or
+// its value is outside the setting's range (policySettingRange). makePolicy checks the ranges of
+// its own settings too.
 void checkPolicySettings(std::span<const std::string> names, const PolicyOptions& options);
+// What values a setting name ("max_states", the part after "P.") takes, e.g. "> 0"; "" for a
+// name no policy has.
+std::string policySettingRange(const std::string& setting);
 std::string policyNamesList();  // "thesis, thesis-rh, none, ..."
 // "P.NAME=VALUE" strings (`--policy-set`) as options; std::invalid_argument on a malformed one.
 PolicyOptions parsePolicySettings(std::span<const std::string> settings);

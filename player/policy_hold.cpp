@@ -21,7 +21,6 @@
 
 #include <algorithm>
 #include <limits>
-#include <stdexcept>
 
 namespace hlod {
 namespace {
@@ -30,10 +29,7 @@ class HoldPolicy final : public SelectionPolicy {
 public:
     explicit HoldPolicy(const PolicyOptions& o)
         : headroom_(o.get("hold.headroom", 0.03)), overrun_(o.get("hold.overrun", 0.03)),
-          exchangeGain_(o.get("hold.exchange_gain", 1)) {
-        if (headroom_ < 0 || headroom_ >= 1) throw std::invalid_argument("hold.headroom must be in [0, 1)");
-        if (overrun_ < 0) throw std::invalid_argument("hold.overrun must be >= 0");
-    }
+          exchangeGain_(o.get("hold.exchange_gain", 1)) {}  // ranges checked by makePolicy
     const char* name() const override { return "hold"; }
 
     PolicyFront select(const PolicyFrame& f, SelectionState& state) override {

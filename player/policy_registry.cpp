@@ -2,6 +2,7 @@
 #include "player/policy.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -63,7 +64,65 @@ const PolicyInfo kPolicies[] = {
 
 };
 
+// The values each setting name takes, whichever policy has it (the same name means the same kind
+// of quantity in every policy). A value outside is refused before a run: a negative time or
+// count, a flag of 5 or a state limit beyond size_t meant nothing (or crashed) before stop 36.
+struct SettingRange {
+    const char* setting;
+    double low, high;  // inclusive
+    bool whole;        // a whole number
+    const char* says;
+};
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kAboveZero = std::numeric_limits<double>::denorm_min();
+
+const SettingRange kRanges[] = {
+    {"allow_skip", 0, 1, true, "0 or 1"},
+    {"best_single", 0, 1, true, "0 or 1"},
+    {"fs_benefit", 0, 1, true, "0 or 1"},
+    {"literal", 0, 1, true, "0 or 1"},
+    {"pixel_ms", 0, kInf, false, ">= 0"},
+    {"logic_ms", 0, kInf, false, ">= 0"},
+    {"opt_ms", 0, kInf, false, ">= 0"},
+    {"focus", 0, kInf, false, ">= 0"},
+    {"motion", 0, kInf, false, ">= 0"},
+    {"hysteresis", 0, kInf, false, ">= 0"},
+    {"overrun", 0, kInf, false, ">= 0"},
+    {"exchange_gain", 0, kInf, false, ">= 0"},
+    {"swap_gain", -kInf, kInf, false, "any number (< 0: never swap)"},
+    {"headroom", 0, std::nextafter(1.0, 0.0), false, "in [0, 1)"},
+    {"pixels", 0, kInf, false, ">= 0 (0: full detail)"},
+    {"tolerance", 0, kInf, false, ">= 0 (0: full detail)"},
+    {"c", kAboveZero, kInf, false, "> 0"},
+    {"accuracy", kAboveZero, kInf, false, "> 0"},
+    {"value", 8, 11, true, "8, 9, 10 or 11 (the paper's equations)"},
+    {"max_newton", 1, 1e6, true, "a whole number in [1, 1000000]"},
+    {"max_states", 1, 1e9, true, "a whole number in [1, 1e9]"},
+};
+
+const SettingRange* findRange(const std::string& setting) {
+    for (const SettingRange& r : kRanges)
+        if (setting == r.setting) return &r;
+    return nullptr;
+}
+
+// Throws std::invalid_argument when the value of KEY ("P.setting") is outside its setting's range.
+void checkRange(const std::string& key, const std::string& setting, double value) {
+    const SettingRange* r = findRange(setting);
+    if (!r) throw std::logic_error("policy setting '" + setting + "' has no range in player/policy_registry.cpp");
+    if (value >= r->low && value <= r->high && (!r->whole || value == std::floor(value))) return;
+    std::ostringstream s;
+    s << "policy setting " << key << "=" << value << " must be " << r->says;
+    throw std::invalid_argument(s.str());
+}
+
 }  // namespace
+
+std::string policySettingRange(const std::string& setting) {
+    const SettingRange* r = findRange(setting);
+    return r ? r->says : "";
+}
 
 double PolicyOptions::get(const std::string& key, double fallback) const {
     auto it = values.find(key);
@@ -94,6 +153,7 @@ void checkPolicySettings(std::span<const std::string> names, const PolicyOptions
             for (std::string setting; settings >> setting;) known |= key.substr(name.size() + 1) == setting;
         }
         if (!known) throw std::invalid_argument("unknown policy setting '" + key + "' for the chosen policies");
+        checkRange(key, key.substr(key.find('.') + 1), value);
     }
 }
 
@@ -119,6 +179,9 @@ PolicyOptions parsePolicySettings(std::span<const std::string> settings) {
 std::unique_ptr<SelectionPolicy> makePolicy(const std::string& name, const PolicyOptions& options) {
     const PolicyInfo* p = findPolicy(name);
     if (!p) throw std::invalid_argument("unknown policy '" + name + "' (known: " + policyNamesList() + ")");
+    std::istringstream settings(p->settings);
+    for (std::string setting; settings >> setting;)
+        if (auto it = options.values.find(name + "." + setting); it != options.values.end()) checkRange(it->first, setting, it->second);
     return p->make(options);
 }
 

@@ -15,7 +15,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <stdexcept>
 
 namespace hlod {
 namespace {
@@ -165,7 +164,6 @@ public:
     explicit HoldPolicy(const PolicyOptions& o) : SolverPolicy("fs-hold", o) {
         hold_.headroom = o.get("fs-hold.headroom", hold_.headroom);
         hold_.swapGain = o.get("fs-hold.swap_gain", hold_.swapGain);
-        if (hold_.headroom < 0 || hold_.headroom >= 1) throw std::invalid_argument("fs-hold.headroom must be in [0, 1)");
     }
 
 private:
@@ -178,12 +176,9 @@ private:
 class RhPolicy final : public SolverPolicy {
 public:
     explicit RhPolicy(const PolicyOptions& o) : SolverPolicy("rh", o) {
-        int eq = int(o.get("rh.value", 8));
-        if (eq < 8 || eq > 11) throw std::invalid_argument("rh.value must be 8, 9, 10 or 11 (the paper's equations)");
-        rh_.value = RhValue(eq - 8);
+        rh_.value = RhValue(int(o.get("rh.value", 8)) - 8);  // ranges checked by makePolicy
         rh_.c = o.get("rh.c", 1);
         rh_.logicMs = o.get("rh.logic_ms", 0);
-        if (rh_.c <= 0) throw std::invalid_argument("rh.c must be > 0");
     }
 
 private:

@@ -7,6 +7,7 @@
 #include "pipeline/cli/subcommands.h"
 
 #include "formats/calibration.h"
+#include "formats/temp_files.h"
 #include "formats/cli/huge_pages.h"
 #include "formats/offset.h"
 #include "pipeline/pipeline.h"
@@ -92,6 +93,7 @@ void printSummary(const std::string& db, const BuildSummary& s, double wall, dou
 int runBuildCommand(BuildArgs& a) {
     const auto start = std::chrono::steady_clock::now();
     BuildOptions& o = a.request.options;
+    refuseOutputOverInputs(a.request.output, {a.calibration, a.constants.configFile});  // the mesh: runBuild
     applyConstantOptions(a.constants, o.constants, std::cout);
     if (!a.calibration.empty()) o.constants.textured = readCalibration(a.calibration).cTextured;
     o.simplifier = a.simplifier == "openmesh" ? Simplifier::OpenMesh : Simplifier::Meshopt;

@@ -156,6 +156,8 @@ bool plot(const std::string& prefix, const std::vector<PolicyRun>& runs, const P
 }
 
 int runCompare(CompareArgs& a) {
+    for (const char* suffix : {".txt", ".csv", ".json", "-frames.csv", "-frame-time.png", "-triangles.png", "-gap.png"})
+        if (!a.prefix.empty()) refuseOutputOverInputs(a.prefix + suffix, {a.db, a.path, a.constants.configFile});
     Constants c;
     applyConstantOptions(a.constants, c, std::cout);
     std::vector<std::string> names = splitNames(a.policies);

@@ -4,6 +4,7 @@
 #include "player/cli/subcommands.h"
 
 #include "formats/db.h"
+#include "formats/temp_files.h"
 #include "formats/up_axis.h"
 #include "player/camera_path.h"
 
@@ -61,6 +62,7 @@ void addSurfaces(const Database& db, uint32_t level, SurfaceHeights& surfaces) {
 }
 
 int runPath(PathArgs& a) {
+    refuseOutputOverInputs(a.output, {a.db});
     a.options.kind = parsePathKind(a.kind);
     if (!a.up.empty()) a.options.upAxis = parseUpAxis(a.up, "--up");
     a.options.metresPerUnit = parseUnits(a.units);

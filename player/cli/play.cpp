@@ -60,6 +60,8 @@ std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
 }
 
 int runPlay(PlayArgs& a) {
+    for (const std::string& output : {a.stats, a.json == "-" ? std::string() : a.json})
+        refuseOutputOverInputs(output, {a.db, a.path, a.calibration, a.constants.configFile});
     Constants c;
     applyConstantOptions(a.constants, c, std::cout);
     if (!a.calibration.empty()) {

@@ -12,6 +12,7 @@
 #include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -177,6 +178,15 @@ TEST_F(ExportTiles, ReplacesAnEarlierExportOnly) {
     RunResult again = runHlod({"export", "tiles", db, "-o", out, "--origin", "10,20,30"});
     ASSERT_EQ(again.exitCode, 0) << again.err;
     EXPECT_TRUE(readJson(out + "/tileset.json")["root"].contains("transform"));
+
+    // A killed export's temporary (OUT.tmp-PID-XXXXXX, PID no longer running; 999999999 is above
+    // any pid_max) is removed by the next export to OUT; a running one's is kept.
+    const std::string stale = out + ".tmp-999999999-abcdef", live = out + ".tmp-" + std::to_string(::getpid()) + "-abcdef";
+    fs::create_directories(stale + "/tiles");
+    fs::create_directories(live);
+    ASSERT_EQ(runHlod({"export", "tiles", db, "-o", out}).exitCode, 0);
+    EXPECT_FALSE(fs::exists(stale));
+    EXPECT_TRUE(fs::exists(live));
 
     const std::string other = dir.file("other");
     fs::create_directories(other);

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <filesystem>
 
 namespace hlod::test {
 namespace {
@@ -110,6 +111,28 @@ TEST_F(Cli, BadFilesGiveOneLineAndNonZeroExit) {
             EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         }
     }
+}
+
+// A node tree with a cycle (node 1's first child is the root; before stop 36 `stats` and `play`
+// hung and `export` crashed on one) is refused by every open with one line, exit 2; `validate`
+// still lists it as a violation, exit 1.
+TEST_F(Cli, ATreeWithACycleIsRefusedAtOpenAndListedByValidate) {
+    std::vector<uint8_t> file = readFile(db);
+    patchRecord(file, layout::kTagNode, 1, kNodeFirstChild, uint32_t(0));
+    writeFile(db, file);
+    const std::string line = db + ": node 0: is reached twice through the child/sibling links (a cycle or a shared node)";
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"inspect", db}, {"stats", db}, {"export", "tiles", db, "-o", dir.file("t")}, {"path", db, "-o", dir.file("p")}}) {
+        RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << args[0] << r.err;
+        const std::string command = args[0] == "export" ? "export tiles" : args[0];
+        EXPECT_EQ(r.err, "hlod " + command + ": " + line + " (`hlod validate` lists every violation)\n") << args[0];
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.file("t")));
+    EXPECT_FALSE(std::filesystem::exists(dir.file("p")));
+    RunResult r = runHlod({"validate", "--quick", db});
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -40,7 +40,7 @@ struct Validate : ::testing::Test {
     std::vector<Violation> run(bool quick = false) {
         ValidateOptions o;
         o.quick = quick;
-        return validate(Database::open(path), o);
+        return validate(Database::open(path, false), o);
     }
     // Expects a violation whose message contains `text`.
     void expectViolation(const std::string& text, bool quick = false) {

@@ -13,7 +13,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const ReadOptions kAllow{true, ""};
+const ReadOptions kAllow = [] {
+    ReadOptions o;
+    o.allowOutsideInput = true;
+    return o;
+}();
 
 // One triangle as glTF 2.0 JSON: its 36-byte POSITION buffer at `bufferUri`, and when `imageUri`
 // is given a base-colour texture (with TEXCOORD_0 from the same buffer's second half).
@@ -163,6 +167,28 @@ TEST(Confine, BuildRefusesOutsideTextureWithOneLine) {
         << r.outAndErr();
     const RunResult ok = runHlod({"build", l.in("m.obj"), "-o", l.dir.file("m.hlod"), "--allow-outside-input"});
     EXPECT_EQ(ok.exitCode, 0) << ok.outAndErr();
+}
+
+// A build whose output is its own mesh or a file the mesh refers to is refused, whatever
+// --allow-outside-input says, and the file is untouched (before stop 36 the database replaced it).
+TEST(Confine, BuildNeverWritesOverItsInputOrItsTexture) {
+    Layout l;
+    writeFile(l.in("tex.png"), encodeTexture(testImage(4, 4), Codec::Png).bytes);
+    writeObj(l.in("m.obj"), terrain(4), "tex.png");
+    const std::string mesh = readText(l.in("m.obj")), texture = readText(l.in("tex.png"));
+    for (const char* allow : {"--strict", "--allow-outside-input"}) {
+        RunResult r = runHlod({"build", l.in("m.obj"), "-o", l.in("m.obj"), allow});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod build: " + l.in("m.obj") + ": is also an input (" + l.in("m.obj") + "); write the output elsewhere\n");
+        r = runHlod({"build", l.in("m.obj"), "-o", l.in("tex.png"), allow});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_NE(r.err.find("hlod build: " + l.in("m.obj") + ": texture 'tex.png' is the output of this run (" + l.in("tex.png") +
+                             "; refused)"),
+                  std::string::npos)
+            << r.err;
+    }
+    EXPECT_EQ(readText(l.in("m.obj")), mesh);
+    EXPECT_EQ(readText(l.in("tex.png")), texture);
 }
 
 }  // namespace

@@ -141,6 +141,36 @@ TEST(StreamSplit, BuildOfOnePlyIsValidAndUsesNoMoreThanItsBlocks) {
         EXPECT_EQ(entry.path().string().find("hlod-build-"), std::string::npos) << entry.path();
 }
 
+// A mesh file with no triangle at all (before stop 36: a division by zero cells, SIGFPE) is an
+// input error naming the file, and no database is written.
+TEST(StreamSplit, AMeshWithNoTrianglesIsAnEmptyMeshError) {
+    TempDir dir;
+    std::ofstream(dir.file("buf.bin"), std::ios::binary) << std::string(62, '\0');
+    const std::pair<const char*, std::string> cases[] = {
+        {"empty.obj", ""},
+        {"comments.obj", "# nothing\n\n"},
+        {"points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"},
+        {"none.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
+                     "element face 0\nproperty list uchar int vertex_indices\nend_header\n"},
+        {"nomesh.gltf", R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":99}],)"
+                        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)"
+                        R"("accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+                        R"({"bufferView":1,"componentType":5123,"count":6,"type":"SCALAR"}],)"
+                        R"("bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":12}],)"
+                        R"("buffers":[{"byteLength":62,"uri":"buf.bin"}]})"},
+    };
+    for (const auto& [name, text] : cases) {
+        std::ofstream(dir.file(name), std::ios::binary) << text;
+        BuildRequest request;
+        request.input = dir.file(name);
+        request.output = dir.file("out.hlod");
+        std::ostringstream log;
+        Progress progress(log, false);
+        EXPECT_EQ(errorOf([&] { runBuild(request, progress); }), request.input + ": empty mesh (no valid triangles)") << name;
+        EXPECT_FALSE(std::filesystem::exists(request.output)) << name;
+    }
+}
+
 TEST(ReadObjStream, CorruptNumbersAndTruncatedLinesAreRefused) {
     TempDir dir;
     const std::pair<const char*, const char*> cases[] = {

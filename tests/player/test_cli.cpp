@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -108,10 +110,10 @@ TEST_F(Cli, TextOutputsThatCannotBeWrittenLeaveNothingBehind) {
     for (const char* name : {"stats.csv", "summary.json", "out.path", "cmp.txt", "cmp.csv"}) fs::create_directories(taken / name);
     const std::string in = (taken / "").string();
     const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
-        {{"play", db, "--path", path, "--sync-loader", "--stats", in + "stats.csv"}, in + "stats.csv: cannot write statistics (Is a directory)"},
-        {{"play", db, "--path", path, "--sync-loader", "--json", in + "summary.json"}, in + "summary.json: cannot write summary (Is a directory)"},
-        {{"path", db, "-o", in + "out.path"}, in + "out.path: cannot write camera path (Is a directory)"},
-        {{"compare", db, "--path", path, "--policies", "thesis", "--no-plots", "-o", in + "cmp"}, in + "cmp.txt: cannot write the table (Is a directory)"},
+        {{"play", db, "--path", path, "--sync-loader", "--stats", in + "stats.csv"}, in + "stats.csv: cannot write statistics (exists and is not a regular file)"},
+        {{"play", db, "--path", path, "--sync-loader", "--json", in + "summary.json"}, in + "summary.json: cannot write summary (exists and is not a regular file)"},
+        {{"path", db, "-o", in + "out.path"}, in + "out.path: cannot write camera path (exists and is not a regular file)"},
+        {{"compare", db, "--path", path, "--policies", "thesis", "--no-plots", "-o", in + "cmp"}, in + "cmp.txt: cannot write the table (exists and is not a regular file)"},
         {{"path", db, "-o", (dir / "absent" / "x.path").string()}, (dir / "absent" / "x.path").string() + ": cannot write camera path ("}};
     for (const auto& [args, message] : cases) {
         const RunResult r = runHlod(args);
@@ -125,6 +127,39 @@ TEST_F(Cli, TextOutputsThatCannotBeWrittenLeaveNothingBehind) {
         ++entries;
     }
     EXPECT_EQ(entries, 5u);  // the five folders, nothing else
+}
+
+// An output never replaces what is not a regular file (a FIFO here; as root `-o /dev/null`
+// replaced /dev/null before stop 36): status 1, the FIFO left as it was. An output that is one of
+// the run's inputs (the same file, through a symbolic link too) is a usage error, status 2, the
+// input untouched (before stop 36 `play --stats PATHFILE` replaced the camera path).
+TEST_F(Cli, OutputsNeverReplaceADeviceOrAnInput) {
+    const std::string path = walk();
+    const std::string fifo = (dir / "fifo").string(), link = (dir / "link.hlod").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+    fs::create_symlink(db, link);
+    const std::string cmpPath = (dir / "cmp.csv").string();
+    fs::copy_file(path, cmpPath);
+    const std::string dbBytes = readText(db), pathBytes = readText(path);
+    RunResult r = runHlod({"path", db, "-o", fifo});
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(r.err, "hlod path: " + fifo + ": cannot write camera path (exists and is not a regular file)\n");
+    EXPECT_TRUE(fs::is_fifo(fifo));
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"play", db, "--path", path, "--sync-loader", "--stats", path}, "hlod play: " + path + ": is also an input (" + path + ")"},
+        {{"play", db, "--path", path, "--sync-loader", "--json", link}, "hlod play: " + link + ": is also an input (" + db + ")"},
+        {{"path", db, "-o", db}, "hlod path: " + db + ": is also an input (" + db + ")"},
+        {{"compare", db, "--path", cmpPath, "--policies", "thesis", "--no-plots", "-o", (dir / "cmp").string()},
+         "hlod compare: " + cmpPath + ": is also an input (" + cmpPath + ")"},  // -o cmp writes cmp.csv
+        {{"export", "tiles", db, "--3tz", "-o", link}, "hlod export tiles: " + link + ": is also an input (" + db + ")"}};
+    for (const auto& [args, message] : cases) {
+        r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << args[0] << ": " << r.err;
+        EXPECT_EQ(r.err, message + "; write the output elsewhere\n");
+    }
+    EXPECT_EQ(readText(db), dbBytes);
+    EXPECT_EQ(readText(path), pathBytes);
+    EXPECT_TRUE(fs::is_symlink(link));
 }
 
 TEST_F(Cli, BadPathFileIsOneLineWithLineNumber) {

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 using namespace hlod;
 
@@ -191,6 +192,42 @@ TEST(SolverPolicies, SettingsAreCheckedAndBadValuesRefused) {
     PolicyOptions ok;
     ok.values["gb.opt_ms"] = 0.2;
     EXPECT_NO_THROW(checkPolicySettings(gb, ok));
+}
+
+// Every setting has a range, checked by checkPolicySettings (before a run) and by makePolicy;
+// before stop 36 oracle.max_states=1e20 crashed play (size_t overflow) and negatives ran.
+TEST(SolverPolicies, SettingsOutsideTheirRangeAreRefused) {
+    for (const PolicyInfo& p : policyRegistry()) {
+        std::istringstream settings(p.settings);
+        for (std::string setting; settings >> setting;) EXPECT_NE(policySettingRange(setting), "") << p.name << "." << setting;
+    }
+    const std::pair<const char*, double> refused[] = {
+        {"oracle.max_states", 1e20}, {"oracle.max_states", 0},   {"oracle.max_states", 2.5}, {"static.pixels", -1},
+        {"sse.tolerance", -1},        {"gb.max_newton", -1},      {"gb.opt_ms", -1},          {"rh.logic_ms", -1},
+        {"rh.value", 12},            {"rh.c", 0},                {"hold.exchange_gain", -1}, {"hold.headroom", 1},
+        {"fs-node.pixel_ms", -1},    {"fs-greedy.allow_skip", 5}, {"fs-hold.headroom", -0.1},
+    };
+    for (const auto& [key, value] : refused) {
+        PolicyOptions o;
+        o.values[key] = value;
+        const std::string name = std::string(key).substr(0, std::string(key).find('.'));
+        const std::string names[] = {name};
+        EXPECT_THROW(checkPolicySettings(names, o), std::invalid_argument) << key << "=" << value;
+        EXPECT_THROW(makePolicy(name, o), std::invalid_argument) << key << "=" << value;
+    }
+    PolicyOptions edge;  // the ends of the ranges are accepted
+    edge.values = {{"oracle.max_states", 1e9}, {"oracle.allow_skip", 1}, {"oracle.pixel_ms", 0}};
+    const std::string oracle[] = {"oracle"};
+    EXPECT_NO_THROW(checkPolicySettings(oracle, edge));
+    EXPECT_NO_THROW(makePolicy("oracle", edge));
+    PolicyOptions big;
+    big.values["oracle.max_states"] = 1e20;
+    try {
+        checkPolicySettings(oracle, big);
+        ADD_FAILURE() << "accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_STREQ(e.what(), "policy setting oracle.max_states=1e+20 must be a whole number in [1, 1e9]");
+    }
 }
 
 // fs-node-inc on a still view with everything resident: from hlod0 it settles within two
