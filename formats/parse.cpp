@@ -208,6 +208,8 @@ Skeleton parseDatabase(std::span<const uint8_t> header, std::span<const uint8_t>
     s.nodes = readRecords<Node>(skel, *found[1], kNodeRecordSize, getNode, name, "NODE");
     s.blobs = readRecords<BlobRef>(skel, *found[2], kBlobRecordSize, getBlob, name, "BLOB");
     if (s.nodes.size() >= kNone || s.blobs.size() >= kNone) throw FormatError(name + ": too many records");
+    if (s.blockCount > s.nodes.size())  // each block has a root node
+        throw FormatError(name + ": INFO block count " + str(s.blockCount) + " exceeds the node count " + str(s.nodes.size()));
 
     const SectionEntry& m = *found[3];
     if (m.count > m.size / 8) throw FormatError(name + ": META count " + str(m.count) + " exceeds its size");

@@ -216,6 +216,10 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
     if (source.isPiece) {
         mesh.piece = loadPiece(source.file);
         mesh.materials = materials;
+        for (uint32_t m : mesh.piece.materials)  // a work folder's manifest lists them apart from its cells
+            if (m >= materials.size())
+                throw InputError(source.file + ": a triangle has material " + std::to_string(m) + " but the input lists " +
+                                 std::to_string(materials.size()) + " (corrupt work folder? split again)");
     } else {  // a folder's mesh file; a glTF's embedded images wait, encoded, in TEMP/gltf-images/N
         ReadOptions read = options.read;
         if (!read.imageDir.empty()) read.imageDir = (fs::path(read.imageDir) / std::to_string(index)).string();

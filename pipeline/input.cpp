@@ -12,10 +12,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void checkFinite(const std::vector<float>& values, size_t perVertex, const char* what, const std::string& name) {
-    for (size_t i = 0; i < values.size(); ++i)
+void checkFinite(const std::vector<float>& values, size_t perVertex, const char* what, const std::string& name, double limit = INFINITY) {
+    for (size_t i = 0; i < values.size(); ++i) {
         if (!std::isfinite(values[i]))
             throw InputError(name + ": vertex " + std::to_string(i / perVertex) + " has a NaN/Inf " + what);
+        if (std::abs(values[i]) > limit)
+            throw InputError(name + ": vertex " + std::to_string(i / perVertex) + " has a " + what + " beyond 1e15 (the limit)");
+    }
 }
 
 template <class T>
@@ -78,7 +81,7 @@ void sanitize(SourceMesh& source, const std::string& name) {
     dropIfShort(m.texcoords, 2, vertices);
     dropIfShort(m.normals, 3, vertices);
     dropIfShort(m.colors, 4, vertices);
-    checkFinite(m.positions, 3, "coordinate", name);
+    checkFinite(m.positions, 3, "coordinate", name, kMaxCoordinate);
     checkFinite(m.texcoords, 2, "texture coordinate", name);
     checkFinite(m.normals, 3, "normal", name);
     size_t kept = 0;

@@ -5,8 +5,13 @@
 // build is a single shard merged, so shard + merge gives the same bytes as one build.
 #include "pipeline/pipeline.h"
 
+#include "formats/layout.h"
+
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -27,8 +32,12 @@ void write(std::FILE* f, const T& value, const std::string& file) {
 template <class T>
 T read(std::FILE* f, const std::string& file) {
     T value{};
-    if (std::fread(&value, sizeof value, 1, f) != 1) throw std::runtime_error(file + ": truncated block record file");
+    if (std::fread(&value, sizeof value, 1, f) != 1) throw InputError(file + ": truncated block record file");
     return value;
+}
+
+[[noreturn]] void corrupt(const std::string& file, const std::string& what) {
+    throw InputError(file + ": corrupt block record file (" + what + ")");
 }
 
 }  // namespace
@@ -62,7 +71,9 @@ void BlockRecordWriter::add(const NodeRecord& record) {
     impl_->errorOffsets.push_back(std::ftell(f));
     write(f, n.geometricError, file), write(f, static_cast<uint32_t>(n.blobs.size()), file);
     for (const EncodedBlob& blob : n.blobs) {
-        write(f, blob.info, file), write(f, blob.textureSlot, file), write(f, static_cast<uint64_t>(blob.bytes.size()), file);
+        BlobRef info = blob.info;
+        info.checksum = layout::checksum(blob.bytes);  // checked by the merge (the Writer computes its own)
+        write(f, info, file), write(f, blob.textureSlot, file), write(f, static_cast<uint64_t>(blob.bytes.size()), file);
         if (!blob.bytes.empty() && std::fwrite(blob.bytes.data(), 1, blob.bytes.size(), f) != blob.bytes.size())
             throw std::runtime_error(file + ": write failed (" + std::strerror(errno) + ")");
     }
@@ -94,26 +105,34 @@ namespace {
 void readRecords(const std::string& file, size_t maxRecords, const std::function<void(NodeRecord&&)>& each) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> holder(std::fopen(file.c_str(), "rb"), &std::fclose);
     std::FILE* f = holder.get();
-    if (!f) throw std::runtime_error(file + ": cannot read block record file (" + std::strerror(errno) + ")");
+    if (!f) throw InputError(file + ": cannot read block record file (" + std::strerror(errno) + ")");
+    struct stat st {};
+    if (::fstat(::fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) throw InputError(file + ": not a block record file");
+    const uint64_t fileSize = uint64_t(st.st_size);
     size_t count = 0;
     while (count < maxRecords) {
         const uint32_t tag = read<uint32_t>(f, file);
         if (tag == kEndTag) {
-            if (read<uint64_t>(f, file) != count) throw std::runtime_error(file + ": corrupt block record file (count)");
+            if (read<uint64_t>(f, file) != count) corrupt(file, "count");
             break;
         }
-        if (tag != kRecordTag) throw std::runtime_error(file + ": corrupt block record file");
+        if (tag != kRecordTag) corrupt(file, "record tag");
         NodeRecord r;
         NodeInput& n = r.node;
         r.parentLocal = read<uint32_t>(f, file), n.level = read<uint32_t>(f, file), n.block = read<uint32_t>(f, file);
         n.bounds = read<Box3f>(f, file), n.cost = read<float>(f, file), n.staticBenefit = read<float>(f, file);
         n.avgNormal = read<Vec3f>(f, file), n.geometricError = read<float>(f, file);
-        n.blobs.resize(read<uint32_t>(f, file));
+        const uint32_t blobs = read<uint32_t>(f, file);
+        if (blobs > layout::kMaxBlobsPerNode) corrupt(file, std::to_string(blobs) + " blobs in one node");
+        n.blobs.resize(blobs);
         for (EncodedBlob& blob : n.blobs) {
             blob.info = read<BlobRef>(f, file), blob.textureSlot = read<uint32_t>(f, file);
-            blob.bytes.resize(read<uint64_t>(f, file));
+            const uint64_t size = read<uint64_t>(f, file), at = uint64_t(std::ftell(f));
+            if (size > fileSize - std::min(at, fileSize)) throw InputError(file + ": truncated block record file");
+            blob.bytes.resize(size);
             if (!blob.bytes.empty() && std::fread(blob.bytes.data(), 1, blob.bytes.size(), f) != blob.bytes.size())
-                throw std::runtime_error(file + ": truncated block record file");
+                throw InputError(file + ": truncated block record file");
+            if (layout::checksum(blob.bytes) != blob.info.checksum) corrupt(file, "blob checksum mismatch");
         }
         ++count;
         each(std::move(r));
@@ -182,7 +201,7 @@ void mergeShards(const std::vector<std::string>& shardDirs, const std::string& o
     std::vector<uint32_t> roots(owner.size());
     for (uint32_t b = 0; b < owner.size(); ++b) {
         auto records = readBlockRecords(blockRecordPath(owner[b], b), 1);
-        if (records.empty()) throw std::runtime_error(blockRecordPath(owner[b], b) + ": block has no nodes");
+        if (records.empty()) throw InputError(blockRecordPath(owner[b], b) + ": block has no nodes");
         roots[b] = writer.addNode(std::move(records[0].node));
     }
     for (uint32_t b = 0; b < owner.size(); ++b) {
@@ -190,7 +209,7 @@ void mergeShards(const std::vector<std::string>& shardDirs, const std::string& o
         readRecords(blockRecordPath(owner[b], b), SIZE_MAX, [&](NodeRecord&& r) {
             const size_t i = ids.size();
             if (i == 0) return ids.push_back(roots[b]);  // hlod0, written above
-            if (r.parentLocal >= i) throw std::runtime_error(blockRecordPath(owner[b], b) + ": corrupt parent link");
+            if (r.parentLocal >= i) corrupt(blockRecordPath(owner[b], b), "parent link");
             r.node.parent = ids[r.parentLocal];
             ids.push_back(writer.addNode(std::move(r.node)));
         });

@@ -148,6 +148,10 @@ SourceMesh readMesh(const std::string& path, const ReadOptions& options = {});  
 // The largest texture decoded (a 16K x 16K atlas, 768 MiB as RGB): a header claiming more is an
 // error (texture files) or leaves the material untextured with a warning (embedded glTF images).
 inline constexpr uint64_t kMaxTextureTexels = 16384ull * 16384ull;
+// Largest |coordinate| a mesh may have (after --offset): areas and squared distances of larger
+// ones overflow float (1e37 built, then failed validation with a non-finite benefit before stop
+// 36). 1e15 is the camera path's limit too; Earth-centred coordinates in mm are ~6.4e9.
+inline constexpr double kMaxCoordinate = 1e15;
 
 // input.cpp: rejects NaN/Inf attributes, out-of-range indices and empty meshes (InputError
 // naming `name`), drops degenerate triangles (counted in stats), turns unusable textures into

@@ -20,6 +20,12 @@ void checkFinite(const float* v, int n, size_t index, const char* what, const st
         if (!std::isfinite(v[i])) throw InputError(name + ": vertex " + std::to_string(index) + " has a NaN/Inf " + what);
 }
 
+void checkCoordinates(const float* p, size_t index, const std::string& name) {
+    checkFinite(p, 3, index, "coordinate", name);
+    for (int i = 0; i < 3; ++i)
+        if (std::abs(p[i]) > kMaxCoordinate) throw InputError(name + ": vertex " + std::to_string(index) + " has a coordinate beyond 1e15 (the limit)");
+}
+
 [[noreturn]] void outOfRange(size_t t, const char* what, uint32_t index, size_t count, const std::string& name) {
     throw InputError(name + ": triangle " + std::to_string(t) + " uses " + what + " " + std::to_string(index) +
                      " but there are only " + std::to_string(count));
@@ -115,7 +121,7 @@ void RawMesh::addTriangle(const RawTriangle& t) {
 
 void RawMesh::addPosition(const double q[3], const std::string& name) {
     const float p[3] = {static_cast<float>(q[0] - offset[0]), static_cast<float>(q[1] - offset[1]), static_cast<float>(q[2] - offset[2])};
-    checkFinite(p, 3, positionCount(), "coordinate", name);
+    checkCoordinates(p, positionCount(), name);
     positions.push(p, 3);
     spillWhenOver(*this);
     bounds.min = {std::min(bounds.min.x, p[0]), std::min(bounds.min.y, p[1]), std::min(bounds.min.z, p[2])};

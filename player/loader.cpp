@@ -92,6 +92,16 @@ DecodedNode Loader::loadPinned(uint32_t id) {
     return node;
 }
 
+std::optional<DecodedNode> Loader::tryLoadPinned(uint32_t id) {
+    try {
+        return loadPinned(id);
+    } catch (const std::exception& e) {
+        std::lock_guard lock(mutex_);
+        failLocked(id, e.what());
+        return std::nullopt;
+    }
+}
+
 void Loader::failLocked(uint32_t id, const std::string& what) {
     state_[id] = Residency::Failed;  // never picked again
     onFailedLocked(id);

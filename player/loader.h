@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <span>
 #include <string>
@@ -103,6 +104,9 @@ public:
     // Reads and decodes a node now (hlod0 at start-up, every node for incore) and counts it
     // resident; it never enters the queue and is never evicted. Throws FormatError.
     DecodedNode loadPinned(uint32_t id);
+    // loadPinned for a node that may fail (every node for incore and preload): a node that cannot
+    // be read or decoded is a failure (takeFailures) as in the queue, and nothing is returned.
+    std::optional<DecodedNode> tryLoadPinned(uint32_t id);
 
     void start();  // the loading thread, at a low OS priority
     void stop();

@@ -96,12 +96,15 @@ struct Player::Impl {
             renderer.upload(loadRoot(root));
             markResident(root, true);
         }
-        if (options.preload || incore)
+        if (options.preload || incore) {
             for (const Node& n : skeleton.nodes)
-                if (!resident[n.id]) {
-                    renderer.upload(loader->loadPinned(n.id));
-                    markResident(n.id, true);
-                }
+                if (!resident[n.id])
+                    if (std::optional<DecodedNode> node = loader->tryLoadPinned(n.id)) {
+                        renderer.upload(std::move(*node));
+                        markResident(n.id, true);
+                    }
+            reportFailures();  // skipped as in any run (its parent drawn); --strict stops here
+        }
         calibrate();
         if (options.threadedLoader) loader->start();
     }

@@ -41,7 +41,8 @@ struct PlayerOptions {
     PolicyOptions policyOptions;        // its settings ("policy.setting" -> value)
     double viewportHeight = 720;
     // Every node decoded and uploaded at start and never evicted (Funkhouser & Séquin 1993 §7 ran
-    // from memory): `hlod compare --preload`. A node that cannot load then ends the start-up.
+    // from memory): `hlod compare --preload`. A node below hlod0 that cannot load is skipped as in
+    // any run (strictLoads: it ends the start-up).
     bool preload = false;        // pixels: the common benefit and pixel thresholds (player/benefit.h)
     // A node below hlod0 that cannot be read or decoded: false (default) skips it for good (its
     // parent stays drawn, onLoadFailure is told once); true (`--strict`) makes frame() throw.

@@ -10,8 +10,9 @@ namespace hlod {
 std::vector<FrameStats> replayPath(Player& player, const CameraPath& path, const ReplayOptions& options,
                                    const std::function<void(const FrameStats&)>& onFrame) {
     std::vector<FrameStats> frames;
+    const uint64_t last = options.maxFrames ? options.maxFrames : options.frameCap;
     double t = 0;
-    while (t <= path.duration() && (options.maxFrames == 0 || frames.size() < options.maxFrames)) {
+    while (t <= path.duration() && frames.size() < last) {
         FrameStats s = player.frame(sampleCameraPath(path, t, options.aspect), t);
         if (onFrame) onFrame(s);
         t = options.fixedStepMs > 0 ? double(frames.size() + 1) * options.fixedStepMs / 1000.0

@@ -80,6 +80,9 @@ PolicyRun runPolicy(const CompareArgs& a, const Database& db, const Constants& c
                                        player.frontSkipsBlocks());
         if (!problem.empty() && run.invalidCuts++ == 0) run.firstInvalid = "frame " + std::to_string(f.frame) + ": " + problem;
     });
+    if (a.maxFrames == 0 && run.frames.size() == ro.frameCap)
+        std::cerr << "hlod compare: warning: " << policy << " stopped after " << ro.frameCap
+                  << " frames, before the path's end (--frames N replays more)\n";
     return run;
 }
 
@@ -172,10 +175,8 @@ int runCompare(CompareArgs& a) {
     a.player.loader = loaderKindByName(a.loader);
     a.player.onMiss = onMissByName(a.onMiss);
     // eq. 3.1 weights of the database's node costs, as `hlod play` applies them.
-    const std::string* cTextured = db.skeleton().findMeta("c_textured");
     a.model.msPerUntexturedTriangle =
-        a.flatRate ? *a.flatRate
-                   : consistentUntexturedRate(a.model.msPerTexturedTriangle, cTextured ? std::stod(*cTextured) : c.textured);
+        a.flatRate ? *a.flatRate : consistentUntexturedRate(a.model.msPerTexturedTriangle, databaseCTextured(db));
     printConstants(std::cout, c, kUsedByPlayer);
 
     std::vector<PolicyRun> runs;
@@ -233,7 +234,7 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_flag("--preload", a->preload, "decode and upload every node at start, never evict (everything resident)");
     sub->add_option("-o,--output", a->prefix, "write PREFIX.txt, .csv, .json, -frames.csv, -frame-time.png, -triangles.png, -gap.png");
     sub->add_flag("!--no-plots", a->plots, "skip the gnuplot PNGs");
-    sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path)")
+    sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path, at most 1,000,000)")
         ->check(wholeNumber());
     sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half)")
         ->check(wholeNumber());

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -69,6 +70,14 @@ int runPath(PathArgs& a) {
     Database db = Database::open(a.db);
     const UpAxis stored = upAxisOf(db.skeleton(), a.db);
     if (a.up.empty()) a.options.upAxis = stored.axis;
+    for (uint32_t root : db.skeleton().roots()) {  // the path is planned from the hlod0 bounds
+        const Box3f& b = db.skeleton().nodes[root].bounds;
+        const float v[6] = {b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z};
+        if (!std::all_of(v, v + 6, [](float x) { return std::isfinite(x) && std::abs(x) <= 1e15f; }) || b.min.x > b.max.x ||
+            b.min.y > b.max.y || b.min.z > b.max.z)
+            throw FormatError(a.db + ": node " + std::to_string(root) +
+                              ": bounding box is not finite or has min > max (`hlod validate` lists every violation)");
+    }
     const PathPlan plan = planPath(db.skeleton(), a.options);
     const bool onGround = !plan.object && a.options.kind != PathKind::Fly;
     SurfaceHeights surfaces(a.options.upAxis);

@@ -41,18 +41,6 @@ struct PlayArgs {
     std::string loader = "thesis", onMiss = "parent";
 };
 
-// The c_textured the database's node costs were computed with (eq. 3.1), from its metadata.
-double databaseCTextured(const Database& db) {
-    const std::string* meta = db.skeleton().findMeta("c_textured");
-    Constants c;
-    try {
-        if (meta) setConstant(c, "c_textured", *meta);
-    } catch (const std::invalid_argument&) {
-        c.textured = -1;
-    }
-    if (!(c.textured > 0 && c.textured <= 1)) throw FormatError(db.path() + ": metadata c_textured is not in (0, 1]");
-    return c.textured;
-}
 
 std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
     if (a.renderer == "gl") return makeGlRenderer(GlOptions{a.width, a.height, false, false});
@@ -133,6 +121,8 @@ int runPlay(PlayArgs& a) {
         }
     });
     if (csv) csv->commit();
+    if (a.maxFrames == 0 && frames.size() == ro.frameCap)
+        std::cerr << "hlod play: warning: stopped after " << ro.frameCap << " frames, before the path's end (--frames N replays more)\n";
     StatsSummary summary = summarize(frames, a.warmup);
     printSummary(std::cout, summary);
     if (!a.json.empty()) {
@@ -147,6 +137,18 @@ int runPlay(PlayArgs& a) {
 }
 
 }  // namespace
+
+double databaseCTextured(const Database& db) {
+    const std::string* meta = db.skeleton().findMeta("c_textured");
+    Constants c;
+    try {
+        if (meta) setConstant(c, "c_textured", *meta);
+    } catch (const std::invalid_argument&) {
+        c.textured = -1;
+    }
+    if (!(c.textured > 0 && c.textured <= 1)) throw FormatError(db.path() + ": metadata c_textured is not in (0, 1]");
+    return c.textured;
+}
 
 void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>& flatRate) {
     sub.add_option("--model-overhead-ms", model.overheadMs, "cost model: fixed ms per frame")
@@ -189,7 +191,7 @@ void addPlay(CLI::App& app, int& status) {
                   "one warning, its parent stays drawn and failed_loads counts it");
     sub->add_flag("--require-loaded-children", a->player.requireLoadedChildren,
                   "switch to children only when all of them are loaded (thesis §5.2)");
-    sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path)")
+    sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path, at most 1,000,000)")
         ->check(wholeNumber());
     sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions")
         ->check(wholeNumber());

@@ -27,6 +27,9 @@ void addView(CLI::App& app, int& status);
 // The one line `hlod play` and `hlod view` print on stderr for a node they skip because it
 // cannot be read or decoded: "hlod COMMAND: warning: DB: node N: problem".
 void warnLoadFailure(const std::string& command, const Database& db, const LoadFailure& failure);
+// The c_textured the database's node costs were computed with (eq. 3.1), from its metadata
+// (absent: the default); FormatError "DB: metadata c_textured is not in (0, 1]" for any other.
+double databaseCTextured(const Database& db);
 // The cost-model renderer's options of `hlod play` and `hlod compare` (--model-overhead-ms,
 // --model-ms-per-tri, --model-ms-per-flat-tri into `flatRate`, --model-noise, --model-node-error,
 // --seed).

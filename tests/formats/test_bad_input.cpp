@@ -157,6 +157,10 @@ TEST_F(BadInput, AbsurdCountsAndOffsetsBehindValidChecksums) {
     layout::store(std::span(bad), layout::load<uint64_t>(bad, layout::kOffSkeletonOffset), uint32_t(1) << 30);
     layout::fixChecksums(bad);
     expectRefused(bad, "section count");
+    bad = file;  // every reader sized a per-block table by it: 16 GB (std::bad_alloc) before stop 36
+    patchRecord(bad, layout::kTagInfo, 0, 0, uint32_t(0xFFFFFFFF));
+    expectRefused(bad, "block count");
+    EXPECT_NE(openError(path).find(": INFO block count 4294967295 exceeds the node count"), std::string::npos) << openError(path);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace hlod::test {
@@ -133,6 +134,18 @@ TEST_F(Cli, ATreeWithACycleIsRefusedAtOpenAndListedByValidate) {
     RunResult r = runHlod({"validate", "--quick", db});
     EXPECT_EQ(r.exitCode, 1) << r.err;
     EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+}
+
+// `hlod path` plans from the hlod0 bounds: a NaN there wrote a path of -inf extents with status 0
+// before stop 36; now one line naming the database and node, status 1, no path written.
+TEST_F(Cli, PathRefusesHlod0BoundsThatAreNotFinite) {
+    std::vector<uint8_t> file = readFile(db);
+    patchRecord(file, layout::kTagNode, 0, kNodeBoundsMinX, std::nanf(""));
+    writeFile(db, file);
+    const RunResult r = runHlod({"path", db, "-o", dir.file("p")});
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(r.err, "hlod path: " + db + ": node 0: bounding box is not finite or has min > max (`hlod validate` lists every violation)\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.file("p")));
 }
 
 }  // namespace

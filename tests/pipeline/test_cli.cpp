@@ -81,6 +81,31 @@ TEST(Cli, ShardsAndMerge) {
     const RunResult bad = runHlod({"merge", dir.file("s1"), "-o", dir.file("half.hlod")});
     EXPECT_EQ(bad.exitCode, 2);  // the shards given do not make a database: a usage error
     EXPECT_NE(bad.outAndErr().find("is in none of the shards"), std::string::npos) << bad.outAndErr();
+
+    // A damaged shard is one line naming the record file, status 2, no database: before stop 36 a
+    // flipped blob byte merged (status 0, fresh checksums), an absurd blob size zero-filled 2 GB and
+    // an absurd count ended in std::bad_alloc without a file name.
+    const std::string records = dir.file("s1/block_000000.nodes");
+    const std::vector<uint8_t> original = readFile(records);
+    std::vector<uint8_t> flipped = original;
+    flipped[flipped.size() - 100] ^= 0x10;  // inside the last blob's bytes
+    const auto mergeFails = [&](const std::vector<uint8_t>& bytes, const std::string& problem) {
+        writeFile(records, bytes);
+        const RunResult r = runHlod({"merge", dir.file("s1"), dir.file("s2"), "-o", dir.file("bad.hlod")});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod merge: " + records + ": " + problem + "\n");
+        EXPECT_FALSE(std::filesystem::exists(dir.file("bad.hlod")));
+    };
+    mergeFails(flipped, "corrupt block record file (blob checksum mismatch)");
+    std::vector<uint8_t> blobCount = original;  // the root record: tag, parent, level, block, bounds, cost, benefit, normal, error
+    const size_t countAt = 4 * 4 + sizeof(Box3f) + 4 + 4 + sizeof(Vec3f) + 4;
+    std::memset(blobCount.data() + countAt, 0xFF, 4);
+    mergeFails(blobCount, "corrupt block record file (4294967295 blobs in one node)");
+    std::vector<uint8_t> blobSize = original;  // the first blob's size, after its BlobRef and texture slot
+    const uint64_t huge = uint64_t(1) << 31;
+    std::memcpy(blobSize.data() + countAt + 4 + sizeof(BlobRef) + 4, &huge, 8);
+    mergeFails(blobSize, "truncated block record file");
+    writeFile(records, original);
 }
 
 }  // namespace

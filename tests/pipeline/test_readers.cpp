@@ -151,6 +151,13 @@ TEST(BadInput, NaNCoordinate) {
                                         "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                                         "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n";
     EXPECT_NE(errorOf([&] { readMesh(dir.file("n.ply")); }).find("vertex 1 has a NaN/Inf coordinate"), std::string::npos);
+    // A finite coordinate beyond kMaxCoordinate overflows float areas: refused too (stop 36).
+    std::ofstream(dir.file("h.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                        "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                        "end_header\n0 0 0\n1 -3e37 0\n0 1 0\n3 0 1 2\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("h.ply")); }).find("h.ply: vertex 1 has a coordinate beyond 1e15 (the limit)"),
+              std::string::npos)
+        << errorOf([&] { readMesh(dir.file("h.ply")); });
 }
 
 // Found by fuzz_ply (issue #15): a NaN float colour, face count or index was cast to an integer

@@ -139,7 +139,8 @@ TEST(SplitWork, BadWorkFoldersAreOneLineAndStatusTwo) {
     fs::remove_all(dir.file("shard"));
 
     const std::string cell = dir.file("work/cells/cell_0.piece");
-    std::vector<uint8_t> bytes = readFile(cell);
+    const std::vector<uint8_t> original = readFile(cell);
+    std::vector<uint8_t> bytes = original;
     bytes[bytes.size() / 2] ^= 0x40;  // same size, other content
     writeFile(cell, bytes);
     expectRefused(dir, build, cell + ": block 0 of " + dir.file("work") + " differs from");
@@ -158,6 +159,12 @@ TEST(SplitWork, BadWorkFoldersAreOneLineAndStatusTwo) {
     noBlocks.replace(noBlocks.find("\"blocks\""), 8, "\"blockz\"");
     writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(noBlocks.begin(), noBlocks.end()));
     expectRefused(dir, build, dir.file("work/manifest.json") + ": corrupt manifest");
+    nlohmann::json noMaterials = nlohmann::json::parse(manifest.begin(), manifest.end());  // crashed before stop 36
+    noMaterials["materials"] = nlohmann::json::array();
+    const std::string emptied = noMaterials.dump();
+    writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(emptied.begin(), emptied.end()));
+    writeFile(cell, original);
+    expectRefused(dir, build, cell + ": a triangle has material 0 but the input lists 0 (corrupt work folder? split again)");
 }
 
 TEST(SplitWork, SplitOptionsBelongToTheSplitAndForeignFoldersAreNotReplaced) {

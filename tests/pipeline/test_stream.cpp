@@ -177,6 +177,7 @@ TEST(ReadObjStream, CorruptNumbersAndTruncatedLinesAreRefused) {
         {"v 0 0 0\nv 1 0 x\nv 0 1 0\nf 1 2 3\n", "t.obj:2: corrupt OBJ (bad number 'x')"},
         {"v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n", "vertex 1 has a NaN/Inf coordinate"},
         {"v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n", "vertex 1 has a NaN/Inf coordinate"},
+        {"v 0 0 0\nv 1 0 2e37\nv 0 1 0\nf 1 2 3\n", "vertex 1 has a coordinate beyond 1e15 (the limit)"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", "corrupt OBJ (bad face index '0')"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n", "face index -7 out of range"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2", "t.obj:5: truncated or corrupt OBJ (face with fewer than 3 vertices)"},

@@ -2,6 +2,7 @@
 // JSON summary, path file) and, for each class of bad input, one line naming the file,
 // a non-zero status and no half-written output; a corrupt node below hlod0 is a warning.
 #include "formats/db.h"
+#include "formats/layout.h"
 #include "player/stats.h"
 #include "tests/support/run_hlod.h"
 #include "tests/support/synthetic.h"
@@ -162,6 +163,27 @@ TEST_F(Cli, OutputsNeverReplaceADeviceOrAnInput) {
     EXPECT_TRUE(fs::is_symlink(link));
 }
 
+// META c_textured that is not a number in (0, 1] (here 1e309, beyond double) is one line and
+// status 1 for play and compare alike (compare printed "stod" before stop 36).
+TEST_F(Cli, DatabaseCTexturedOutOfRangeIsOneLine) {
+    const std::string path = walk();
+    std::string bytes = readText(db);
+    const size_t at = bytes.find("c_textured");
+    ASSERT_NE(at, std::string::npos);
+    const size_t value = bytes.find("0.127", at);
+    ASSERT_LT(value - at, 20u);
+    bytes.replace(value, 5, "1e309");
+    std::vector<uint8_t> file(bytes.begin(), bytes.end());
+    layout::fixChecksums(file);
+    std::ofstream(db, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), std::streamsize(file.size()));
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"play", db, "--path", path, "--frames", "5"}, {"compare", db, "--path", path, "--policies", "thesis", "--frames", "5"}}) {
+        const RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 1) << r.err;
+        EXPECT_EQ(r.err, "hlod " + args[0] + ": " + db + ": metadata c_textured is not in (0, 1]\n");
+    }
+}
+
 TEST_F(Cli, BadPathFileIsOneLineWithLineNumber) {
     std::string bad = (dir / "bad.path").string();
     std::ofstream(bad) << "hlod-camera-path 1\n0 0 0 1.7 0 0 0 1 60\n1 0 0 1.7 0 0 0 1\n";
@@ -291,6 +313,21 @@ TEST_F(Cli, CorruptNodeIsSkippedWithOneWarningUnlessStrict) {
               0u)
         << r.err;
     EXPECT_FALSE(fs::exists(csv));
+
+    // Loading every node at start (--loader incore, compare --preload) skips it the same way
+    // (before stop 36 both stopped with status 1); --strict still stops.
+    const std::string warning = "warning: " + db + ": node " + std::to_string(node) + ": blob " + std::to_string(blob) +
+                                ": checksum mismatch (corrupt data)\n";
+    std::vector<std::string> incore = args;
+    incore.insert(incore.end(), {"--loader", "incore"});
+    r = runHlod(incore);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "hlod play: " + warning);
+    incore.push_back("--strict");
+    EXPECT_EQ(runHlod(incore).exitCode, 1);
+    r = runHlod({"compare", db, "--path", path, "--policies", "thesis,none", "--preload", "--frames", "50"});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find(warning), std::string::npos) << r.err;
 }
 
 // player/CAMERA_PATH.md "Eye height": `hlod path` decodes a cut of the database for the ground

@@ -182,4 +182,12 @@ TEST(Compare, FixedStepReplayAndPreload) {
     ASSERT_EQ(frames.size(), 26u);  // 0, 0.04, ..., 1.00 s
     for (size_t i = 0; i < frames.size(); ++i) EXPECT_NEAR(frames[i].timeSeconds, 0.04 * i, 1e-12);
     EXPECT_EQ(renderer.uploads(), s.nodes.size());  // nothing loaded twice, nothing evicted
+
+    // Without a frame count the replay keeps at most frameCap frames (a day-long path at short
+    // frames grew without bound before stop 36); a frame count given goes past it.
+    path.keys[1].time = 86399;
+    ro.frameCap = 30;
+    EXPECT_EQ(replayPath(player, path, ro).size(), 30u);
+    ro.maxFrames = 40;
+    EXPECT_EQ(replayPath(player, path, ro).size(), 40u);
 }
