@@ -64,5 +64,10 @@ EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality = 90,
 // Decode; throw FormatError("NAME: problem") on malformed input. `name` names the source.
 MeshData decodeGeometry(std::span<const uint8_t> bytes, const std::string& name);
 Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name);
+// A texture's header, checked as decodeTexture checks it, without decoding its texels.
+struct TextureSize {
+    uint32_t width = 0, height = 0, channels = 0;
+};
+TextureSize textureHeader(std::span<const uint8_t> bytes, Codec codec, const std::string& name);
 
 }  // namespace hlod

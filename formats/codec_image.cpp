@@ -31,7 +31,11 @@ EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality, bool
     return blob;
 }
 
-Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
+namespace {
+
+// The header of a texture blob, checked: the record's codec, sane dimensions, no more texels than
+// the bytes can hold.
+std::unique_ptr<ImageRows> openTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
     if (codec != Codec::Jpeg && codec != Codec::Png) throw FormatError(name + ": not an image codec");
     // Checking the signature first keeps decoding to the one codec the record names.
     const std::string format = codec == Codec::Png ? "PNG" : "JPEG";
@@ -50,6 +54,18 @@ Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::stri
     if (uint64_t(in->width) * in->height > layout::kMaxTexelsPerBlobByte * bytes.size() + layout::kFreeTexels)
         throw FormatError(name + ": texture claims " + std::to_string(in->width) + "x" + std::to_string(in->height) +
                           " texels in " + std::to_string(bytes.size()) + " bytes (more than the codec can compress)");
+    return in;
+}
+
+}  // namespace
+
+TextureSize textureHeader(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
+    const std::unique_ptr<ImageRows> in = openTexture(bytes, codec, name);
+    return {in->width, in->height, in->channels};
+}
+
+Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
+    const std::unique_ptr<ImageRows> in = openTexture(bytes, codec, name);
     Image image;
     image.width = in->width;
     image.height = in->height;

@@ -7,6 +7,7 @@
 // Materials are unlit (KHR_materials_unlit): scan textures hold the captured lighting, as the
 // OpenGL renderer draws them. Positions stay in the database's z-up frame; the glTF node's matrix
 // turns them y-up, which 3D Tiles turns back to z-up (3D Tiles 1.1 §glTF up-axis).
+#include "formats/codec.h"
 #include "formats/draco_attribute.h"
 #include "formats/tiles_detail.h"
 
@@ -144,7 +145,15 @@ std::optional<Glb> nodeGlb(const Database& db, uint32_t node) {
         int& m = materialOfTexture[textureBlob - n.firstBlob];
         if (m < 0) {
             const BlobRef& t = s.blobs[textureBlob];
-            const int view = b.bufferView(db.readBlob(textureBlob));
+            const std::vector<uint8_t> bytes = db.readBlob(textureBlob);
+            // Copied as stored, so its header is checked here (a blob that does not decode made a
+            // tileset no viewer can show, with status 0, before stop 36).
+            const std::string name = db.path() + ": node " + std::to_string(node) + ": blob " + std::to_string(textureBlob);
+            const TextureSize size = textureHeader(bytes, t.codec, name);
+            if (size.width != t.width || size.height != t.height)
+                throw FormatError(name + ": texture is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                                  ", its record says " + std::to_string(t.width) + "x" + std::to_string(t.height));
+            const int view = b.bufferView(bytes);
             images.push_back({{"bufferView", view}, {"mimeType", t.codec == Codec::Png ? "image/png" : "image/jpeg"}});
             textures.push_back({{"sampler", 0}, {"source", images.size() - 1}});
             materials.push_back({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", textures.size() - 1}}},

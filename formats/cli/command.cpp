@@ -87,9 +87,16 @@ CLI::Validator wholeNumber() {
         "");  // the help's UINT says it
 }
 
+CLI::Validator nonEmptyPath() {
+    return CLI::Validator([](std::string& input) { return input.empty() ? std::string("an empty path") : std::string(); }, "");
+}
+
 int runGuarded(const std::string& command, const std::function<int()>& body) {
     auto fail = [&](const std::exception& e, int status) {
-        std::cerr << "hlod " << command << ": " << e.what() << '\n';
+        std::string line = e.what();
+        for (char& c : line)  // one printable line, whatever bytes of a bad file the message quotes
+            if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+        std::cerr << "hlod " << command << ": " << line << '\n';
         return status;
     };
     try {

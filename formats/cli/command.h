@@ -26,7 +26,8 @@ enum ExitStatus : int { kExitOk = 0, kExitInvalid = 1, kExitUsage = 2 };
 // A subcommand adds itself to `app`; its callback stores its exit status in `status`.
 using AddSubcommand = void (*)(CLI::App& app, int& status);
 
-// Runs a subcommand body: returns its status, or prints one line "hlod COMMAND: what()" to
+// Runs a subcommand body: returns its status, or prints one line "hlod COMMAND: what()" (its
+// control characters, from a bad file's bytes, shown as '?') to
 // stderr and returns the status of the exception (formats/errors.h): InputError,
 // UnreadableDatabase and std::invalid_argument (usage) give 2; FormatError and any other
 // failure give 1.
@@ -41,6 +42,7 @@ CLI::Validator finiteAtLeast(double lo);        // a finite number >= lo
 CLI::Validator finitePositive();                // a finite number > 0
 CLI::Validator finiteIn(double lo, double hi);  // a finite number in [lo, hi]
 CLI::Validator wholeNumber();                   // written without a sign
+CLI::Validator nonEmptyPath();                  // every -o: "" is a usage error, not a filesystem error
 
 // The positional database argument, named DB in every subcommand.
 void addDatabaseArgument(CLI::App& sub, std::string& path);

@@ -56,7 +56,9 @@ void addExport(CLI::App& app, int& status) {
     CLI::App* tiles = sub->add_subcommand(
         "tiles", "write a 3D Tiles 1.1 tileset: one tile per node, glTF with the stored Draco geometry and JPEG textures");
     addDatabaseArgument(*tiles, args->db);
-    tiles->add_option("-o,--output", args->out, "output folder (with --3tz: the .3tz file)")->required();
+    tiles->add_option("-o,--output", args->out, "output folder (with --3tz: the .3tz file)")
+        ->required()
+        ->check(nonEmptyPath());
     tiles->add_option("--origin", args->origin,
                       "place the model's local frame (x east, y north, z up) at this WGS84 point; "
                       "without it the tileset stays in local coordinates")

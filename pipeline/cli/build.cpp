@@ -159,7 +159,8 @@ void addBuild(CLI::App& app, int& status) {
     BuildOptions& o = a->request.options;
     CLI::App* sub = app.add_subcommand("build", "build an HLOD database from a mesh (PLY, OBJ, glTF) or a folder of block meshes");
     sub->add_option("INPUT", a->request.input, "mesh file, folder of meshes (one block per file, ordered by name), or work folder of `hlod split`")->required();
-    sub->add_option("-o,--output", a->request.output, "database to write (a shard folder with --shard)")->required();
+    sub->add_option("-o,--output", a->request.output, "database to write (a shard folder with --shard)")
+        ->required()->check(nonEmptyPath());
     sub->add_option("-j,--jobs", o.jobs, "threads (default: all cores): the nodes of a block are built in parallel, one more block at once per 4 threads")
         ->check(CLI::Range(0, kMaxJobs));
     sub->add_option("--simplifier", a->simplifier, "meshopt (fast, default) or openmesh (Decimater, ModQuadric)")

@@ -42,7 +42,8 @@ void addSplit(CLI::App& app, int& status) {
     BuildOptions& o = a->options;
     CLI::App* sub = app.add_subcommand("split", "read and split a mesh (or list a folder of block meshes) once, into a work folder for shard builds");
     sub->add_option("INPUT", a->input, "mesh file, or folder of meshes (one block per file, ordered by name)")->required();
-    sub->add_option("-o,--output", a->work, "work folder to write (absent, empty, or an earlier work folder)")->required();
+    sub->add_option("-o,--output", a->work, "work folder to write (absent, empty, or an earlier work folder)")
+        ->required()->check(nonEmptyPath());
     sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088)")
         ->check(wholeNumber());
     sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)")

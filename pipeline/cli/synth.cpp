@@ -19,7 +19,7 @@ void addSynth(CLI::App& app, int& status) {
         "city", "a scanned-city-like model (thesis §1.1): one OBJ+MTL+JPEG per block, plus city.json");
     auto options = std::make_shared<synth::CityOptions>();
     auto dir = std::make_shared<std::string>();
-    city->add_option("-o,--output", *dir, "output folder")->required();
+    city->add_option("-o,--output", *dir, "output folder")->required()->check(nonEmptyPath());
     city->add_option("--scale", options->scale,
                      "fraction of the thesis model (1 = 114 blocks, 8.95 M triangles, 937 M texels)")
         ->check(finiteIn(0, 4));

@@ -56,7 +56,8 @@ void addCalibrate(CLI::App& app, int& status) {
     auto args = std::make_shared<CalibrateArgs>();
     CLI::App* sub = app.add_subcommand("calibrate", "measure textured/untextured triangle costs and the fixed overhead "
                                                     "with OpenGL; write them to a calibration file");
-    sub->add_option("-o,--output", args->output, "calibration file to write (formats/calibration.h)")->capture_default_str();
+    sub->add_option("-o,--output", args->output, "calibration file to write (formats/calibration.h)")
+        ->capture_default_str()->check(nonEmptyPath());
     sub->add_option("--width", args->gl.width, "frame width")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_option("--height", args->gl.height, "frame height")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_flag("--timer-queries", args->gl.timerQueries, "time frames with GL_TIME_ELAPSED instead of glFinish");

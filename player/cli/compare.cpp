@@ -232,7 +232,8 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_option("--step-ms", a->stepMs, "fixed step: frame i sampled at i x this (ms); 0 (default): simulated time as `hlod play`")
         ->check(finiteAtLeast(0));
     sub->add_flag("--preload", a->preload, "decode and upload every node at start, never evict (everything resident)");
-    sub->add_option("-o,--output", a->prefix, "write PREFIX.txt, .csv, .json, -frames.csv, -frame-time.png, -triangles.png, -gap.png");
+    sub->add_option("-o,--output", a->prefix, "write PREFIX.txt, .csv, .json, -frames.csv, -frame-time.png, -triangles.png, -gap.png")
+        ->check(nonEmptyPath());
     sub->add_flag("!--no-plots", a->plots, "skip the gnuplot PNGs");
     sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path, at most 1,000,000)")
         ->check(wholeNumber());

@@ -110,7 +110,7 @@ void addPath(CLI::App& app, int& status) {
     auto a = std::make_shared<PathArgs>();
     CLI::App* sub = app.add_subcommand("path", "generate a camera path (walk, drive, fly, erratic) from a database's bounds");
     addDatabaseArgument(*sub, a->db);
-    sub->add_option("-o,--output", a->output, "camera path file to write")->required();
+    sub->add_option("-o,--output", a->output, "camera path file to write")->required()->check(nonEmptyPath());
     sub->add_option("--kind", a->kind, "walk, drive (10x the walk), fly (whole model in view), erratic, line, zigzag (Robin Hood Table 2)")
         ->check(CLI::IsMember({"walk", "drive", "fly", "erratic", "line", "zigzag"}));
     sub->add_option("--duration", a->options.duration, "seconds (default: one lap; fly 60 s)")

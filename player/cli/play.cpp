@@ -179,8 +179,8 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--path", a->path, "camera path file (player/CAMERA_PATH.md; see `hlod path`)")->required();
     sub->add_option("--renderer", a->renderer, "model (cost model, draws nothing; default) or gl (OpenGL, EGL offscreen)")
         ->check(CLI::IsMember({"model", "gl"}));
-    sub->add_option("--stats", a->stats, "per-frame CSV to write (player/STATS.md)");
-    sub->add_option("--json", a->json, "write the summary as JSON to FILE ('-': stdout)");
+    sub->add_option("--stats", a->stats, "per-frame CSV to write (player/STATS.md)")->check(nonEmptyPath());
+    sub->add_option("--json", a->json, "write the summary as JSON to FILE ('-': stdout)")->check(nonEmptyPath());
     sub->add_option("--policy", a->player.policy, "selection policy (player/POLICIES.md): " + policyNamesList() +
                                                       "; default thesis");
     sub->add_option("--policy-set", a->policySettings, "policy setting P.NAME=VALUE (repeatable; player/POLICIES.md)");

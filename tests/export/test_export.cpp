@@ -7,6 +7,7 @@
 
 #include "formats/db.h"
 #include "formats/export_tiles.h"
+#include "tests/formats/helpers.h"
 #include "tests/support/run_hlod.h"
 #include "tests/support/synthetic.h"
 #include "tests/support/temp_dir.h"
@@ -170,6 +171,26 @@ TEST_F(ExportTiles, CorruptBlobFailsWithOneLineAndLeavesNoTileset) {
     EXPECT_EQ(runHlod({"export", "tiles", bad, "-o", out}).exitCode, 1);
     EXPECT_EQ(readFile(out + "/tileset.json"), before);
     EXPECT_TRUE(checkTileset(out).empty());
+}
+
+// A texture is copied as stored, so one whose checksum holds but whose header does not decode
+// (zeroed here, the record's checksum fixed) is one line and status 1, not a tileset no viewer can
+// show with status 0 (before stop 36).
+TEST_F(ExportTiles, TextureThatDoesNotDecodeFailsWithOneLine) {
+    const Database d = Database::open(db);
+    uint32_t index = 0;
+    while (d.skeleton().blobs[index].kind != BlobKind::Texture) ++index;
+    const BlobRef blob = d.skeleton().blobs[index];
+    std::vector<uint8_t> bytes = readFile(db);
+    std::fill(bytes.begin() + long(blob.offset), bytes.begin() + long(blob.offset + blob.size), 0);
+    patchRecord(bytes, layout::kTagBlob, index, 48, layout::checksum(std::span(bytes).subspan(blob.offset, blob.size)));
+    const std::string bad = dir.file("zeroed.hlod"), out = dir.file("tiles");
+    writeFile(bad, bytes);
+    const RunResult r = runHlod({"export", "tiles", bad, "-o", out});
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.err, "hlod export tiles: " + bad + ": node " + std::to_string(blob.node) + ": blob " + std::to_string(index) +
+                         ": bad JPEG texture: wrong signature\n");
+    EXPECT_FALSE(fs::exists(out));
 }
 
 TEST_F(ExportTiles, ReplacesAnEarlierExportOnly) {

@@ -137,6 +137,13 @@ TEST_F(Conventions, ConstantsAreAcceptedOnlyWhereUsed) {
     EXPECT_NE(r.out.find("note: " + conf + ": not used by `hlod play`: c_desiredTris"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("constants: c_vis=1.275 c_fore=0.45 c_targetTime=20 "), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("c_desiredTris="), std::string::npos) << r.out;  // prints only what it uses
+
+    // A bad file's bytes quoted in the error line are shown printable (a terminal escape here).
+    std::ofstream(conf) << "c_fo\x1b[2Jo = 3\n";
+    r = runHlod({"play", db, "--path", path, "--config", conf});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err.rfind("hlod play: " + conf + ":1: unknown constant 'c_fo?[2Jo' (known: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count_if(r.err.begin(), r.err.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; }), 1) << r.err;
 }
 
 // Absurd constants (README "Reliability") are a usage error of the subcommand that uses them:
@@ -214,6 +221,17 @@ TEST_F(Conventions, AbsurdNumbersAreStatusTwoNotACrashOrAHang) {
         {{"path", db, "-o", out, "--key-interval", "1e-9"}, "hlod path: a path of "},
         {{"path", db, "-o", out, "--speed", "1e-300"}, "hlod path: a path of "},
         {{"play", db, "--path", path, "--model-overhead-ms", "1e300"}, "hlod: --model-overhead-ms: value '1e300': expected"}};
+    // Every output option refuses "" (a filesystem error, status 1, before stop 36).
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"build", obj, "-o"}, {"split", obj, "-o"}, {"merge", dir.path.string(), "-o"}, {"path", db, "-o"},
+             {"export", "tiles", db, "-o"}, {"calibrate", "-o"}, {"synth", "city", "-o"},
+             {"compare", db, "--path", path, "--policies", "thesis", "-o"}, {"play", db, "--path", path, "--stats"},
+             {"play", db, "--path", path, "--json"}}) {
+        std::vector<std::string> empty = args;
+        empty.push_back("");
+        const std::string option = args.back() == "-o" ? "--output" : args.back();
+        cases.push_back({empty, "hlod: " + option + ": an empty path (see --help)"});
+    }
     for (const std::string blocks : {"-1:3", "0:1:2", "0:4294967297", " 0:1"})  // no wrap-around, no truncation
         cases.push_back({{"build", obj, "-o", dir.file("j.hlod"), "--shard", "--blocks", blocks},
                          "hlod build: --blocks '" + blocks + "': expected FIRST:LAST"});
