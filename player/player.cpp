@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 namespace hlod {
 namespace {
@@ -53,6 +54,7 @@ struct Player::Impl {
     std::vector<uint32_t> lastVisited;
     std::vector<DrawItem> front;
     uint32_t levels = 1;
+    uint32_t startFailures = 0;  // nodes that failed to load at start (incore, preload)
     double overhead = 0, vTime0 = 0, vTime = 0, share = 0;
     double residentCost = 0;  // sum of cost over resident nodes (§4.3 memory estimate)
     uint32_t residentNodes = 0;
@@ -103,7 +105,7 @@ struct Player::Impl {
                         renderer.upload(std::move(*node));
                         markResident(n.id, true);
                     }
-            reportFailures();  // skipped as in any run (its parent drawn); --strict stops here
+            startFailures = reportFailures();  // skipped as in any run (its parent drawn); --strict stops here
         }
         calibrate();
         if (options.threadedLoader) loader->start();
@@ -335,7 +337,7 @@ struct Player::Impl {
         s.targetMs = c.targetTimeMs;
         s.hlod0ShareMs = share;
         if (!options.threadedLoader) loader->step(options.syncLoadsPerFrame);
-        s.failedLoads = reportFailures();
+        s.failedLoads = reportFailures() + std::exchange(startFailures, 0);  // the first frame counts the start's
         s.evictions = applyEvictions();
         s.loads = uploadReady();
 

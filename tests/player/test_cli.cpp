@@ -323,6 +323,7 @@ TEST_F(Cli, CorruptNodeIsSkippedWithOneWarningUnlessStrict) {
     r = runHlod(incore);
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.err, "hlod play: " + warning);
+    EXPECT_NE(r.out.find("failed loads 1,"), std::string::npos) << r.out;
     incore.push_back("--strict");
     EXPECT_EQ(runHlod(incore).exitCode, 1);
     r = runHlod({"compare", db, "--path", path, "--policies", "thesis,none", "--preload", "--frames", "50"});
