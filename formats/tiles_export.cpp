@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace hlod {
@@ -103,7 +104,12 @@ TilesReport exportTiles(const Database& db, const std::string& outPath, const Ti
     report.tilesetBytes = json.size();
 
     if (options.archive) {
-        Temporary archive(folder.path.string() + ".3tz");  // OUT.tmp-PID-XXXXXX.3tz
+        std::string name = temporaryPattern(out.string() + ".tmp");  // OUT.tmp-PID-XXXXXX: swept like the folder
+        const int fd = mkstemp(name.data());
+        if (fd < 0) throw std::runtime_error(out.string() + ": cannot create a temporary file beside it");
+        ::fchmod(fd, 0644);  // mkstemp's 0600 would hide the archive from other readers
+        ::close(fd);
+        Temporary archive(name);
         tiles::write3tz(folder.path.string(), archive.path.string());
         report.outputBytes = fs::file_size(archive.path);
         renameOnto(archive.path, out);

@@ -354,6 +354,7 @@ bool replaceableShard(const std::string& output) {
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     BuildOptions options = request.options;
     refuseOutputOverInputs(request.output, {request.input});
+    if (!request.shard) checkReplaceable(request.output, "database");  // before hours of work, not at the end
     options.read.output = request.output;  // nor any file the input refers to
     validateConstants(options.constants, kUsedByBuild);
     checkBuildOptions(options);

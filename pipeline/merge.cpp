@@ -17,12 +17,14 @@
 #include <filesystem>
 #include <functional>
 #include <fstream>
+#include <type_traits>
 
 namespace hlod {
 namespace {
 
 constexpr uint32_t kRecordTag = 0x45444F4E;  // "NODE"
 constexpr uint32_t kEndTag = 0x20444E45;     // "END "
+constexpr const char* kShardFormat = "hlod-shard-2";  // 2: XXH3-64 of each blob and record (stop 36)
 
 template <class T>
 void write(std::FILE* f, const T& value, const std::string& file) {
@@ -34,6 +36,13 @@ T read(std::FILE* f, const std::string& file) {
     T value{};
     if (std::fread(&value, sizeof value, 1, f) != 1) throw InputError(file + ": truncated block record file");
     return value;
+}
+
+// The bytes of a record's fields, in the order written, for its checksum.
+template <class T>
+void append(std::vector<uint8_t>& hashed, const T& value) {
+    const auto* p = reinterpret_cast<const uint8_t*>(&value);
+    hashed.insert(hashed.end(), p, p + sizeof value);
 }
 
 [[noreturn]] void corrupt(const std::string& file, const std::string& what) {
@@ -66,17 +75,20 @@ void BlockRecordWriter::add(const NodeRecord& record) {
     std::FILE* f = impl_->f;
     const std::string& file = impl_->file;
     const NodeInput& n = record.node;
-    write(f, kRecordTag, file), write(f, record.parentLocal, file), write(f, n.level, file), write(f, n.block, file);
-    write(f, n.bounds, file), write(f, n.cost, file), write(f, n.staticBenefit, file), write(f, n.avgNormal, file);
+    std::vector<uint8_t> hashed;  // every field but geometricError (rewritten by setGeometricErrors)
+    const auto put = [&](const auto& value) { write(f, value, file), append(hashed, value); };
+    write(f, kRecordTag, file), put(record.parentLocal), put(n.level), put(n.block);
+    put(n.bounds), put(n.cost), put(n.staticBenefit), put(n.avgNormal);
     impl_->errorOffsets.push_back(std::ftell(f));
-    write(f, n.geometricError, file), write(f, static_cast<uint32_t>(n.blobs.size()), file);
+    write(f, n.geometricError, file), put(static_cast<uint32_t>(n.blobs.size()));
     for (const EncodedBlob& blob : n.blobs) {
         BlobRef info = blob.info;
         info.checksum = layout::checksum(blob.bytes);  // checked by the merge (the Writer computes its own)
-        write(f, info, file), write(f, blob.textureSlot, file), write(f, static_cast<uint64_t>(blob.bytes.size()), file);
+        put(info), put(blob.textureSlot), put(static_cast<uint64_t>(blob.bytes.size()));
         if (!blob.bytes.empty() && std::fwrite(blob.bytes.data(), 1, blob.bytes.size(), f) != blob.bytes.size())
             throw std::runtime_error(file + ": write failed (" + std::strerror(errno) + ")");
     }
+    write(f, layout::checksum(hashed), file);  // the record's fields; each blob's bytes by its own
     ++impl_->count;
 }
 
@@ -119,21 +131,28 @@ void readRecords(const std::string& file, size_t maxRecords, const std::function
         if (tag != kRecordTag) corrupt(file, "record tag");
         NodeRecord r;
         NodeInput& n = r.node;
-        r.parentLocal = read<uint32_t>(f, file), n.level = read<uint32_t>(f, file), n.block = read<uint32_t>(f, file);
-        n.bounds = read<Box3f>(f, file), n.cost = read<float>(f, file), n.staticBenefit = read<float>(f, file);
-        n.avgNormal = read<Vec3f>(f, file), n.geometricError = read<float>(f, file);
-        const uint32_t blobs = read<uint32_t>(f, file);
+        std::vector<uint8_t> hashed;
+        const auto get = [&](auto& value) {
+            value = read<std::remove_reference_t<decltype(value)>>(f, file);
+            append(hashed, value);
+        };
+        get(r.parentLocal), get(n.level), get(n.block), get(n.bounds), get(n.cost), get(n.staticBenefit), get(n.avgNormal);
+        n.geometricError = read<float>(f, file);
+        uint32_t blobs = 0;
+        get(blobs);
         if (blobs > layout::kMaxBlobsPerNode) corrupt(file, std::to_string(blobs) + " blobs in one node");
         n.blobs.resize(blobs);
         for (EncodedBlob& blob : n.blobs) {
-            blob.info = read<BlobRef>(f, file), blob.textureSlot = read<uint32_t>(f, file);
-            const uint64_t size = read<uint64_t>(f, file), at = uint64_t(std::ftell(f));
+            uint64_t size = 0;
+            get(blob.info), get(blob.textureSlot), get(size);
+            const uint64_t at = uint64_t(std::ftell(f));
             if (size > fileSize - std::min(at, fileSize)) throw InputError(file + ": truncated block record file");
             blob.bytes.resize(size);
             if (!blob.bytes.empty() && std::fread(blob.bytes.data(), 1, blob.bytes.size(), f) != blob.bytes.size())
                 throw InputError(file + ": truncated block record file");
             if (layout::checksum(blob.bytes) != blob.info.checksum) corrupt(file, "blob checksum mismatch");
         }
+        if (read<uint64_t>(f, file) != layout::checksum(hashed)) corrupt(file, "record checksum mismatch");
         ++count;
         each(std::move(r));
     }
@@ -155,7 +174,7 @@ std::string blockRecordPath(const std::string& dir, uint32_t block) {
 
 void writeShardInfo(const std::string& dir, const ShardInfo& info) {
     nlohmann::json j;
-    j["format"] = "hlod-shard-1";
+    j["format"] = kShardFormat;
     j["blockCount"] = info.blockCount;
     j["blocks"] = info.blocks;
     j["meta"] = info.meta;
@@ -170,12 +189,16 @@ ShardInfo readShardInfo(const std::string& dir) {
     if (!in) throw InputError(file + ": cannot read (not a shard folder?)");
     try {
         const nlohmann::json j = nlohmann::json::parse(in);
-        if (j.at("format") != "hlod-shard-1") throw std::runtime_error("unknown format");
+        if (j.at("format") == "hlod-shard-1")  // before stop 36: records without checksums
+            throw InputError(file + ": a shard of an older hlod (hlod-shard-1): build it again");
+        if (j.at("format") != kShardFormat) throw std::runtime_error("unknown format");
         ShardInfo info;
         info.blockCount = j.at("blockCount").get<uint32_t>();
         info.blocks = j.at("blocks").get<std::vector<uint32_t>>();
         info.meta = j.at("meta").get<std::vector<std::pair<std::string, std::string>>>();
         return info;
+    } catch (const InputError&) {
+        throw;
     } catch (const std::exception& e) {
         throw InputError(file + ": corrupt shard description (" + e.what() + ")");
     }

@@ -101,8 +101,8 @@ public:
     Loader(const Loader&) = delete;
     Loader& operator=(const Loader&) = delete;
 
-    // Reads and decodes a node now (hlod0 at start-up, every node for incore) and counts it
-    // resident; it never enters the queue and is never evicted. Throws FormatError.
+    // Reads and decodes a node now (hlod0 at start-up) and counts it resident; it never enters
+    // the queue and is never evicted. Throws FormatError.
     DecodedNode loadPinned(uint32_t id);
     // loadPinned for a node that may fail (every node for incore and preload): a node that cannot
     // be read or decoded is a failure (takeFailures) as in the queue, and nothing is returned.

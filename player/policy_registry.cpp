@@ -95,7 +95,7 @@ const SettingRange kRanges[] = {
     {"pixels", 0, kInf, false, ">= 0 (0: full detail)"},
     {"tolerance", 0, kInf, false, ">= 0 (0: full detail)"},
     {"c", kAboveZero, kInf, false, "> 0"},
-    {"accuracy", kAboveZero, kInf, false, "> 0"},
+    {"accuracy", 0, kInf, false, ">= 0 (0: until max_newton)"},
     {"value", 8, 11, true, "8, 9, 10 or 11 (the paper's equations)"},
     {"max_newton", 1, 1e6, true, "a whole number in [1, 1000000]"},
     {"max_states", 1, 1e9, true, "a whole number in [1, 1e9]"},

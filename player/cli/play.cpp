@@ -22,7 +22,6 @@
 #include <memory>
 #include <optional>
 
-
 namespace hlod::cli {
 namespace {
 
@@ -41,15 +40,16 @@ struct PlayArgs {
     std::string loader = "thesis", onMiss = "parent";
 };
 
-
 std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
     if (a.renderer == "gl") return makeGlRenderer(GlOptions{a.width, a.height, false, false});
     return std::make_unique<CostModelRenderer>(a.model);
 }
 
 int runPlay(PlayArgs& a) {
-    for (const std::string& output : {a.stats, a.json == "-" ? std::string() : a.json})
+    for (const auto& [output, what] : {std::pair{a.stats, "statistics"}, std::pair{a.json == "-" ? std::string() : a.json, "summary"}}) {
         refuseOutputOverInputs(output, {a.db, a.path, a.calibration, a.constants.configFile});
+        if (!output.empty()) checkReplaceable(output, what);  // before the run, not at its end
+    }
     Constants c;
     applyConstantOptions(a.constants, c, std::cout);
     if (!a.calibration.empty()) {

@@ -208,6 +208,11 @@ TEST_F(ExportTiles, ReplacesAnEarlierExportOnly) {
     ASSERT_EQ(runHlod({"export", "tiles", db, "-o", out}).exitCode, 0);
     EXPECT_FALSE(fs::exists(stale));
     EXPECT_TRUE(fs::exists(live));
+    const std::string archive = dir.file("a.3tz"), staleArchive = archive + ".tmp-999999999-ghijkl";  // --3tz's is a file
+    writeFile(staleArchive, {'P', 'K'});
+    ASSERT_EQ(runHlod({"export", "tiles", db, "--3tz", "-o", archive}).exitCode, 0);
+    EXPECT_FALSE(fs::exists(staleArchive));
+    EXPECT_EQ(fs::status(archive).permissions() & fs::perms::others_read, fs::perms::others_read);
 
     const std::string other = dir.file("other");
     fs::create_directories(other);

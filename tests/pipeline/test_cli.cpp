@@ -83,7 +83,7 @@ TEST(Cli, ShardsAndMerge) {
     EXPECT_NE(bad.outAndErr().find("is in none of the shards"), std::string::npos) << bad.outAndErr();
 
     // A damaged shard is one line naming the record file, status 2, no database: before stop 36 a
-    // flipped blob byte merged (status 0, fresh checksums), an absurd blob size zero-filled 2 GB and
+    // flipped byte merged (status 0, fresh checksums), an absurd blob size zero-filled 2 GB and
     // an absurd count ended in std::bad_alloc without a file name.
     const std::string records = dir.file("s1/block_000000.nodes");
     const std::vector<uint8_t> original = readFile(records);
@@ -105,7 +105,19 @@ TEST(Cli, ShardsAndMerge) {
     const uint64_t huge = uint64_t(1) << 31;
     std::memcpy(blobSize.data() + countAt + 4 + sizeof(BlobRef) + 4, &huge, 8);
     mergeFails(blobSize, "truncated block record file");
+    std::vector<uint8_t> level = original;  // the root record's level: no blob covers it, the record's XXH3 does
+    level[8] ^= 0x01;
+    mergeFails(level, "corrupt block record file (record checksum mismatch)");
     writeFile(records, original);
+
+    // A shard of an hlod before stop 36 (records without checksums) is named as such.
+    const std::string info = dir.file("s1/shard.json");
+    std::string text = readText(info);
+    text.replace(text.find("hlod-shard-2"), 12, "hlod-shard-1");
+    std::ofstream(info) << text;
+    const RunResult old = runHlod({"merge", dir.file("s1"), dir.file("s2"), "-o", dir.file("bad.hlod")});
+    EXPECT_EQ(old.exitCode, 2);
+    EXPECT_EQ(old.err, "hlod merge: " + info + ": a shard of an older hlod (hlod-shard-1): build it again\n");
 }
 
 }  // namespace
