@@ -189,6 +189,12 @@ TEST(Confine, BuildNeverWritesOverItsInputOrItsTexture) {
     }
     EXPECT_EQ(readText(l.in("m.obj")), mesh);
     EXPECT_EQ(readText(l.in("tex.png")), texture);
+    // A folder in the database's place is refused before the mesh is read, not after the build.
+    fs::create_directories(l.dir.file("taken.hlod"));
+    const RunResult r = runHlod({"build", l.in("m.obj"), "-o", l.dir.file("taken.hlod")});
+    EXPECT_EQ(r.exitCode, 1) << r.outAndErr();
+    EXPECT_EQ(r.err, "hlod build: " + l.dir.file("taken.hlod") + ": cannot write database (exists and is not a regular file)\n");
+    EXPECT_EQ(r.out.find("split"), std::string::npos) << r.out;
 }
 
 }  // namespace
