@@ -52,6 +52,12 @@ void refuseOutputOverInputs(const std::string& output, std::initializer_list<std
     }
 }
 
+void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs) {
+    if (output.empty()) return;
+    refuseOutputOverInputs(output, inputs);
+    checkReplaceable(output, what);
+}
+
 TextFileWriter::TextFileWriter(std::string path, std::string what) : path_(std::move(path)), what_(std::move(what)) {
     checkReplaceable(path_, what_);
     removeStaleTemporaries(path_ + ".tmp");

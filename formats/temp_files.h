@@ -25,6 +25,9 @@ void checkReplaceable(const std::string& path, const std::string& what);
 // OUTPUT and one of INPUTS name the same existing file (after symbolic links; hard links too), so
 // an output never destroys what the run reads. Empty names are skipped.
 void refuseOutputOverInputs(const std::string& output, std::initializer_list<std::string> inputs);
+// Both checks of a file output, before a run's work: refuseOutputOverInputs, then checkReplaceable.
+// An empty OUTPUT (an option not given) passes.
+void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs);
 
 // A text output (a camera path, the statistics CSV, a JSON summary, compare's tables) written as
 // PATH.tmp-PID-XXXXXX next to PATH and renamed onto it by commit(), so a failed write, a PATH that

@@ -353,8 +353,8 @@ bool replaceableShard(const std::string& output) {
 
 BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     BuildOptions options = request.options;
-    refuseOutputOverInputs(request.output, {request.input});
-    if (!request.shard) checkReplaceable(request.output, "database");  // before hours of work, not at the end
+    if (request.shard) refuseOutputOverInputs(request.output, {request.input});  // a folder: replaceableShard below
+    else checkOutputFile(request.output, "database", {request.input});  // before hours of work, not at the end
     options.read.output = request.output;  // nor any file the input refers to
     validateConstants(options.constants, kUsedByBuild);
     checkBuildOptions(options);

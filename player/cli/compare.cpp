@@ -160,10 +160,10 @@ bool plot(const std::string& prefix, const std::vector<PolicyRun>& runs, const P
 
 int runCompare(CompareArgs& a) {
     for (const char* suffix : {".txt", ".csv", ".json", "-frames.csv", "-frame-time.png", "-triangles.png", "-gap.png"})
-        if (!a.prefix.empty()) {
-            refuseOutputOverInputs(a.prefix + suffix, {a.db, a.path, a.constants.configFile});
-            const std::string name = suffix;  // checked before the replays, not at their end
-            checkReplaceable(a.prefix + name, name.ends_with(".png") ? "a plot" : name == "-frames.csv" ? "the frames" : "the table");
+        if (!a.prefix.empty()) {  // checked before the replays, not at their end
+            const std::string name = suffix;
+            checkOutputFile(a.prefix + name, name.ends_with(".png") ? "a plot" : name == "-frames.csv" ? "the frames" : "the table",
+                            {a.db, a.path, a.constants.configFile});
         }
     Constants c;
     applyConstantOptions(a.constants, c, std::cout);

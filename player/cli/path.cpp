@@ -63,7 +63,7 @@ void addSurfaces(const Database& db, uint32_t level, SurfaceHeights& surfaces) {
 }
 
 int runPath(PathArgs& a) {
-    refuseOutputOverInputs(a.output, {a.db});
+    checkOutputFile(a.output, "camera path", {a.db});
     a.options.kind = parsePathKind(a.kind);
     if (!a.up.empty()) a.options.upAxis = parseUpAxis(a.up, "--up");
     a.options.metresPerUnit = parseUnits(a.units);

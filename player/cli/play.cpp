@@ -46,10 +46,8 @@ std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
 }
 
 int runPlay(PlayArgs& a) {
-    for (const auto& [output, what] : {std::pair{a.stats, "statistics"}, std::pair{a.json == "-" ? std::string() : a.json, "summary"}}) {
-        refuseOutputOverInputs(output, {a.db, a.path, a.calibration, a.constants.configFile});
-        if (!output.empty()) checkReplaceable(output, what);  // before the run, not at its end
-    }
+    checkOutputFile(a.stats, "statistics", {a.db, a.path, a.calibration, a.constants.configFile});  // before the run
+    checkOutputFile(a.json == "-" ? "" : a.json, "summary", {a.db, a.path, a.calibration, a.constants.configFile});
     Constants c;
     applyConstantOptions(a.constants, c, std::cout);
     if (!a.calibration.empty()) {
