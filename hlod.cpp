@@ -28,7 +28,7 @@ constexpr hlod::cli::AddSubcommand kSubcommands[] = {
 }  // namespace
 
 int main(int argc, char** argv) {
-    hlod::cli::reexecWithHugePages(argv);  // formats/cli/huge_pages.h
+    if (hlod::cli::kGlibcMalloc) hlod::cli::reexecWithHugePages(argv);  // formats/cli/huge_pages.h
     CLI::App app{"hlod: out-of-core HLOD databases for huge scanned 3D models (build, inspect, play)"};
     app.set_version_flag("--version", std::string("hlod ") + HLOD_VERSION);
     app.require_subcommand(1);
