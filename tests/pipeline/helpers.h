@@ -153,6 +153,31 @@ inline std::string texturedTriangleGltf(const std::string& materials, const std:
   "textures": [)" + textures + R"(], "images": [{"uri": "data:image/png;base64,)" + image + R"("}]})";
 }
 
+// One triangle as glTF 2.0 JSON with one material, "skin": its 36-byte POSITION buffer at
+// `bufferUri`, and when `imageUri` is given a base-colour texture (with TEXCOORD_0 from the same
+// buffer's second half).
+inline std::string triangleGltf(const std::string& bufferUri, const std::string& imageUri = "") {
+    const std::string textured = imageUri.empty() ? "" : R"(, "TEXCOORD_0": 1)";
+    std::string json = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0)" + textured + R"(}, "material": 0}]}],
+  "materials": [{"name": "skin", "pbrMetallicRoughness": {)" + (imageUri.empty() ? "" : R"("baseColorTexture": {"index": 0})") + R"(}}],
+  "buffers": [{"uri": ")" + bufferUri + R"(", "byteLength": 60}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}])";
+    if (!imageUri.empty()) json += R"(, "textures": [{"source": 0}], "images": [{"uri": ")" + imageUri + R"("}])";
+    return json + "}\n";
+}
+
+inline std::vector<uint8_t> triangleBuffer() {
+    const float values[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
+    const auto* p = reinterpret_cast<const uint8_t*>(values);
+    return {p, p + sizeof values};
+}
+
+// triangleBuffer() as a data: URI.
+inline std::string triangleBufferDataUri() { return "data:application/octet-stream;base64," + base64(triangleBuffer()); }
+
 // The InputError message `f` throws, or "" when it throws none.
 inline std::string errorOf(const std::function<void()>& f) {
     try {

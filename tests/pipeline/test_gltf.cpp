@@ -15,17 +15,7 @@
 namespace hlod::test {
 namespace {
 
-constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT, kUint = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
 constexpr int kUbyte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
-}
 
 // terrain(4) with unit normals and RGBA colours that differ per vertex.
 MeshData sample() {

@@ -9,8 +9,6 @@
 namespace hlod::test {
 namespace {
 
-constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT, kUint = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-
 // `positions` (x, y, 0 per vertex) as one primitive of each of `modes`, indexed by `indices`
 // unless empty, written as a glTF file; returns what readGltf reads from it.
 SourceMesh readPrimitives(TempDir& dir, const std::vector<int>& modes, const std::vector<float>& xy, const std::vector<uint32_t>& indices) {

@@ -107,28 +107,12 @@ TEST(Textures, ReadersReportTheProblemAndClearTheMaterial) {
     for (const Material& m : s.materials) EXPECT_TRUE(m.texturePath.empty());
 }
 
-// One textured triangle as glTF with everything in data: URIs (buffer and image).
-std::string triangleGltf(const std::string& imageUri) {
-    const float values[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
-    const auto* p = reinterpret_cast<const uint8_t*>(values);
-    const std::string buffer = "data:application/octet-stream;base64," + base64({p, p + sizeof values});
-    return R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
-  "materials": [{"name": "skin", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
-  "buffers": [{"uri": ")" + buffer + R"(", "byteLength": 60}],
-  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
-                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],
-  "textures": [{"source": 0}], "images": [{"uri": ")" + imageUri + R"("}]}
-)";
-}
-
 // An embedded glTF image that does not decode follows the same rule instead of failing the file.
 TEST(Textures, AnUndecodableEmbeddedGltfImageIsATextureProblem) {
     TempDir dir;
     const std::vector<uint8_t> png = encodeTexture(testImage(16, 16), Codec::Png).bytes;
     for (const auto& bytes : {text("not a picture"), truncated(png)}) {
-        std::ofstream(dir.file("t.gltf")) << triangleGltf("data:image/png;base64," + base64(bytes));
+        std::ofstream(dir.file("t.gltf")) << triangleGltf(triangleBufferDataUri(), "data:image/png;base64," + base64(bytes));
         const SourceMesh s = readMesh(dir.file("t.gltf"));
         ASSERT_EQ(s.stats.textureProblems.size(), 1u);
         EXPECT_NE(s.stats.textureProblems[0].what.find(dir.file("t.gltf") + ": image 0 cannot be decoded"), std::string::npos)
@@ -144,7 +128,7 @@ TEST(Textures, AnUndecodableEmbeddedGltfImageIsATextureProblem) {
         EXPECT_NE(lenient.out.find("up axis: y (glTF is y-up)"), std::string::npos) << lenient.out;
         EXPECT_EQ(*Database::open(dir.file("t.hlod")).skeleton().findMeta("up"), "y");
     }
-    std::ofstream(dir.file("t.gltf")) << triangleGltf("data:image/png;base64," + base64(png));
+    std::ofstream(dir.file("t.gltf")) << triangleGltf(triangleBufferDataUri(), "data:image/png;base64," + base64(png));
     const SourceMesh good = readMesh(dir.file("t.gltf"));
     EXPECT_TRUE(good.stats.textureProblems.empty());
     ASSERT_TRUE(good.materials[0].image);

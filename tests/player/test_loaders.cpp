@@ -44,13 +44,6 @@ private:
     std::shared_ptr<const NodeSource> inner_;
 };
 
-// A grid whose nodes carry a geometric error halving per level (leaves 0), for `sse`.
-Skeleton errorGrid(uint32_t blocks, uint32_t levels) {
-    Skeleton s = test::gridSkeleton(blocks, blocks, levels, 512, 50);
-    for (Node& n : s.nodes) n.geometricError = n.firstChild == kNone ? 0.f : 4.f / float(1u << n.level);
-    return s;
-}
-
 // A vm frame classifying `errors` with the whole sphere as prefetch frustum.
 std::shared_ptr<const VmFrame> vmFrame(std::map<uint32_t, double> errors, bool moved = true) {
     auto f = std::make_shared<VmFrame>();
@@ -252,7 +245,7 @@ CameraPath erratic(const Skeleton& s, double seconds) {
 // Every frame's front is a valid cut (player/front.h) with the vm and thesis loaders, both miss
 // rules, the thesis and sse selectors, under a memory budget that binds.
 TEST(Loaders, VmAndThesisGiveValidFronts) {
-    auto source = memorySource(errorGrid(3, 4));
+    auto source = memorySource(test::errorGridSkeleton(3, 3, 4, 50, 4));
     const Skeleton& s = source->skeleton();
     CameraPath path = erratic(s, 20);
     std::map<LoaderKind, uint64_t> evictions;
@@ -292,7 +285,7 @@ TEST(Loaders, VmAndThesisGiveValidFronts) {
 // model with 2 ms a node makes each frame longer than with a free disk by exactly 2 ms per node
 // fetched; a bandwidth of 1 MB/s by exactly demand_bytes / 1000 ms; --on-miss parent never waits.
 TEST(Loaders, DiskModelMakesWaitFramesLongerByExactlyTheModelledTime) {
-    auto source = memorySource(errorGrid(3, 4));
+    auto source = memorySource(test::errorGridSkeleton(3, 3, 4, 50, 4));
     CameraPath path = erratic(source->skeleton(), 20);
     auto run = [&](OnMiss onMiss, DiskModel disk) {
         CostModel model;

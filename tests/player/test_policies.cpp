@@ -14,13 +14,6 @@ using namespace hlod;
 
 namespace {
 
-// gridSkeleton with a geometric error that halves per level (leaves exact), as a build gives.
-Skeleton errorGrid(uint32_t bx, uint32_t by, uint32_t levels, float blockSize = 50) {
-    Skeleton s = test::gridSkeleton(bx, by, levels, 512, blockSize);
-    for (Node& n : s.nodes) n.geometricError = n.firstChild == kNone ? 0.f : std::ldexp(2.f, -int(n.level));
-    return s;
-}
-
 // One policy frame over `s` from `camera`, the way the Player builds it.
 struct Harness {
     const Skeleton& s;
@@ -80,7 +73,7 @@ TEST(Policies, RegistryKnowsThesisAndRejectsUnknownNames) {
 // the parameters the Player used before the interface: same front, visits, priorities,
 // toggles, misses and refusals on every frame of a walk with nodes loading as they are visited.
 TEST(Policies, ThesisThroughInterfaceEqualsDirectTraversal) {
-    Skeleton s = errorGrid(3, 3, 4);
+    Skeleton s = test::errorGridSkeleton(3, 3, 4);
     CameraPath path = walk(s);
     Harness h(s);
     SelectionState direct(s), viaPolicy(s);
@@ -115,7 +108,7 @@ TEST(Policies, ThesisThroughInterfaceEqualsDirectTraversal) {
 // Every registered policy: a valid cut on every frame of a walk while nodes load (2 a frame),
 // and with everything resident.
 TEST(Policies, EveryPolicyYieldsAValidCut) {
-    Skeleton s = errorGrid(3, 3, 4);
+    Skeleton s = test::errorGridSkeleton(3, 3, 4);
     CameraPath path = walk(s);
     for (const PolicyInfo& info : policyRegistry()) {
         for (bool preload : {false, true}) {
@@ -141,7 +134,7 @@ TEST(Policies, EveryPolicyYieldsAValidCut) {
 }
 
 TEST(Policies, CheckCutFindsEachViolation) {
-    Skeleton s = errorGrid(1, 1, 3);  // node 0, children 1..4, grandchildren 5..20
+    Skeleton s = test::errorGridSkeleton(1, 1, 3);  // node 0, children 1..4, grandchildren 5..20
     std::vector<uint8_t> resident(s.nodes.size(), 1);
     auto all = [](uint32_t) { return true; };
     std::vector<DrawnNode> ok = {{1}, {2}, {3}, {4}};
@@ -236,7 +229,7 @@ OneFrame runOnce(const Skeleton& s, SelectionPolicy& policy, const Camera& cam, 
 }  // namespace
 
 TEST(Policies, NoneDrawsEveryVisibleLeaf) {
-    Skeleton s = errorGrid(3, 3, 4);
+    Skeleton s = test::errorGridSkeleton(3, 3, 4);
     auto policy = makePolicy("none");
     OneFrame r = runOnce(s, *policy, overhead());
     ASSERT_FALSE(r.front.drawn.empty());
@@ -247,7 +240,7 @@ TEST(Policies, NoneDrawsEveryVisibleLeaf) {
 // static: a node is refined exactly when its visible children's average triangle covers at least
 // N projected pixels; N = 0 is full detail and a huge N keeps hlod0.
 TEST(Policies, StaticRefinesWhileChildrenTrianglesCoverNPixels) {
-    Skeleton s = errorGrid(3, 3, 4);
+    Skeleton s = test::errorGridSkeleton(3, 3, 4);
     Camera cam = overhead(60);
     Projection p = makeProjection(cam, 720);
     double velocity[3] = {0, 0, 0};
@@ -285,7 +278,7 @@ TEST(Policies, StaticRefinesWhileChildrenTrianglesCoverNPixels) {
 
 // sse: a node is refined exactly when its projected geometric error exceeds the tolerance.
 TEST(Policies, SseRefinesExactlyTheNodesOverTolerance) {
-    Skeleton s = errorGrid(3, 3, 5);
+    Skeleton s = test::errorGridSkeleton(3, 3, 5);
     Camera cam = overhead(40);
     Projection p = makeProjection(cam, 720);
     for (double tolerance : {4.0, 8.0, 16.0}) {
@@ -308,7 +301,7 @@ TEST(Policies, SseRefinesExactlyTheNodesOverTolerance) {
 
 // feedback and sse-budget: slow frames raise the threshold (fewer triangles), fast ones lower it.
 TEST(Policies, FeedbackPoliciesFollowTheMeasuredFrameTime) {
-    Skeleton s = errorGrid(3, 3, 5);
+    Skeleton s = test::errorGridSkeleton(3, 3, 5);
     Camera cam = overhead(40);
     for (const char* name : {"feedback", "sse-budget"}) {
         PolicyOptions o;
@@ -330,7 +323,7 @@ TEST(Policies, FeedbackPoliciesFollowTheMeasuredFrameTime) {
 // toggles); a lower target coarsens it until the estimate is within target x (1 + overrun), and
 // the old target refills it.
 TEST(Policies, HoldSettlesUnderTheTargetAndKeepsItsFront) {
-    Skeleton s = errorGrid(3, 3, 4);
+    Skeleton s = test::errorGridSkeleton(3, 3, 4);
     Harness h(s);
     h.resident.assign(s.nodes.size(), 1);
     h.vTime = 0.01;  // full detail: 9 x 85 x 512 x 0.01 = 3,900 ms, hlod0 46 ms

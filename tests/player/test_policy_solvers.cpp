@@ -20,12 +20,6 @@ using namespace hlod;
 
 namespace {
 
-Skeleton errorGrid(uint32_t bx, uint32_t by, uint32_t levels) {
-    Skeleton s = test::gridSkeleton(bx, by, levels, 512, 50);
-    for (Node& n : s.nodes) n.geometricError = n.firstChild == kNone ? 0.f : std::ldexp(2.f, -int(n.level));
-    return s;
-}
-
 struct Frame {
     View view;
     Projection projection;
@@ -68,7 +62,7 @@ Drawn drawOnce(const Skeleton& s, const char* policy, const Camera& cam, double 
 }  // namespace
 
 TEST(ChoiceMap, OptionsAreTheCutsAtEachDepth) {
-    Skeleton s = errorGrid(2, 1, 3);  // per block: 1 + 4 + 16 nodes, all visible from above
+    Skeleton s = test::errorGridSkeleton(2, 1, 3);  // per block: 1 + 4 + 16 nodes, all visible from above
     Constants c;
     Camera cam;
     cam.position[0] = 50, cam.position[1] = 25, cam.position[2] = 400;  // above the z = 0 ground, looking down
@@ -97,7 +91,7 @@ TEST(ChoiceMap, OptionsAreTheCutsAtEachDepth) {
 }
 
 TEST(SolverPolicies, ValidCutsWithinBudgetAndNeverAboveTheOracle) {
-    Skeleton s = errorGrid(3, 3, 4);
+    Skeleton s = test::errorGridSkeleton(3, 3, 4);
     PathOptions po;
     po.kind = PathKind::Walk;
     CameraPath path = generatePath(s, po);
@@ -155,7 +149,7 @@ TEST(SolverPolicies, ValidCutsWithinBudgetAndNeverAboveTheOracle) {
 // 2.048, 8.192 and 32.768 ms at 1 us a triangle. With 5 ms fs-greedy (and the block oracle) stop
 // at depth 1; fs-node refines one more depth-1 node (2.048 + 1.536 ms) and draws more benefit.
 TEST(SolverPolicies, FsNodeBeatsFsGreedyBetweenTwoDepthCutsOfOneBlock) {
-    Skeleton s = errorGrid(1, 1, 4);
+    Skeleton s = test::errorGridSkeleton(1, 1, 4);
     Camera cam;
     cam.position[0] = 25, cam.position[1] = 25, cam.position[2] = 200;  // above the block, looking down
     Drawn greedy = drawOnce(s, "fs-greedy", cam, 5, 0.001), node = drawOnce(s, "fs-node", cam, 5, 0.001);
@@ -169,7 +163,7 @@ TEST(SolverPolicies, FsNodeBeatsFsGreedyBetweenTwoDepthCutsOfOneBlock) {
 
 // With a budget over full detail, fs-node draws what `none` draws: every visible leaf.
 TEST(SolverPolicies, FsNodeReachesFullDetailWhenTheBudgetAllows) {
-    Skeleton s = errorGrid(2, 2, 4);
+    Skeleton s = test::errorGridSkeleton(2, 2, 4);
     Camera cam;
     cam.position[0] = 50, cam.position[1] = 50, cam.position[2] = 300;
     Drawn none = drawOnce(s, "none", cam, 1000, 0.001), node = drawOnce(s, "fs-node", cam, 1000, 0.001);
@@ -234,7 +228,7 @@ TEST(SolverPolicies, SettingsOutsideTheirRangeAreRefused) {
 // frames (FS §6's coherence), then each frame is one iteration (a raise undone by a merge) with no
 // toggles, within the budget and within 0.1 % of fs-node's greedy benefit.
 TEST(SolverPolicies, FsNodeIncrementalSettlesOnTheGreedyOnAStillView) {
-    Skeleton s = errorGrid(3, 3, 4);
+    Skeleton s = test::errorGridSkeleton(3, 3, 4);
     Camera cam;
     cam.position[0] = 75, cam.position[1] = 75, cam.position[2] = 150;  // above the grid's centre, looking down
     Constants c;

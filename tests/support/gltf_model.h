@@ -8,6 +8,8 @@
 
 namespace hlod::test {
 
+constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT, kUint = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+
 // Appends `bytes` to buffer 0 (4-byte aligned) as a new buffer view; returns its index.
 inline int addView(tinygltf::Model& model, const void* data, size_t bytes) {
     std::vector<unsigned char>& buffer = model.buffers[0].data;

@@ -73,4 +73,13 @@ inline Skeleton gridSkeleton(uint32_t blocksX, uint32_t blocksY, uint32_t levels
     return s;
 }
 
+// gridSkeleton whose geometric error halves per level from `rootError` at the blocks' roots
+// (leaves exact), as a build gives.
+inline Skeleton errorGridSkeleton(uint32_t blocksX, uint32_t blocksY, uint32_t levels, float blockSize = 50,
+                                  float rootError = 2) {
+    Skeleton s = gridSkeleton(blocksX, blocksY, levels, 512, blockSize);
+    for (Node& n : s.nodes) n.geometricError = n.firstChild == kNone ? 0.f : std::ldexp(rootError, -int(n.level));
+    return s;
+}
+
 }  // namespace hlod::test
