@@ -28,13 +28,14 @@ echo "run-sample: main command OK (outputs under out/city/)"
 # and their shared queue), and the build's nodes of one block built in parallel (build_tree.cpp:
 # their shared texture cache, progress, ordered records and spilled blobs), rebuilt with -fsanitize=thread; any
 # reported race fails the script. Only their files and the libraries are built (tests/tsan/).
-# -g1: line tables only, enough for the sanitizers' stack traces, and a sixth less compile time.
+# -g1: line tables only, enough for the sanitizers' stack traces (the largest file compiles ~14 %
+# faster; the ASan `hlod` is 166 MB instead of 296).
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
   -DHLOD_TSAN=ON -DHLOD_BENCH=OFF >/dev/null
 cmake --build build-tsan -j "$jobs" --target test_threads
 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
   build-tsan/tests/tsan/test_threads --gtest_filter='Loader*:PlayerEndToEnd.ThreadedLoaderHoldsTarget'
-# (libtbb is not instrumented: pipeline/tbb_sync.h and scripts/tsan.supp; ~2.5 minutes on 2 cores)
+# (libtbb is not instrumented: pipeline/tbb_sync.h and scripts/tsan.supp; the two runs ~1.5 minutes on 2 cores)
 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/scripts/tsan.supp" \
   build-tsan/tests/tsan/test_threads --gtest_filter='BlockParallel.*:BlobSpill.*'
 
