@@ -3,7 +3,7 @@
 // cli/ folder, which the library itself does not depend on:
 //   formats/cli/   inspect, validate, export   (command.h: exit statuses, error guard, constant options)
 //   pipeline/cli/  build, split, merge, stats, synth
-//   player/cli/    play, path, view, calibrate
+//   player/cli/    play, path, view, calibrate, compare
 #include "formats/cli/huge_pages.h"
 #include "formats/cli/subcommands.h"
 #include "pipeline/cli/subcommands.h"

@@ -40,7 +40,7 @@ struct BuildReport {
     // figures depend on it); absent from reports written before the key existed (read as false).
     bool hugePages = false;
     std::vector<uint64_t> nodesPerLevel;
-    // One line per unusable texture (README "Inputs: textures"), its material left untextured;
+    // One line per unusable texture (README "Textures: one rule"), its material left untextured;
     // absent from reports written before the key existed (read as none).
     std::vector<std::string> textureProblems;
     std::vector<NodeQuality> nodes;  // in block order, then breadth-first; absent from older reports

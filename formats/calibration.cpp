@@ -61,6 +61,7 @@ void writeCalibration(const Calibration& c, const std::string& path) {
 }
 
 Calibration readCalibration(const std::string& path) {
+    refuseSpecialFile(path);
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot read calibration file");
     Calibration c;
@@ -91,6 +92,10 @@ Calibration readCalibration(const std::string& path) {
     if (seen < numericFields().size())
         throw InputError(path + ": not a calibration file (needs c_textured, ms_per_cost and fixed_overhead_ms)");
     if (!(c.cTextured > 0 && c.cTextured <= 1)) throw InputError(path + ": c_textured must lie in (0, 1]");
+    for (const auto& [name, value] : {std::pair{"ms_per_cost", c.msPerCost}, {"fixed_overhead_ms", c.fixedOverheadMs}})
+        if (value > kMaxFrameMs)
+            throw InputError(path + ": " + name + " = " + std::to_string(value) + " is absurd (a frame of more than " +
+                             std::to_string(int(kMaxFrameMs / 1000)) + " s)");
     return c;
 }
 

@@ -20,6 +20,10 @@
 
 namespace hlod {
 
+// The longest frame time, in ms, a calibration or a player option may claim (a fixed overhead,
+// v_time per unit of cost, the cost model's overhead): a frame of 10 s is no interactive renderer.
+inline constexpr double kMaxFrameMs = 1e4;
+
 struct CalibrationSample {
     uint32_t triangles = 0;
     bool textured = false;

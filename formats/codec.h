@@ -27,9 +27,10 @@ struct MeshData {
 // blob's extent: neighbouring nodes keep their shared borders exactly. Each blob then uses the
 // fewest bits that cover its own extent on that lattice (recorded as its positionBits).
 inline constexpr int kMaxPositionBits = 22;  // the coarsest node needs one more, 23 = exact limit
+inline constexpr int kMaxDecodablePositionBits = 23;  // a blob record's positionBits (FORMAT.md), checked by validate
 
 struct DracoOptions {
-    int positionBits = 14;     // 1..kMaxPositionBits; see README "Draco defaults" for the measurements
+    int positionBits = 14;     // 1..kMaxPositionBits; see README "Draco and JPEG defaults" for the measurements
     double positionStep = 0;   // lattice step, rounded down to a power of two; 0 = positionLatticeStep
                                // of the blob's own bounds (a blob encoded on its own)
     int texcoordBits = 12;     // 1..30 (a build picks them per blob: texcoordBitsForTexture)
@@ -64,10 +65,5 @@ EncodedBlob encodeTexture(const Image& image, Codec codec, int jpegQuality = 90,
 // Decode; throw FormatError("NAME: problem") on malformed input. `name` names the source.
 MeshData decodeGeometry(std::span<const uint8_t> bytes, const std::string& name);
 Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name);
-// A texture's header, checked as decodeTexture checks it, without decoding its texels.
-struct TextureSize {
-    uint32_t width = 0, height = 0, channels = 0;
-};
-TextureSize textureHeader(std::span<const uint8_t> bytes, Codec codec, const std::string& name);
 
 }  // namespace hlod

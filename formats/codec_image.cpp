@@ -59,11 +59,6 @@ std::unique_ptr<ImageRows> openTexture(std::span<const uint8_t> bytes, Codec cod
 
 }  // namespace
 
-TextureSize textureHeader(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
-    const std::unique_ptr<ImageRows> in = openTexture(bytes, codec, name);
-    return {in->width, in->height, in->channels};
-}
-
 Image decodeTexture(std::span<const uint8_t> bytes, Codec codec, const std::string& name) {
     const std::unique_ptr<ImageRows> in = openTexture(bytes, codec, name);
     Image image;

@@ -14,15 +14,11 @@
 
 namespace hlod {
 
-namespace {
-
-std::string format(double v) {
+std::string formatConstant(double v) {
     char buf[32];
     auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trippable form
     return {buf, r.ptr};
 }
-
-}  // namespace
 
 const std::vector<ConstantInfo>& constantTable() {
     static const std::vector<ConstantInfo> table = {
@@ -63,7 +59,7 @@ void setConstant(Constants& c, const std::string& name, const std::string& value
 
 void validateConstants(const Constants& c, ConstantUse use) {
     const auto check = [&](ConstantUse by, const char* name, double value, bool ok, const std::string& rule) {
-        if ((by & use) && !ok) throw std::invalid_argument(std::string(name) + " = " + format(value) + ": must be " + rule);
+        if ((by & use) && !ok) throw std::invalid_argument(std::string(name) + " = " + formatConstant(value) + ": must be " + rule);
     };
     check(kUsedByBuild, "c_desiredTris", c.desiredTris, c.desiredTris >= 1, ">= 1");
     check(kUsedByBuild, "c_levelFactor", c.levelFactor, c.levelFactor >= 2 && c.levelFactor <= 64,
@@ -74,7 +70,7 @@ void validateConstants(const Constants& c, ConstantUse use) {
     check(kUsedByPlayer, "c_targetTime", c.targetTimeMs, c.targetTimeMs > 0, "> 0 (milliseconds)");
     check(kUsedByPlayer, "c_hystSwitch", c.hystSwitch, c.hystSwitch > 0, "> 0");
     check(kUsedByPlayer, "c_hystSwitch", c.hystSwitch, c.hystSwitch <= c.hystLimit,
-          "<= c_hystLimit = " + format(c.hystLimit) + " (the counter could never reach it)");
+          "<= c_hystLimit = " + formatConstant(c.hystLimit) + " (the counter could never reach it)");
     check(kUsedByPlayer, "c_memory", c.memory, c.memory > 0, "> 0 (bytes per unit of cost)");
 }
 
@@ -86,6 +82,7 @@ void setConstantAssignment(Constants& c, const std::string& assignment) {
 }
 
 std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path, ConstantUse use) {
+    refuseSpecialFile(path);
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot read constants file");
     std::vector<std::string> skipped;
@@ -110,7 +107,7 @@ std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path
 std::vector<std::pair<std::string, std::string>> constantsAsPairs(const Constants& c, ConstantUse use) {
     std::vector<std::pair<std::string, std::string>> out;
     for (const ConstantInfo& info : constantTable())
-        if (info.use & use) out.emplace_back(info.name, format(c.*info.field));
+        if (info.use & use) out.emplace_back(info.name, formatConstant(c.*info.field));
     return out;
 }
 

@@ -28,7 +28,7 @@ struct Constants {
 };
 
 // Which stage reads a constant: the build (thesis §3: `hlod build`) or the player (§4: `hlod
-// play`, `hlod view`). A bit mask, so a set of uses can be asked for.
+// play`, `hlod view`, `hlod compare`). A bit mask, so a set of uses can be asked for.
 enum ConstantUse : uint8_t { kUsedByBuild = 1, kUsedByPlayer = 2, kUsedByAny = kUsedByBuild | kUsedByPlayer };
 
 struct ConstantInfo {
@@ -65,6 +65,9 @@ const ConstantInfo* findConstant(const std::string& name);
 // "name=value" pairs of the constants `use` reads, in table order, exactly round-trippable
 // through setConstant.
 std::vector<std::pair<std::string, std::string>> constantsAsPairs(const Constants& c, ConstantUse use = kUsedByAny);
+
+// A constant's value as constantsAsPairs and printConstants write it (round-trippable).
+std::string formatConstant(double value);
 
 // One line: "constants: c_desiredTris=900 c_levelFactor=4 ..." (the constants `use` reads).
 void printConstants(std::ostream& os, const Constants& c, ConstantUse use);

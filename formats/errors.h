@@ -4,7 +4,10 @@
 //   FormatError (a database that opens but whose data is invalid), any other failure -> 1
 #pragma once
 
+#include <sys/stat.h>
+
 #include <stdexcept>
+#include <string>
 
 namespace hlod {
 
@@ -13,6 +16,16 @@ namespace hlod {
 struct InputError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+
+// An input that is neither a regular file nor a folder (a FIFO, a device, a socket) is refused
+// before it is opened: opening a FIFO blocks until a writer comes, and a device's data may never
+// end. Throws InputError "PATH: not a regular file"; a path that does not exist passes (the
+// open that follows says why it fails), as does a folder (its reader says what it expected).
+inline void refuseSpecialFile(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
+        throw InputError(path + ": not a regular file");
+}
 
 // Invalid data in a database file: a checksum mismatch, a blob that does not decode, a broken
 // invariant.

@@ -8,6 +8,7 @@
 // for byte (tests/data: Datasets.SampleCityIsExactlyTheGeneratorsOutput).
 #include "formats/image_io.h"
 #include "formats/jpeg_tables.h"
+#include "formats/temp_files.h"
 
 #include <algorithm>
 #include <csetjmp>
@@ -226,10 +227,9 @@ void writeJpegFile(const std::string& path, const Image& image, int quality) {
 }
 
 void writeImageBytes(const std::string& path, const std::vector<uint8_t>& bytes, const char* format) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) throw std::runtime_error(path + ": cannot write " + format + " (" + std::strerror(errno) + ")");
+    TextFileWriter file(path, format);  // a temporary beside PATH, renamed: a failed write leaves nothing
+    file.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    file.commit();
 }
 
 }  // namespace hlod

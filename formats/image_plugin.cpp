@@ -6,6 +6,7 @@
 #include "formats/plugin/hlod_oiio.h"
 
 #include <dlfcn.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -89,6 +90,8 @@ std::string oiioPluginPath() {
 }
 
 std::unique_ptr<ImageRows> openImageFile(const std::string& path) {
+    struct stat st {};  // a FIFO would block the open (formats/errors.h refuseSpecialFile)
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) throw ImageError("not a regular file");
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!file) throw ImageError(std::strerror(errno));
     uint8_t head[8] = {};

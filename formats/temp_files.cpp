@@ -81,9 +81,18 @@ void TextFileWriter::fail(const std::string& reason) {
     throw std::runtime_error(path_ + ": cannot write " + what_ + " (" + reason + ")");
 }
 
+void createOutputFolder(const std::string& folder, const std::string& what) {
+    std::error_code error;
+    std::filesystem::create_directories(folder, error);
+    if (error) throw std::runtime_error(folder + ": cannot create the folder for " + what + " (" + error.message() + ")");
+}
+
 void TextFileWriter::commit() {
+    const int earlier = out_ ? 0 : errno;  // a write that failed already (its buffer flushed) set errno then
+    errno = 0;
     out_.close();
-    if (!out_) fail("write failed");
+    const int error = earlier ? earlier : errno;
+    if (!out_) fail(error ? std::string("write failed: ") + std::strerror(error) : "write failed");
     if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail(std::strerror(errno));
     committed_ = true;
 }

@@ -29,6 +29,10 @@ void refuseOutputOverInputs(const std::string& output, std::initializer_list<std
 // An empty OUTPUT (an option not given) passes.
 void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs);
 
+// Creates FOLDER and its parents for a run's outputs. Throws std::runtime_error "FOLDER: cannot
+// create the folder for WHAT (reason)" (one line, not std::filesystem's "filesystem error: ...").
+void createOutputFolder(const std::string& folder, const std::string& what);
+
 // A text output (a camera path, the statistics CSV, a JSON summary, compare's tables) written as
 // PATH.tmp-PID-XXXXXX next to PATH and renamed onto it by commit(), so a failed write, a PATH that
 // cannot be replaced (checkReplaceable: refused before anything is written) or an interrupted run leaves neither a half-written PATH nor the

@@ -146,10 +146,10 @@ std::optional<Glb> nodeGlb(const Database& db, uint32_t node) {
         if (m < 0) {
             const BlobRef& t = s.blobs[textureBlob];
             const std::vector<uint8_t> bytes = db.readBlob(textureBlob);
-            // Copied as stored, so its header is checked here (a blob that does not decode made a
-            // tileset no viewer can show, with status 0, before stop 36).
+            // Copied as stored, so it is decoded once here (a blob that does not decode made a
+            // tileset no viewer can show, with status 0: its header before stop 36, its body before 38).
             const std::string name = db.path() + ": node " + std::to_string(node) + ": blob " + std::to_string(textureBlob);
-            const TextureSize size = textureHeader(bytes, t.codec, name);
+            const Image size = decodeTexture(bytes, t.codec, name);
             if (size.width != t.width || size.height != t.height)
                 throw FormatError(name + ": texture is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
                                   ", its record says " + std::to_string(t.width) + "x" + std::to_string(t.height));

@@ -77,6 +77,9 @@ void checkCounts(const Skeleton& s, const Node& nd, Report& r) {
         if (b.kind == BlobKind::Texture) texels += uint64_t(b.width) * b.height;
         else (b.texture == kNone ? untextured : textured) += b.triangles;
         if (b.kind == BlobKind::Geometry) vertices += b.vertices;
+        if (b.kind == BlobKind::Geometry && b.positionBits > kMaxDecodablePositionBits)  // FORMAT.md "Position lattice"
+            r.add(nd.id, "blob " + std::to_string(i) + " claims " + std::to_string(b.positionBits) +
+                             "-bit positions (at most " + std::to_string(kMaxDecodablePositionBits) + ")");
         if (b.texture != kNone && s.blobs[b.texture].node != nd.id)
             r.add(nd.id, "blob " + std::to_string(i) + " samples a texture of another node");
     }

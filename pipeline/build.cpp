@@ -73,7 +73,7 @@ bool isStreamable(const std::string& input) {
     return (ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb") && fs::is_regular_file(input);
 }
 
-// The textures rule (README "Inputs: textures"): with --strict the first unusable texture ends the
+// The textures rule (README "Textures: one rule"): with --strict the first unusable texture ends the
 // build (InputError, exit 2) before any block is built; otherwise its material is untextured.
 void enforceTextures(const std::vector<TextureProblem>& problems, const BuildOptions& options) {
     if (options.strict && !problems.empty()) throw InputError(problems.front().what + " (--strict)");

@@ -115,6 +115,7 @@ namespace {
 // merge holds one node's blobs at a time, not a block's: issue #14, a 418 MB block's records
 // were the build's peak RSS).
 void readRecords(const std::string& file, size_t maxRecords, const std::function<void(NodeRecord&&)>& each) {
+    refuseSpecialFile(file);
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> holder(std::fopen(file.c_str(), "rb"), &std::fclose);
     std::FILE* f = holder.get();
     if (!f) throw InputError(file + ": cannot read block record file (" + std::strerror(errno) + ")");
@@ -185,6 +186,7 @@ void writeShardInfo(const std::string& dir, const ShardInfo& info) {
 
 ShardInfo readShardInfo(const std::string& dir) {
     const std::string file = (std::filesystem::path(dir) / "shard.json").string();
+    refuseSpecialFile(file);
     std::ifstream in(file);
     if (!in) throw InputError(file + ": cannot read (not a shard folder?)");
     try {
@@ -219,7 +221,9 @@ void mergeShards(const std::vector<std::string>& shardDirs, const std::string& o
         }
     }
     for (uint32_t b = 0; b < owner.size(); ++b)
-        if (owner[b].empty()) throw InputError("merge: block " + std::to_string(b) + " is in none of the shards");
+        if (owner[b].empty())
+            throw InputError(shardDirs.front() + ": block " + std::to_string(b) + " of " + std::to_string(owner.size()) +
+                             " is in none of the " + std::to_string(shardDirs.size()) + " shard(s) given");
     Writer writer(output, cTextured);
     std::vector<uint32_t> roots(owner.size());
     for (uint32_t b = 0; b < owner.size(); ++b) {

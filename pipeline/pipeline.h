@@ -46,7 +46,7 @@ struct Piece {
     std::vector<uint32_t> materials;  // per triangle, index into the block's material list
 };
 
-// A texture that cannot be used (README "Inputs: textures"): missing, empty, not an image, of an
+// A texture that cannot be used (README "Textures: one rule"): missing, empty, not an image, of an
 // absurd size, or corrupt. By default its material is left untextured and the build goes on,
 // counting it in the summary and the build report; `hlod build --strict` makes it fatal (exit 2).
 struct TextureProblem {

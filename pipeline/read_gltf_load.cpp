@@ -74,7 +74,7 @@ std::string headerProblem(const uint8_t* bytes, int size) {
 // 20000 x 16000 texels (a decompression bomb). The header is read first: an image above
 // kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, is kept in
 // `unusable` instead of failing the whole file, and becomes a TextureProblem of each material
-// using it (addMaterials): the one rule for every unusable texture (README "Inputs: textures").
+// using it (addMaterials): the one rule for every unusable texture (README "Textures: one rule").
 // With a folder (ReadOptions::imageDir), a PNG or JPEG is kept encoded (keepEncoded), so no atlas stays
 // decoded; other formats are decoded into memory.
 bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
@@ -116,6 +116,7 @@ tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, co
 }
 
 MappedFile::MappedFile(const std::string& path) {
+    refuseSpecialFile(path);
     const int fd = ::open(path.c_str(), O_RDONLY);
     if (fd < 0) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
     struct stat st {};

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <set>
 
 namespace hlod {
 namespace {
@@ -41,6 +42,7 @@ public:
         : path_(path), folder_(folderOf(path)), raw_(raw), options_(options) {}
 
     void parse() {
+        refuseSpecialFile(path_);
         std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path_.c_str(), "rb"), &std::fclose);
         if (!f) throw InputError(path_ + ": cannot open (" + std::strerror(errno) + ")");
         std::vector<char> buffer(readBufferBytes(f.get()));
@@ -125,9 +127,15 @@ private:
     void materialLibrary(Line& l) {
         for (std::string_view name = token(l); !name.empty(); name = token(l)) {
             const std::string file = resolveReference(path_, folder_, std::string(name), "material library", options_);
-            std::ifstream in(file);
-            if (!in) {
-                raw_.stats.warnings.push_back(path_ + ": material library '" + std::string(name) + "' not found");
+            std::error_code statusError;
+            const std::filesystem::file_status status = std::filesystem::status(file, statusError);
+            std::ifstream in;
+            if (std::filesystem::is_regular_file(status)) in.open(file);
+            if (!in.is_open()) {  // its materials are then defined nowhere: each `usemtl` of one says so (textures rule)
+                raw_.stats.warnings.push_back(path_ + ": material library '" + std::string(name) + "' " +
+                                              (!std::filesystem::exists(status) ? "not found"
+                                               : std::filesystem::is_regular_file(status) ? "cannot be read"
+                                                                                          : "is not a regular file"));
                 continue;
             }
             std::map<std::string, int> ids;
@@ -162,8 +170,14 @@ private:
         } else if (keyword == "f") {
             face(l);
         } else if (keyword == "usemtl") {
-            const auto it = byName_.find(std::string(token(l)));
+            const std::string name(token(l));
+            const auto it = byName_.find(name);
             material_ = it == byName_.end() ? kNone : it->second;
+            // A material no library defines is unusable like a missing texture (README "Textures: one
+            // rule"): its faces are untextured, said once per name, fatal with --strict.
+            if (it == byName_.end() && undefined_.insert(name).second)
+                raw_.stats.textureProblems.push_back(
+                    {path_ + ":" + std::to_string(l.number) + ": material '" + name + "' is defined in no material library", name});
         } else if (keyword == "mtllib") {
             materialLibrary(l);
         }
@@ -174,6 +188,7 @@ private:
     RawMesh& raw_;
     const ReadOptions& options_;
     std::map<std::string, uint32_t> byName_;
+    std::set<std::string> undefined_;  // names of `usemtl` lines no library defines, reported once
     uint32_t material_ = kNone;
     bool everyFaceHasTexcoords_ = true, everyFaceHasNormals_ = true, lastLine_ = false;
 };

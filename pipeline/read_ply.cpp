@@ -273,6 +273,7 @@ void readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
 }  // namespace
 
 void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options) {
+    refuseSpecialFile(path);
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!f) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
     const PlyHeader header = readHeader(f.get(), path);

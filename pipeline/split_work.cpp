@@ -32,6 +32,7 @@ constexpr const char* kManifest = "manifest.json";
 
 // XXH3-64 of a file, read 1 MiB at a time; as 16 hex digits.
 std::string fileChecksum(const std::string& path, const std::string& shown) {
+    refuseSpecialFile(path);
     File f(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!f) throw InputError(shown + ": cannot read (" + std::strerror(errno) + ")");
     std::unique_ptr<XXH3_state_t, XXH_errorcode (*)(XXH3_state_t*)> state(XXH3_createState(), &XXH3_freeState);
@@ -55,6 +56,7 @@ void writeImage(const std::string& path, const Image& image) {
 }
 
 Image readImage(const std::string& path, const std::string& shown) {
+    refuseSpecialFile(path);
     File f(std::fopen(path.c_str(), "rb"), &std::fclose);
     uint32_t header[3];
     if (!f || std::fread(header, sizeof header, 1, f.get()) != 1) throw InputError(shown + ": missing or truncated image");
@@ -186,6 +188,7 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
 SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t first, uint32_t last) {
     const std::string file = (fs::path(work) / kManifest).string();
     json j;
+    refuseSpecialFile(file);
     try {
         std::ifstream in(file);
         j = json::parse(in);

@@ -21,7 +21,7 @@ namespace {
 std::string subcommandsUsing(ConstantUse use) {
     std::string out;
     if (use & kUsedByBuild) out += "build";
-    if (use & kUsedByPlayer) out += std::string(out.empty() ? "" : ", ") + "play, view";
+    if (use & kUsedByPlayer) out += std::string(out.empty() ? "" : ", ") + "play, view, compare";
     return out;
 }
 

@@ -29,6 +29,7 @@ int runMerge(MergeArgs& a) {
         a.progress.live = !a.progress.json && isatty(STDOUT_FILENO) != 0;
         Progress progress(std::cout, a.progress);
         progress.beginStage("write", info.blockCount, "blocks");
+        progress.message("constants: c_textured=" + formatConstant(c.textured) + " (the shards')");
         mergeShards(a.shards, a.output, c.textured);
         progress.advance(info.blockCount);
         progress.endStage();

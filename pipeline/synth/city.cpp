@@ -4,6 +4,8 @@
 // is written last, so its presence marks a complete city that stats and tests can check.
 #include "pipeline/synth/synth.h"
 
+#include "formats/temp_files.h"
+
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 
@@ -18,17 +20,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The files a city run writes (an earlier, larger run's blocks would be read as this city's).
+bool isCityFile(const fs::path& file) {
+    static const std::regex ours(R"(block_\d+\.(obj|mtl|jpg)|city\.json)");
+    return std::regex_match(file.filename().string(), ours);
+}
+
 void prepareDirectory(const fs::path& dir) {
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
         throw std::runtime_error(dir.string() + ": exists and is not a directory");
     fs::create_directories(dir, ec);
     if (ec) throw std::runtime_error(dir.string() + ": cannot create directory: " + ec.message());
-    // Blocks of an earlier, larger run would be read as part of this city.
-    static const std::regex stale(R"(block_\d+\.(obj|mtl|jpg)|city\.json)");
-    for (const auto& entry : fs::directory_iterator(dir)) {
-        if (std::regex_match(entry.path().filename().string(), stale)) fs::remove(entry.path());
-    }
+    for (const auto& entry : fs::directory_iterator(dir))
+        if (isCityFile(entry.path())) fs::remove(entry.path());
 }
 
 nlohmann::json manifest(const CityPlan& plan, const CityResult& result) {
@@ -68,11 +73,18 @@ nlohmann::json manifest(const CityPlan& plan, const CityResult& result) {
             {"blocks", blocks}};
 }
 
-}  // namespace
+// Removes what a failed run wrote: the folder when the run made it, else the city's files.
+void removeCity(const std::string& dir, bool madeFolder) {
+    std::error_code ec;
+    if (madeFolder) {
+        fs::remove_all(dir, ec);
+        return;
+    }
+    for (const auto& entry : fs::directory_iterator(dir, ec))
+        if (isCityFile(entry.path())) fs::remove(entry.path(), ec);
+}
 
-CityResult generateCity(const CityOptions& options, const std::string& dir) {
-    CityPlan plan = planCity(options);
-    prepareDirectory(dir);
+CityResult writeCity(const CityOptions& options, const CityPlan& plan, const std::string& dir) {
     CityResult result;
     result.blocks.resize(plan.blocks.size());
     tbb::parallel_for(size_t(0), plan.blocks.size(), [&](size_t k) {
@@ -83,15 +95,25 @@ CityResult generateCity(const CityOptions& options, const std::string& dir) {
         result.texels += r.texels;
         for (const std::string& name : {r.obj, r.mtl, r.jpg}) result.bytes += fs::file_size(fs::path(dir) / name);
     }
-    fs::path json = fs::path(dir) / "city.json", tmp = json;
-    tmp += ".tmp-synth";
-    {
-        std::ofstream out(tmp);
-        out << manifest(plan, result).dump(1) << '\n';
-        if (!out) throw std::runtime_error(json.string() + ": cannot write");
-    }
-    fs::rename(tmp, json);
+    writeTextFile((fs::path(dir) / "city.json").string(), "the city manifest", manifest(plan, result).dump(1) + "\n");
     return result;
+}
+
+}  // namespace
+
+// A run that fails (a full disk, a folder it cannot write) leaves nothing behind: one line naming
+// the file and the reason, as every output of hlod.
+CityResult generateCity(const CityOptions& options, const std::string& dir) {
+    CityPlan plan = planCity(options);
+    std::error_code ec;
+    const bool madeFolder = !fs::exists(dir, ec);
+    prepareDirectory(dir);
+    try {
+        return writeCity(options, plan, dir);
+    } catch (...) {
+        removeCity(dir, madeFolder);
+        throw;
+    }
 }
 
 }  // namespace hlod::synth

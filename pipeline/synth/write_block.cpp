@@ -4,6 +4,7 @@
 // complete, so an interrupted run never leaves a half-written block; the mesh is freed before
 // the texture is painted (bounded memory).
 #include "pipeline/synth/synth.h"
+#include "formats/temp_files.h"
 
 #include "formats/image_io.h"
 
@@ -41,19 +42,7 @@ private:
 };
 
 void writeFileAtomically(const fs::path& path, const std::string& bytes) {
-    fs::path tmp = path;
-    tmp += ".tmp-synth";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out.write(bytes.data(), std::streamsize(bytes.size()));
-        out.close();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throw std::runtime_error(path.string() + ": cannot write");
-        }
-    }
-    fs::rename(tmp, path);
+    writeTextFile(path.string(), path.extension() == ".mtl" ? "material library" : "mesh", bytes);
 }
 
 std::string objText(const BlockMesh& mesh, const std::string& mtl, const std::string& material,
@@ -100,16 +89,7 @@ std::string objText(const BlockMesh& mesh, const std::string& mtl, const std::st
 }
 
 void writeJpeg(const fs::path& path, std::vector<uint8_t> pixels, const TextureLayout& t, int quality) {
-    fs::path tmp = path;
-    tmp += ".tmp-synth";
-    try {
-        writeJpegFile(tmp.string(), Image{t.width, t.height, 3, std::move(pixels)}, quality);
-    } catch (const std::runtime_error& e) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw std::runtime_error(path.string() + ": cannot write JPEG (" + e.what() + ")");
-    }
-    fs::rename(tmp, path);
+    writeJpegFile(path.string(), Image{t.width, t.height, 3, std::move(pixels)}, quality);  // through a temporary
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 // benefit gap to the oracle over time. player/POLICIES.md.
 #include "player/cli/subcommands.h"
 
+#include "formats/calibration.h"
 #include "formats/constants.h"
 #include "formats/db.h"
 #include "formats/temp_files.h"
@@ -179,9 +180,11 @@ int runCompare(CompareArgs& a) {
     a.player.loader = loaderKindByName(a.loader);
     a.player.onMiss = onMissByName(a.onMiss);
     // eq. 3.1 weights of the database's node costs, as `hlod play` applies them.
+    const double cTextured = databaseCTextured(db);
     a.model.msPerUntexturedTriangle =
-        a.flatRate ? *a.flatRate : consistentUntexturedRate(a.model.msPerTexturedTriangle, databaseCTextured(db));
+        a.flatRate ? *a.flatRate : consistentUntexturedRate(a.model.msPerTexturedTriangle, cTextured);
     printConstants(std::cout, c, kUsedByPlayer);
+    std::cout << "c_textured: " << formatConstant(cTextured) << " (the database's: eq. 3.1 weights of its node costs)\n";
 
     std::vector<PolicyRun> runs;
     for (const std::string& name : names) {
@@ -204,7 +207,8 @@ int runCompare(CompareArgs& a) {
             {"step_ms", std::to_string(a.stepMs)}, {"preload", a.preload ? "yes" : "no"},
             {"warmup_frames", std::to_string(a.warmup)}, {"target_ms", std::to_string(c.targetTimeMs)},
             {"model_ms_per_tri", std::to_string(a.model.msPerTexturedTriangle)},
-            {"model_ms_per_flat_tri", std::to_string(a.model.msPerUntexturedTriangle)}, {"seed", std::to_string(a.model.seed)},
+            {"model_ms_per_flat_tri", std::to_string(a.model.msPerUntexturedTriangle)},
+            {"c_textured", formatConstant(cTextured)}, {"seed", std::to_string(a.model.seed)},
             {"loader_policy", a.loader}, {"on_miss", a.onMiss}};
         appendLoaderInfo(setup, a.player);
         writeTextFile(a.prefix + ".txt", "the table", text.str());
@@ -254,9 +258,9 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_option("--height", a->height, "viewport height, pixels (benefit and pixel thresholds)")
         ->check(CLI::Range(1, 16384));
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)")
-        ->check(finiteAtLeast(0));
+        ->check(finiteIn(0, kMaxFrameMs));
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured)")
-        ->check(finiteNumber());
+        ->check(finiteIn(0, kMaxFrameMs));
     addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);
     sub->callback([a, &status] { status = runGuarded("compare", [&] { return runCompare(*a); }); });

@@ -108,7 +108,7 @@ int runPath(PathArgs& a) {
 
 void addPath(CLI::App& app, int& status) {
     auto a = std::make_shared<PathArgs>();
-    CLI::App* sub = app.add_subcommand("path", "generate a camera path (walk, drive, fly, erratic) from a database's bounds");
+    CLI::App* sub = app.add_subcommand("path", "generate a camera path (walk, drive, fly, erratic, line, zigzag) from a database's bounds");
     addDatabaseArgument(*sub, a->db);
     sub->add_option("-o,--output", a->output, "camera path file to write")->required()->check(nonEmptyPath());
     sub->add_option("--kind", a->kind, "walk, drive (10x the walk), fly (whole model in view), erratic, line, zigzag (Robin Hood Table 2)")

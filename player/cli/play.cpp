@@ -68,12 +68,13 @@ int runPlay(PlayArgs& a) {
     Database db = Database::open(a.db);
     a.player.threadedLoader = !a.syncLoader;
     a.model.realTime = !a.syncLoader;  // the loading thread needs the frames' wall-clock time
-    a.model.msPerUntexturedTriangle = a.flatRate ? *a.flatRate : consistentUntexturedRate(a.model.msPerTexturedTriangle,
-                                                                                           databaseCTextured(db));
+    const double cTextured = databaseCTextured(db);
+    a.model.msPerUntexturedTriangle =
+        a.flatRate ? *a.flatRate : consistentUntexturedRate(a.model.msPerTexturedTriangle, cTextured);
     std::unique_ptr<Renderer> renderer = makeRenderer(a);
     a.player.onLoadFailure = [&db](const LoadFailure& f) { warnLoadFailure("play", db, f); };
     Player player(db, c, *renderer, a.player);
-    if (!a.framesDir.empty()) std::filesystem::create_directories(a.framesDir);
+    if (!a.framesDir.empty()) createOutputFolder(a.framesDir, "PNG frames");
 
     printConstants(std::cout, c, kUsedByPlayer);
     std::vector<std::pair<std::string, std::string>> info = {
@@ -83,6 +84,7 @@ int runPlay(PlayArgs& a) {
         {"policy", a.player.policy},
         {"model_ms_per_tri", a.renderer == "model" ? std::to_string(a.model.msPerTexturedTriangle) : "-"},
         {"model_ms_per_flat_tri", a.renderer == "model" ? std::to_string(a.model.msPerUntexturedTriangle) : "-"},
+        {"c_textured", formatConstant(cTextured) + " (the database's: eq. 3.1 weights of its node costs)"},
         {"memory_budget_bytes", std::to_string(a.player.memoryBudget)},
         {"loader", a.syncLoader ? "synchronous" : "thread"},
         {"loader_policy", loaderKindName(a.player.loader)},
@@ -150,7 +152,7 @@ double databaseCTextured(const Database& db) {
 
 void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>& flatRate) {
     sub.add_option("--model-overhead-ms", model.overheadMs, "cost model: fixed ms per frame")
-        ->check(finiteIn(0, 1e4));
+        ->check(finiteIn(0, kMaxFrameMs));
     sub.add_option("--model-ms-per-tri", model.msPerTexturedTriangle, "cost model: ms per textured triangle")
         ->check(finiteIn(0, 1));
     sub.add_option("--model-ms-per-flat-tri", flatRate,
@@ -203,9 +205,9 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most")
         ->check(wholeNumber());
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)")
-        ->check(finiteAtLeast(0));
+        ->check(finiteIn(0, kMaxFrameMs));
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured with drawing off)")
-        ->check(finiteNumber());
+        ->check(finiteIn(0, kMaxFrameMs));
     sub->add_option("--calibration", a->calibration,
                     "calibration file of `hlod calibrate`: sets the initial v_time and the fixed overhead");
     sub->add_option("--lookahead", a->player.lookaheadSeconds,

@@ -20,7 +20,7 @@ namespace hlod::cli {
 // `hlod play DB --path FILE`: replays a camera path through the Chapter 4 engine, writes the
 // per-frame CSV (player/STATS.md) and prints a summary.
 void addPlay(CLI::App& app, int& status);
-// `hlod path DB --kind walk|drive|fly|erratic -o FILE`: a camera path from the database's bounds.
+// `hlod path DB --kind walk|drive|fly|erratic|line|zigzag -o FILE`: a camera path from the database's bounds.
 void addPath(CLI::App& app, int& status);
 // `hlod view DB`: interactive 6-DOF window on a database, optional path recording.
 void addView(CLI::App& app, int& status);

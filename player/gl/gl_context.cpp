@@ -31,7 +31,7 @@ EGLDisplay openEglDisplay() {
     }
     EGLDisplay display = eglGetDisplay(EGL_DEFAULT_DISPLAY);
     if (display != EGL_NO_DISPLAY && eglInitialize(display, nullptr, nullptr)) return display;
-    throw std::runtime_error("EGL: no display could be initialised (neither surfaceless nor default)");
+    throw NoGlContext("EGL: no display could be initialised (neither surfaceless nor default)");
 }
 
 class EglContext final : public Context {
@@ -62,7 +62,7 @@ private:
         eglTerminate(display_);
         char code[16];
         std::snprintf(code, sizeof code, "0x%04X", static_cast<unsigned>(error));
-        throw std::runtime_error("EGL: " + what + " (error " + code + ")");
+        throw NoGlContext("EGL: " + what + " (error " + code + ")");
     }
     EGLDisplay display_;
     EGLContext context_ = EGL_NO_CONTEXT;
@@ -71,7 +71,7 @@ private:
 class GlfwContext final : public Context {
 public:
     GlfwContext(int width, int height, const std::string& title) {
-        if (!glfwInit()) throw std::runtime_error("GLFW: cannot initialise (no display?)");
+        if (!glfwInit()) throw NoGlContext("GLFW: cannot initialise (no display?)");
         glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
         glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
         glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -80,7 +80,7 @@ public:
         window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
         if (!window_) {
             glfwTerminate();
-            throw std::runtime_error("GLFW: cannot create a " + std::to_string(width) + "x" +
+            throw NoGlContext("GLFW: cannot create a " + std::to_string(width) + "x" +
                                      std::to_string(height) + " OpenGL 3.3 core window");
         }
         glfwMakeContextCurrent(window_);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,14 @@ struct GlOptions {
     std::string title = "hlod";
 };
 
-// Throws std::runtime_error with one line when no GL context can be created.
+// No OpenGL 3.3 context can be had here (no EGL display or driver, no window system): what a
+// caller may treat as "no GPU stack", unlike a context that exists but fails to set up the
+// renderer (a shader that does not compile, an incomplete framebuffer: std::runtime_error).
+struct NoGlContext : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Throws NoGlContext, or std::runtime_error for any other failure, with one line.
 std::unique_ptr<Renderer> makeGlRenderer(const GlOptions& options);
 
 // The GLFW window of a renderer made with window = true; nullptr for any other renderer.

@@ -3,11 +3,13 @@
 // plan and one full-scale block have the thesis's densities, orientation of facades and ground,
 // and bad options fail cleanly.
 #include "pipeline/synth/synth.h"
+#include "tests/support/run_hlod.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -241,4 +243,18 @@ TEST(Synth, OutputPathThatIsAFileFailsWithItsName) {
         EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
     }
     fs::remove(file);
+}
+
+// A full disk (writes failing part-way: a 32 KiB file-size limit with SIGXFSZ ignored, so write()
+// returns EFBIG as it returns ENOSPC): one line with the reason, and the folder the run made is
+// gone (before stop 38 an empty folder stayed and the line gave no reason).
+TEST(Synth, AFullDiskSaysWhyAndLeavesNothing) {
+    const fs::path dir = tempDir("full");
+    const hlod::test::RunResult r = hlod::test::runProcess(
+        {"sh", "-c", "ulimit -f 64; trap '' XFSZ; exec \"$0\" \"$@\"", HLOD_BINARY, "synth", "city", "-o", dir.string(), "--scale", "0.002"});
+    EXPECT_EQ(r.exitCode, 1) << r.outAndErr();
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("hlod synth city: " + dir.string() + "/", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("(write failed: File too large)"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir));
 }

@@ -173,24 +173,31 @@ TEST_F(ExportTiles, CorruptBlobFailsWithOneLineAndLeavesNoTileset) {
     EXPECT_TRUE(checkTileset(out).empty());
 }
 
-// A texture is copied as stored, so one whose checksum holds but whose header does not decode
-// (zeroed here, the record's checksum fixed) is one line and status 1, not a tileset no viewer can
-// show with status 0 (before stop 36).
+// A texture is copied as stored, so one whose checksum holds (the record's checksum fixed) but
+// which does not decode is one line and status 1, not a tileset no viewer can show with status 0:
+// its header zeroed (before stop 36), or its second half (before stop 38, which checked headers only).
 TEST_F(ExportTiles, TextureThatDoesNotDecodeFailsWithOneLine) {
     const Database d = Database::open(db);
     uint32_t index = 0;
     while (d.skeleton().blobs[index].kind != BlobKind::Texture) ++index;
     const BlobRef blob = d.skeleton().blobs[index];
-    std::vector<uint8_t> bytes = readFile(db);
-    std::fill(bytes.begin() + long(blob.offset), bytes.begin() + long(blob.offset + blob.size), 0);
-    patchRecord(bytes, layout::kTagBlob, index, 48, layout::checksum(std::span(bytes).subspan(blob.offset, blob.size)));
-    const std::string bad = dir.file("zeroed.hlod"), out = dir.file("tiles");
-    writeFile(bad, bytes);
-    const RunResult r = runHlod({"export", "tiles", bad, "-o", out});
-    EXPECT_EQ(r.exitCode, 1);
-    EXPECT_EQ(r.err, "hlod export tiles: " + bad + ": node " + std::to_string(blob.node) + ": blob " + std::to_string(index) +
-                         ": bad JPEG texture: wrong signature\n");
-    EXPECT_FALSE(fs::exists(out));
+    const std::string where = ": node " + std::to_string(blob.node) + ": blob " + std::to_string(index) + ": ";
+    for (const uint64_t from : {uint64_t(0), blob.size / 2}) {
+        SCOPED_TRACE(from);
+        std::vector<uint8_t> bytes = readFile(db);
+        std::fill(bytes.begin() + long(blob.offset + from), bytes.begin() + long(blob.offset + blob.size), 0);
+        patchRecord(bytes, layout::kTagBlob, index, 48, layout::checksum(std::span(bytes).subspan(blob.offset, blob.size)));
+        const std::string bad = dir.file("zeroed.hlod"), out = dir.file("tiles");
+        writeFile(bad, bytes);
+        const RunResult r = runHlod({"export", "tiles", bad, "-o", out});
+        EXPECT_EQ(r.exitCode, 1) << r.err;
+        if (from == 0) {
+            EXPECT_EQ(r.err, "hlod export tiles: " + bad + where + "bad JPEG texture: wrong signature\n");
+        }
+        EXPECT_EQ(r.err.rfind("hlod export tiles: " + bad + where, 0), 0u) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(out));
+    }
 }
 
 TEST_F(ExportTiles, ReplacesAnEarlierExportOnly) {

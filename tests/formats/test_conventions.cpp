@@ -9,7 +9,10 @@
 #include "tests/support/run_hlod.h"
 #include "tests/support/synthetic.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <filesystem>
 #include <cctype>
 #include <fstream>
 #include <regex>
@@ -115,10 +118,39 @@ TEST_F(Conventions, MissingInputsOfOtherSubcommandsAreStatusTwo) {
     }
 }
 
+// A FIFO (or a device) given as an input file is refused before it is opened: opening a FIFO
+// for reading waits for a writer, so before stop 38 each of these runs hung.
+TEST_F(Conventions, FifoInputsAreRefusedNotWaitedOn) {
+    std::vector<std::string> fifos;
+    for (const char* name : {"f.ply", "f.obj", "f.glb", "f.path", "f.conf", "f.cal"}) {
+        fifos.push_back(dir.file(name));
+        ASSERT_EQ(::mkfifo(fifos.back().c_str(), 0644), 0) << name;
+    }
+    const std::vector<std::vector<std::string>> commands = {
+        {"build", fifos[0], "-o", dir.file("x.hlod")},
+        {"build", fifos[1], "-o", dir.file("x.hlod")},
+        {"build", fifos[2], "-o", dir.file("x.hlod")},
+        {"split", fifos[0], "-o", dir.file("work")},
+        {"play", db, "--path", fifos[3]},
+        {"compare", db, "--path", fifos[3], "--policies", "thesis"},
+        {"play", db, "--path", path, "--config", fifos[4]},
+        {"build", fifos[1], "-o", dir.file("x.hlod"), "--config", fifos[4]},
+        {"play", db, "--path", path, "--calibration", fifos[5]},
+        {"build", fifos[1], "-o", dir.file("x.hlod"), "--calibration", fifos[5]}};
+    for (const auto& args : commands) {
+        const RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << args[0] << " " << args[1] << ": " << r.err;
+        expectOneErrorLine(r, "hlod " + args[0] + ": ");
+        EXPECT_NE(r.err.find(": not a regular file\n"), std::string::npos) << r.err;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.file("x.hlod")));
+    EXPECT_FALSE(std::filesystem::exists(dir.file("work")));
+}
+
 TEST_F(Conventions, ConstantsAreAcceptedOnlyWhereUsed) {
     RunResult r = runHlod({"build", dir.file("missing.ply"), "-o", dir.file("x.hlod"), "--set", "c_targetTime=20"});
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_EQ(r.err, "hlod build: --set c_targetTime: `hlod build` does not use c_targetTime (used by: play, view)\n");
+    EXPECT_EQ(r.err, "hlod build: --set c_targetTime: `hlod build` does not use c_targetTime (used by: play, view, compare)\n");
     r = runHlod({"play", db, "--path", path, "--set", "c_levelFactor=3"});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(r.err, "hlod play: --set c_levelFactor: `hlod play` does not use c_levelFactor (used by: build)\n");
@@ -220,7 +252,9 @@ TEST_F(Conventions, AbsurdNumbersAreStatusTwoNotACrashOrAHang) {
         {{"path", db, "-o", out, "--duration", "1e300"}, "hlod: --duration: value '1e300': expected a finite number in [0, 86400]"},
         {{"path", db, "-o", out, "--key-interval", "1e-9"}, "hlod path: a path of "},
         {{"path", db, "-o", out, "--speed", "1e-300"}, "hlod path: a path of "},
-        {{"play", db, "--path", path, "--model-overhead-ms", "1e300"}, "hlod: --model-overhead-ms: value '1e300': expected"}};
+        {{"play", db, "--path", path, "--model-overhead-ms", "1e300"}, "hlod: --model-overhead-ms: value '1e300': expected"},
+        {{"play", db, "--path", path, "--overhead-ms", "1e300"}, "hlod: --overhead-ms: value '1e300': expected"},
+        {{"compare", db, "--path", path, "--v-time", "1e300"}, "hlod: --v-time: value '1e300': expected"}};
     // Every output option refuses "" (a filesystem error, status 1, before stop 36).
     for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
              {"build", obj, "-o"}, {"split", obj, "-o"}, {"merge", dir.path.string(), "-o"}, {"path", db, "-o"},

@@ -120,6 +120,13 @@ TEST_F(Validate, BlobCountsDisagreeWithDecodedData) {
     EXPECT_TRUE(run(true).empty());  // --quick does not decode
 }
 
+// FORMAT.md "Position lattice": a blob's positions take at most 23 bits (accepted before stop 38).
+TEST_F(Validate, AbsurdPositionBitsInABlobRecord) {
+    write([](auto& in) { in[1].blobs[1].info.positionBits = 255; });
+    expectViolation("node 1: blob 3 claims 255-bit positions (at most 23)", true);
+    expectViolation("node 1: blob 3 claims 255-bit positions (at most 23)");
+}
+
 TEST_F(Validate, NodeCountsDisagreeWithBlobs) {
     write([](auto&) {});
     patch([](auto& f) { patchRecord(f, layout::kTagNode, 1, kNodeTextured, uint32_t(99)); });

@@ -210,17 +210,26 @@ TEST(Calibrate, MeasuresTheOpenGlRendererWhenAvailable) {
     std::unique_ptr<Renderer> renderer;
     try {
         renderer = makeGlRenderer({320, 180, false, false});
-    } catch (const std::runtime_error& e) {
+    } catch (const NoGlContext& e) {
         GTEST_SKIP() << "no EGL OpenGL context: " << e.what();
     }
     CalibrationOptions options;
     options.triangleCounts = {1000, 60000};
     options.frames = 3;
     const Calibration c = calibrate(*renderer, 16.0 / 9.0, options);
-    EXPECT_GT(c.cTextured, 0.0);
-    EXPECT_LT(c.cTextured, 1.0);
-    EXPECT_GE(c.fixedOverheadMs, 0.0);
-    for (const CalibrationSample& s : c.samples) EXPECT_GT(s.ms, 0.0);
+    // What the run measured: one untextured and one textured batch per count, of about that many
+    // triangles, on the renderer given; the fits and weights come from those samples (whether the
+    // times grow is this machine's speed, a benchmark's business, not asserted here).
+    EXPECT_EQ(c.renderer, renderer->name());
+    ASSERT_EQ(c.samples.size(), 2 * options.triangleCounts.size());
+    for (size_t i = 0; i < c.samples.size(); ++i) {
+        const CalibrationSample& s = c.samples[i];
+        EXPECT_EQ(s.textured, i % 2 == 1) << i;
+        EXPECT_NEAR(double(s.triangles), double(options.triangleCounts[i / 2]), 0.1 * options.triangleCounts[i / 2]) << i;
+        EXPECT_GT(s.ms, 0.0) << i;
+    }
+    EXPECT_DOUBLE_EQ(c.cTextured, texturedWeight(c.textured.slope, c.untextured.slope));
+    EXPECT_DOUBLE_EQ(c.msPerCost, c.textured.slope + c.untextured.slope);
 }
 
 }  // namespace

@@ -25,7 +25,7 @@ bool haveEgl() {
     try {
         makeGlRenderer({64, 64, false, false});
         return true;
-    } catch (const std::runtime_error&) {
+    } catch (const NoGlContext&) {
         return false;
     }
 }
@@ -58,6 +58,11 @@ TEST_F(HlodTool, PlayWithGlWritesLevelShadedFramesAndTheLogPlots) {
     size_t pngs = 0;
     for (const auto& entry : fs::directory_iterator(frames)) pngs += entry.path().extension() == ".png";
     EXPECT_GT(pngs, 0u);
+    // a folder that cannot be made (a file in the way): the convention's one line, before any frame
+    const std::string blocked = (dir_ / "fly.path" / "png").string();
+    r = runHlod({"play", db.string(), "--path", path.string(), "--renderer", "gl", "--width", "32", "--height", "18", "--sync-loader", "--frames-dir", blocked});
+    EXPECT_EQ(r.exitCode, 1) << r.outAndErr();
+    EXPECT_EQ(r.err, "hlod play: " + blocked + ": cannot create the folder for PNG frames (Not a directory)\n");
     if (runProcess({"sh", "-c", "command -v gnuplot"}).exitCode != 0) GTEST_SKIP() << "gnuplot is not installed";
     r = runProcess({"bash", std::string(HLOD_SOURCE_DIR) + "/scripts/plot_figures.sh", log.string(), (dir_ / "figs").string()});
     ASSERT_EQ(r.exitCode, 0) << r.outAndErr();

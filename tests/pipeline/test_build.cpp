@@ -102,9 +102,11 @@ TEST_F(TerrainBuild, TrianglesPerLevelFollowTheFactors) {
 TEST_F(TerrainBuild, SiblingsTileTheParent) {
     const Database db = Database::open(file("j1.hlod"));
     const Skeleton& s = db.skeleton();
+    size_t parents = 0;
     for (const Node& n : s.nodes) {
         const std::vector<uint32_t> children = s.children(n.id);
         if (children.empty()) continue;
+        ++parents;
         EXPECT_EQ(children.size(), 4u);
         double area = 0;
         for (uint32_t c : children) {
@@ -118,16 +120,21 @@ TEST_F(TerrainBuild, SiblingsTileTheParent) {
         }
         EXPECT_NEAR(area, nodeArea(n), 0.01 * nodeArea(n)) << "node " << n.id;
     }
+    EXPECT_GT(parents, 1u);  // the fixture has levels to check (not one node per block)
 }
 
 TEST_F(TerrainBuild, GeometricErrorIsMeasuredPerNode) {
     const Database db = Database::open(file("j1.hlod"));
     const Skeleton& s = db.skeleton();
+    size_t leaves = 0;
     for (const Node& n : s.nodes) {
+        leaves += n.firstChild == kNone;
         if (n.firstChild == kNone) EXPECT_EQ(n.geometricError, 0.0f);
         else EXPECT_GT(n.geometricError, 0.0f);
         EXPECT_LT(n.geometricError, 4.0f);
     }
+    EXPECT_GT(leaves, 0u);
+    EXPECT_LT(leaves, s.nodes.size());  // both kinds of node were checked
 }
 
 TEST_F(TerrainBuild, ByteIdenticalForAnyJobs) {

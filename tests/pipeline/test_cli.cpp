@@ -3,6 +3,7 @@
 #include "helpers.h"
 
 #include "formats/cli/huge_pages.h"
+#include "formats/constants.h"
 #include "tests/support/run_hlod.h"
 
 #include <nlohmann/json.hpp>
@@ -80,9 +81,13 @@ TEST(Cli, ShardsAndMerge) {
     const RunResult m = runHlod({"merge", dir.file("s1"), dir.file("s2"), "-o", dir.file("merged.hlod")});
     ASSERT_EQ(m.exitCode, 0) << m.outAndErr();
     EXPECT_EQ(readFile(dir.file("one.hlod")), readFile(dir.file("merged.hlod")));
+    // the one constant a merge uses, the shards' c_textured (eq. 3.1), printed as every run does
+    EXPECT_NE(m.out.find("constants: c_textured=" + hlod::formatConstant(hlod::Constants{}.textured) + " (the shards')\n"),
+              std::string::npos) << m.out;
     const RunResult bad = runHlod({"merge", dir.file("s1"), "-o", dir.file("half.hlod")});
     EXPECT_EQ(bad.exitCode, 2);  // the shards given do not make a database: a usage error
-    EXPECT_NE(bad.outAndErr().find("is in none of the shards"), std::string::npos) << bad.outAndErr();
+    EXPECT_NE(bad.err.find("hlod merge: " + dir.file("s1") + ": block 2 of "), std::string::npos) << bad.outAndErr();
+    EXPECT_NE(bad.err.find(" is in none of the 1 shard(s) given\n"), std::string::npos) << bad.outAndErr();
 
     // A damaged shard is one line naming the record file, status 2, no database: before stop 36 a
     // flipped byte merged (status 0, fresh checksums), an absurd blob size zero-filled 2 GB and

@@ -210,14 +210,16 @@ TEST_F(StoredCracksBottomUp, NoGapBetweenNodesOfAnyFront) { checkNoGap(); }
 // four strips, each strip in four), so it needs 2 bits fewer than hlod0.
 TEST_F(StoredCracks, LeavesNeedFewerPositionBitsThanTheirRoot) {
     const Skeleton& s = db_->skeleton();
+    size_t leafBlobs = 0;
     for (uint32_t root : s.roots()) {
         const uint8_t rootBits = s.blobs[s.nodes[root].firstBlob].positionBits;
         for (const Node& n : s.nodes) {
             if (n.block != s.nodes[root].block || n.firstChild != kNone) continue;
-            for (uint32_t b = n.firstBlob; b < n.firstBlob + n.blobCount; ++b)
+            for (uint32_t b = n.firstBlob; b < n.firstBlob + n.blobCount; ++b, ++leafBlobs)
                 EXPECT_LE(s.blobs[b].positionBits + 2, rootBits) << "node " << n.id;
         }
     }
+    EXPECT_GE(leafBlobs, 16u * s.roots().size());  // each block's sixteen leaves, at least
 }
 
 // gridPositionStep (one lattice for all blocks of a grid) comes from one cell: the 33.3 m cells

@@ -264,7 +264,7 @@ TEST(GltfBadInput, EmbeddedImagesThatCannotBeUsedLeaveTheMaterialUntextured) {
         const SourceMesh mesh = readMesh(dir.file("bad.gltf"));
         EXPECT_FALSE(mesh.materials[0].image);
         EXPECT_TRUE(mesh.materials[0].texturePath.empty());
-        ASSERT_EQ(mesh.stats.textureProblems.size(), 1u);  // README "Inputs: textures": counted, fatal with --strict
+        ASSERT_EQ(mesh.stats.textureProblems.size(), 1u);  // README "Textures: one rule": counted, fatal with --strict
         EXPECT_NE(mesh.stats.textureProblems[0].what.find(expected), std::string::npos) << mesh.stats.textureProblems[0].what;
     }
 }

@@ -10,6 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
+#include <filesystem>
 #include <sstream>
 
 namespace hlod::test {
@@ -85,6 +88,39 @@ TEST(Textures, StrictMakesEveryUnusableTextureFatal) {
         EXPECT_NE(line.find(bad.file), std::string::npos) << line;
         EXPECT_NE(line.find("(--strict)"), std::string::npos) << line;
         EXPECT_FALSE(std::filesystem::exists(dir.file("m.hlod")));
+    }
+}
+
+// A material no library defines (its MTL missing, a folder, a FIFO, not an MTL, or defining other
+// names) is the same kind of problem as an unusable texture: before stop 38 such a build said
+// nothing (or, for a missing MTL, only warned) and --strict let it pass.
+TEST(Textures, AMaterialNoLibraryDefinesFollowsTheTexturesRule) {
+    const std::vector<std::pair<const char*, const char*>> cases = {
+        {"missing", "not found"}, {"folder", "is not a regular file"}, {"fifo", "is not a regular file"},
+        {"random bytes", nullptr}, {"other names", nullptr}};
+    for (const auto& [label, libraryWarning] : cases) {
+        SCOPED_TRACE(label);
+        TempDir dir;
+        std::ofstream(dir.file("a.obj")) << "mtllib x.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nusemtl m\nf 1 3 2\n";
+        const std::string mtl = dir.file("x.mtl");
+        if (label == std::string("folder")) std::filesystem::create_directory(mtl);
+        if (label == std::string("fifo")) {
+            ASSERT_EQ(::mkfifo(mtl.c_str(), 0644), 0);
+        }
+        if (label == std::string("random bytes")) writeFile(mtl, {0x00, 0xff, 0x13, 0x7f, 0x80, 0x0a, 0xfe, 0x01});
+        if (label == std::string("other names")) std::ofstream(mtl) << "newmtl other\nKd 1 0 0\n";
+        RunResult r = runHlod({"build", dir.file("a.obj"), "-o", dir.file("a.hlod")});
+        ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+        if (libraryWarning) {
+            EXPECT_NE(r.out.find("material library 'x.mtl' " + std::string(libraryWarning)), std::string::npos) << r.out;
+        }
+        EXPECT_NE(r.out.find(dir.file("a.obj") + ":2: material 'm' is defined in no material library; material 'm' left untextured"),
+                  std::string::npos) << r.out;
+        EXPECT_NE(r.out.find("textures: 1 unusable"), std::string::npos) << r.out;  // once per name
+        r = runHlod({"build", dir.file("a.obj"), "-o", dir.file("s.hlod"), "--strict"});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_NE(r.err.find("material 'm' is defined in no material library (--strict)\n"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("s.hlod")));
     }
 }
 

@@ -1,6 +1,7 @@
 // `hlod path` and `hlod play` as a user runs them: outputs (CSV with the documented header,
 // JSON summary, path file) and, for each class of bad input, one line naming the file,
 // a non-zero status and no half-written output; a corrupt node below hlod0 is a warning.
+#include "formats/constants.h"
 #include "formats/db.h"
 #include "formats/layout.h"
 #include "player/stats.h"
@@ -24,6 +25,7 @@ using namespace hlod;
 using hlod::test::RunResult;
 using hlod::test::readText;
 using hlod::test::runHlod;
+using hlod::test::runProcess;
 
 namespace {
 
@@ -62,6 +64,8 @@ TEST_F(Cli, PlayWritesCsvAndJsonSummary) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("constants: "), std::string::npos);
     EXPECT_NE(r.out.find("c_targetTime=20"), std::string::npos);
+    EXPECT_NE(r.out.find("c_textured: " + hlod::formatConstant(hlod::Constants{}.textured) + " (the database's"),
+              std::string::npos) << r.out;  // the database's constant the run uses
     std::istringstream in(readText(csv));
     std::string line, header;
     int rows = 0;
@@ -128,6 +132,22 @@ TEST_F(Cli, TextOutputsThatCannotBeWrittenLeaveNothingBehind) {
         ++entries;
     }
     EXPECT_EQ(entries, 5u);  // the five folders, nothing else
+}
+
+// A full disk: the writes fail part-way (here a file-size limit of 1 KiB with SIGXFSZ ignored,
+// so write() returns EFBIG as it returns ENOSPC on a full disk; no root or mount needed): one
+// line, exit 1, neither the output nor its temporary left behind.
+TEST_F(Cli, TextOutputOnAFullDiskFailsWithOneLineAndLeavesNothing) {
+    const std::string path = walk();
+    const fs::path out = dir / "full";
+    fs::create_directories(out);
+    const std::string csv = (out / "stats.csv").string();
+    const RunResult r = runProcess({"sh", "-c", "ulimit -f 2; trap '' XFSZ; exec \"$0\" \"$@\"", HLOD_BINARY, "play", db,
+                                    "--path", path, "--sync-loader", "--frames", "200", "--stats", csv});
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("hlod play: " + csv + ": cannot write statistics (write failed"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::is_empty(out)) << "left behind: " << fs::directory_iterator(out)->path();
 }
 
 // An output never replaces what is not a regular file (a FIFO here; as root `-o /dev/null`
@@ -249,6 +269,13 @@ TEST_F(Cli, CalibrationFileSetsInitialVTimeAndOverhead) {
     r = runHlod({"play", db, "--path", path, "--calibration", notCal});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.err.find("notcal.conf:2: ms_per_cost '-1' is not a finite non-negative number"), std::string::npos) << r.err;
+
+    // finite but absurd: a frame of 1e300 ms (before stop 38 accepted and printed in 300 digits)
+    std::ofstream(notCal) << "c_textured = 0.5\nms_per_cost = 0.01\nfixed_overhead_ms = 1e300\n";
+    r = runHlod({"play", db, "--path", path, "--calibration", notCal});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("notcal.conf: fixed_overhead_ms = "), std::string::npos) << r.err;
 }
 
 // One flipped byte in one node's blob does not end a replay: one warning line naming the

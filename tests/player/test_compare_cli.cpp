@@ -140,4 +140,6 @@ TEST_F(CompareCli, FlatTriangleRateIsTheGivenOneOrConsistentWithCTextured) {
     j = nlohmann::json::parse(readText(prefix + ".json"));
     const double c = hlod::Constants{}.textured;  // the fixture's c_textured: eq. 3.1's weights
     EXPECT_NEAR(std::stod(j["setup"]["model_ms_per_flat_tri"].get<std::string>()), 0.004 * (1 - c) / c, 1e-5);
+    EXPECT_EQ(j["setup"]["c_textured"], hlod::formatConstant(c));
+    EXPECT_NE(r.out.find("c_textured: " + hlod::formatConstant(c)), std::string::npos) << r.out;
 }

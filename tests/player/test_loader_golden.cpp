@@ -90,6 +90,6 @@ TEST(LoaderGolden, ThesisSynchronousWithoutBudgetMatchesTheLoaderBeforeTheInterf
     expectMatchesGolden(HLOD_SOURCE_DIR "/tests/data/player/thesis_sync_nobudget.csv", replayRows(0));
 }
 
-TEST(LoaderGolden, ThesisSynchronousWithBudgetMatchesTheLoaderBeforeTheInterface) {
+TEST(LoaderGolden, ThesisSynchronousWithBudgetMatchesTheFullBudgetEvictionRows) {
     expectMatchesGolden(HLOD_SOURCE_DIR "/tests/data/player/thesis_sync_budget.csv", replayRows(300000));
 }

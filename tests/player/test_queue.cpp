@@ -12,21 +12,25 @@ using namespace hlod;
 
 namespace {
 
+// A node's loaded flag belongs to the node, not to its place in the queue: it is kept across
+// remove() and set by setLoaded() whether or not the node is queued (thesis §4.3: the queue
+// orders nodes, residency is the loader's), so the reference models it for every id.
 struct Reference {
     std::map<uint32_t, double> priority;
-    std::map<uint32_t, bool> loaded;
+    std::map<uint32_t, bool> loaded;  // every id ever flagged; absent = not loaded
     double highestUnloaded() const {
         double best = -1;
         for (auto& [id, p] : priority)
-            if (!loaded.at(id)) best = std::max(best, p);
+            if (!isLoaded(id)) best = std::max(best, p);
         return best;
     }
     double lowestLoaded() const {
         double best = 1e300;
         for (auto& [id, p] : priority)
-            if (loaded.at(id)) best = std::min(best, p);
+            if (isLoaded(id)) best = std::min(best, p);
         return best;
     }
+    bool isLoaded(uint32_t id) const { return loaded.count(id) && loaded.at(id); }
 };
 
 template <class Queue>
@@ -47,17 +51,15 @@ void randomStream(bool coherent, uint32_t seed) {
             base[id] = coherent ? p : base[id];
             q.update(id, p);
             ref.priority[id] = p;
-            ref.loaded.try_emplace(id, false);
-            ref.loaded[id] = q.loaded(id);
         } else if (o < 8) {
             bool l = unit(rng) < 0.5;
             q.setLoaded(id, l);
-            if (ref.priority.count(id)) ref.loaded[id] = l;
+            ref.loaded[id] = l;
         } else {
             q.remove(id);
             ref.priority.erase(id);
-            ref.loaded.erase(id);
         }
+        ASSERT_EQ(q.loaded(id), ref.isLoaded(id)) << step;
         ASSERT_EQ(q.size(), ref.priority.size());
         uint32_t hu = q.highestUnloaded();
         double want = ref.highestUnloaded();
