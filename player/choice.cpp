@@ -27,20 +27,6 @@ int32_t cheapestOption(const ChoiceObject& object) {
     return best;
 }
 
-bool choiceIsValid(const ChoiceProblem& problem, const Choice& choice) {
-    if (choice.level.size() != problem.objects.size()) return false;
-    for (size_t i = 0; i < problem.objects.size(); ++i) {
-        const ChoiceObject& o = problem.objects[i];
-        int32_t l = choice.level[i];
-        if (l == kSkipped) {
-            if (!problem.allowSkip && cheapestOption(o) != kSkipped) return false;
-            continue;
-        }
-        if (l < 0 || size_t(l) >= o.options.size() || !o.options[size_t(l)].available) return false;
-    }
-    return true;
-}
-
 double budgetAboveBases(const ChoiceProblem& p) {
     double left = p.budget;
     for (const ChoiceObject& o : p.objects) left -= optionCost(o, baseOption(p, o));

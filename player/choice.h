@@ -57,9 +57,6 @@ struct Choice {
 
 // Totals of `level` over `problem` (a skipped object adds nothing).
 void totalChoice(const ChoiceProblem& problem, Choice& choice);
-// Every level names an available option (or kSkipped where skipping is allowed, or where the
-// object has no available option at all).
-bool choiceIsValid(const ChoiceProblem& problem, const Choice& choice);
 // The cheapest available option of an object (ties: the coarser), or kSkipped if none.
 int32_t cheapestOption(const ChoiceObject& object);
 
@@ -205,7 +202,5 @@ struct OracleResult {
     double upperBound = 0; // LP bound at the root (>= the optimum)
 };
 OracleResult oracleChoice(const ChoiceProblem& problem, const OracleOptions& options = {});
-// Every combination (for tests: at most ~10^7 of them).
-Choice bruteForceChoice(const ChoiceProblem& problem);
 
 }  // namespace hlod

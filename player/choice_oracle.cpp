@@ -142,33 +142,4 @@ OracleResult oracleChoice(const ChoiceProblem& p, const OracleOptions& opt) {
     return r;
 }
 
-Choice bruteForceChoice(const ChoiceProblem& p) {
-    const size_t n = p.objects.size();
-    std::vector<std::vector<int32_t>> alts(n);
-    for (size_t i = 0; i < n; ++i) {
-        const ChoiceObject& o = p.objects[i];
-        if (p.allowSkip || cheapestOption(o) == kSkipped) alts[i].push_back(kSkipped);
-        for (size_t l = 0; l < o.options.size(); ++l)
-            if (o.options[l].available) alts[i].push_back(int32_t(l));
-    }
-    Choice best, c;
-    for (const ChoiceObject& o : p.objects) best.level.push_back(baseOption(p, o));  // when nothing fits
-    totalChoice(p, best);
-    bool found = false;
-    std::vector<size_t> idx(n, 0);
-    c.level.resize(n);
-    for (;;) {
-        for (size_t i = 0; i < n; ++i) c.level[i] = alts[i][idx[i]];
-        totalChoice(p, c);
-        if (c.cost <= p.budget && (!found || c.benefit > best.benefit)) {
-            best = c;
-            found = true;
-        }
-        size_t i = 0;
-        while (i < n && ++idx[i] == alts[i].size()) idx[i++] = 0;
-        if (i == n) break;
-    }
-    return best;
-}
-
 }  // namespace hlod

@@ -10,6 +10,8 @@
 #include <numeric>
 
 using namespace hlod;
+using hlod::test::bruteForceChoice;
+using hlod::test::choiceIsValid;
 
 namespace {
 

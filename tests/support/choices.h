@@ -1,11 +1,13 @@
 // Test fixture: random multiple-choice knapsack instances (player/choice.h) for the solver tests
-// and the selection benchmark. Seeded, so every run sees the same instances.
+// and the selection benchmark, seeded, so every run sees the same instances; and the references
+// the solvers are checked against (validity, every combination).
 #pragma once
 
 #include "player/choice.h"
 
 #include <algorithm>
 #include <random>
+#include <vector>
 
 namespace hlod::test {
 
@@ -57,6 +59,52 @@ inline ChoiceProblem randomChoiceProblem(std::mt19937_64& rng, const RandomChoic
     double t = spec.budgetPosition >= 0 ? spec.budgetPosition : u(rng);
     p.budget = (spec.allowSkip ? 0 : minCost) + t * (maxCost - (spec.allowSkip ? 0 : minCost));
     return p;
+}
+
+// Every level names an available option (or kSkipped where skipping is allowed, or where the
+// object has no available option at all).
+inline bool choiceIsValid(const ChoiceProblem& problem, const Choice& choice) {
+    if (choice.level.size() != problem.objects.size()) return false;
+    for (size_t i = 0; i < problem.objects.size(); ++i) {
+        const ChoiceObject& o = problem.objects[i];
+        int32_t l = choice.level[i];
+        if (l == kSkipped) {
+            if (!problem.allowSkip && cheapestOption(o) != kSkipped) return false;
+            continue;
+        }
+        if (l < 0 || size_t(l) >= o.options.size() || !o.options[size_t(l)].available) return false;
+    }
+    return true;
+}
+
+// The best of every combination (at most ~10^7 of them), the exact solvers' reference.
+inline Choice bruteForceChoice(const ChoiceProblem& p) {
+    const size_t n = p.objects.size();
+    std::vector<std::vector<int32_t>> alts(n);
+    for (size_t i = 0; i < n; ++i) {
+        const ChoiceObject& o = p.objects[i];
+        if (p.allowSkip || cheapestOption(o) == kSkipped) alts[i].push_back(kSkipped);
+        for (size_t l = 0; l < o.options.size(); ++l)
+            if (o.options[l].available) alts[i].push_back(int32_t(l));
+    }
+    Choice best, c;
+    for (const ChoiceObject& o : p.objects) best.level.push_back(baseOption(p, o));  // when nothing fits
+    totalChoice(p, best);
+    bool found = false;
+    std::vector<size_t> idx(n, 0);
+    c.level.resize(n);
+    for (;;) {
+        for (size_t i = 0; i < n; ++i) c.level[i] = alts[i][idx[i]];
+        totalChoice(p, c);
+        if (c.cost <= p.budget && (!found || c.benefit > best.benefit)) {
+            best = c;
+            found = true;
+        }
+        size_t i = 0;
+        while (i < n && ++idx[i] == alts[i].size()) idx[i++] = 0;
+        if (i == n) break;
+    }
+    return best;
 }
 
 }  // namespace hlod::test
