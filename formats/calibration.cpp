@@ -1,6 +1,7 @@
 // Reader and writer of the calibration file (formats/calibration.h).
 #include "formats/calibration.h"
 
+#include "formats/constants.h"
 #include "formats/errors.h"
 #include "formats/setting_lines.h"
 #include "formats/temp_files.h"
@@ -94,7 +95,7 @@ Calibration readCalibration(const std::string& path) {
     if (!(c.cTextured > 0 && c.cTextured <= 1)) throw InputError(path + ": c_textured must lie in (0, 1]");
     for (const auto& [name, value] : {std::pair{"ms_per_cost", c.msPerCost}, {"fixed_overhead_ms", c.fixedOverheadMs}})
         if (value > kMaxFrameMs)
-            throw InputError(path + ": " + name + " = " + std::to_string(value) + " is absurd (a frame of more than " +
+            throw InputError(path + ": " + name + " = " + formatConstant(value) + " is absurd (a frame of more than " +
                              std::to_string(int(kMaxFrameMs / 1000)) + " s)");
     return c;
 }
