@@ -4,6 +4,8 @@
 // (missing, empty, not an image, absurd size) are TextureProblems: the material is untextured. readMesh picks the reader.
 #include "pipeline/pipeline.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 
@@ -29,6 +31,58 @@ void dropIfShort(std::vector<T>& values, size_t perVertex, size_t vertices) {
 bool degenerate(const MeshData& m, uint32_t a, uint32_t b, uint32_t c) {
     const float* p = m.positions.data();
     return a == b || b == c || a == c || zeroArea(p + 3 * a, p + 3 * b, p + 3 * c);
+}
+
+// The one file of `wanted`'s folder whose name equals wanted's but for case; empty if none or several.
+fs::path sameNameButCase(const fs::path& wanted) {
+    const auto lower = [](std::string text) {
+        for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        return text;
+    };
+    const std::string name = lower(wanted.filename().string());
+    fs::path found;
+    std::error_code error;
+    for (fs::directory_iterator it(wanted.parent_path(), error), end; !error && it != end; it.increment(error))
+        if (lower(it->path().filename().string()) == name) {
+            if (!found.empty()) return {};
+            found = it->path();
+        }
+    return found;
+}
+
+// `relative` under `base`, each component as written or, when it does not exist so, the one
+// entry of its folder whose name equals it but for case; empty when some component has neither.
+fs::path ignoringCase(const fs::path& base, const fs::path& relative) {
+    fs::path at = base;
+    for (const fs::path& part : relative) {
+        std::error_code error;
+        if (fs::exists(at / part, error)) {
+            at /= part;
+            continue;
+        }
+        at = sameNameButCase(at / part);
+        if (at.empty()) return {};
+    }
+    return at;
+}
+
+// A reference as Windows tools write it, where this file system has it: the reference itself,
+// then with backslashes as separators, then its last name alone in the input's folder (an
+// exporter's absolute path to its own disk, `C:\scan\atlas_1.jpg`); each component's case is
+// ignored when exactly one entry of its folder so matches. Empty when none exists. A slashed
+// form that is absolute or has a '..' component is not tried.
+fs::path windowsFallback(const fs::path& base, const std::string& reference) {
+    std::string slashed = reference;
+    std::replace(slashed.begin(), slashed.end(), '\\', '/');
+    const fs::path posix(slashed);
+    std::vector<fs::path> candidates{reference};
+    const bool up = std::any_of(posix.begin(), posix.end(), [](const fs::path& part) { return part == ".."; });
+    if (slashed != reference && !posix.is_absolute() && !up) candidates.push_back(posix);
+    const fs::path name = posix.filename();
+    if (!name.empty() && name != "." && name != ".." && name != posix) candidates.push_back(name);
+    for (const fs::path& candidate : candidates)
+        if (fs::path found = ignoringCase(base, candidate); !found.empty()) return found;
+    return {};
 }
 
 }  // namespace
@@ -63,8 +117,11 @@ std::string resolveReference(const std::string& input, const std::string& folder
     }
     std::error_code error;
     const fs::path base = fs::weakly_canonical(fs::absolute(fs::path(folder), error), error);
-    const fs::path resolved = error ? fs::path() : fs::weakly_canonical(base / ref, error);
+    fs::path resolved = error ? fs::path() : fs::weakly_canonical(base / ref, error);
     if (error) fail("cannot be resolved (" + error.message() + ")", false);  // e.g. a name longer than 255 bytes
+    if (std::error_code unknown; !fs::exists(resolved, unknown))
+        if (const fs::path found = windowsFallback(base, reference); !found.empty()) resolved = fs::weakly_canonical(found, error);
+    if (error) fail("cannot be resolved (" + error.message() + ")", false);
     if (!options.output.empty() && fs::equivalent(resolved, options.output, error))
         fail("is the output of this run (" + options.output + "; refused)", false);
     if (options.allowOutsideInput) return resolved.string();

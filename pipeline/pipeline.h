@@ -72,7 +72,7 @@ struct SourceMesh {
 // held whole), from where split_stream.cpp routes the triangles to per-block files in one pass.
 // Adding an attribute checks it is finite (InputError naming the vertex).
 struct RawTriangle {
-    uint32_t position[3], texcoord[3], normal[3];  // indices into the arrays (PLY: all = position)
+    uint32_t position[3], texcoord[3], normal[3];  // indices into the arrays (PLY: all = position, texcoord its own with per-face UVs)
     uint32_t material;                              // into materials; kNone = the default material
 };
 struct RawMesh {
@@ -80,7 +80,7 @@ struct RawMesh {
     SpillArray<uint8_t> colors;                       // 4 per position, or none
     SpillArray<RawTriangle> triangles;
     bool hasTexcoords = false, hasNormals = false;    // every triangle has them
-    bool sharedIndices = false;                       // texcoord/normal indices equal position's (PLY)
+    bool sharedIndices = false;                       // texcoord/normal indices equal position's (PLY without per-face UVs)
     Box3f bounds{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};
     std::vector<Material> materials;
     ReadStats stats;
@@ -169,7 +169,9 @@ void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const st
 // returned resolved; unless options.allowOutsideInput, an absolute path, a '..' component or a
 // path that resolves (after symlinks) outside `folder` throws InputError
 // "INPUT: KIND 'REFERENCE' ... (refused; --allow-outside-input allows it)"; one that is
-// options.output throws InputError whatever the options.
+// options.output throws InputError whatever the options. A reference that does not exist as
+// written is looked for as Windows tools mean it (backslash separators, any case, an absolute
+// Windows path's name beside the input; input.cpp), inside the same confinement.
 std::string resolveReference(const std::string& input, const std::string& folder, const std::string& reference,
                              const std::string& kind, const ReadOptions& options);
 // The folder of a mesh file (its parent; "." for a bare name), the base of its references.

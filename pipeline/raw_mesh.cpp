@@ -60,9 +60,11 @@ void copyIndexed(const RawMesh& raw, SourceMesh& out) {
     }
 }
 
-// An OBJ: corners welded by their (position, texcoord, normal) index triple, in first-use order.
+// An OBJ, or a PLY with per-face texture coordinates: corners welded by their (position,
+// texcoord, normal) index triple, in first-use order; colours are the positions'.
 void weldCorners(const RawMesh& raw, SourceMesh& out, const std::string& name) {
     MeshData& m = out.piece.mesh;
+    const bool colors = raw.colors.size() == 4 * raw.positionCount() && raw.positionCount() > 0;
     std::unordered_map<CornerKey, uint32_t, CornerHash> ids;
     Corner corner[3];
     for (size_t t = 0; t < raw.triangles.size(); ++t) {
@@ -75,6 +77,7 @@ void weldCorners(const RawMesh& raw, SourceMesh& out, const std::string& name) {
                 m.positions.insert(m.positions.end(), corner[c].position, corner[c].position + 3);
                 if (raw.hasTexcoords) m.texcoords.insert(m.texcoords.end(), corner[c].texcoord, corner[c].texcoord + 2);
                 if (raw.hasNormals) m.normals.insert(m.normals.end(), corner[c].normal, corner[c].normal + 3);
+                if (colors) m.colors.insert(m.colors.end(), corner[c].color, corner[c].color + 4);
             }
             m.indices.push_back(it->second);
         }

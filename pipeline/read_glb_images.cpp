@@ -111,7 +111,7 @@ double number(const json& object, const char* key) {
 
 }  // namespace
 
-void checkImageViews(const uint8_t* bytes, size_t size, bool binary, const std::string& path) {
+void checkGltfJson(const uint8_t* bytes, size_t size, bool binary, const std::string& path) {
     const uint8_t* text = bytes;
     size_t length = size;
     if (binary) {
@@ -121,6 +121,12 @@ void checkImageViews(const uint8_t* bytes, size_t size, bool binary, const std::
     const json doc = json::parse(text, text + length, nullptr, false);
     if (doc.is_discarded() || !doc.is_object()) return;
     const auto array = [&](const char* key) { const auto it = doc.find(key); return it != doc.end() && it->is_array() ? *it : json::array(); };
+    for (const json& name : array("extensionsRequired"))
+        if (name.is_string() && std::find(kReadExtensions.begin(), kReadExtensions.end(), name.get<std::string>()) == kReadExtensions.end()) {
+            std::string read;
+            for (const char* known : kReadExtensions) read += std::string(read.empty() ? "" : ", ") + known;
+            throw InputError(path + ": requires glTF extension " + name.get<std::string>() + ", which hlod does not read (it reads " + read + ")");
+        }
     const json images = array("images"), views = array("bufferViews"), buffers = array("buffers");
     for (size_t i = 0; i < images.size(); ++i) {
         const double v = images[i].is_object() ? number(images[i], "bufferView") : -1;

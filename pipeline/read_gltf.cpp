@@ -1,7 +1,8 @@
 // glTF 2.0 / GLB input through tinygltf (pipeline/tiny_gltf_config.h; Draco-compressed
 // primitives are decoded by tinygltf): the default scene's node tree with its transforms
 // flattened into one mesh; TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives (points and
-// lines are skipped, with a warning); POSITION, TEXCOORD_0, NORMAL (transformed by
+// lines are skipped, with a warning); POSITION, the base-colour texture's TEXCOORD_n (its
+// KHR_texture_transform applied; read_gltf_materials.cpp), NORMAL (transformed by
 // the inverse transpose, normalised) and COLOR_0 (RGB or RGBA, float or normalised integers, to
 // 8 bits) as the PLY reader reads them: an attribute is kept when every primitive has it.
 // Mirroring transforms reverse the winding back. The file is memory-mapped, not copied, and
@@ -79,14 +80,14 @@ struct Context {
     const std::string& path;
     const ReadOptions& options;
     RawMesh& raw;
-    const EmbeddedImages& images;
-    std::vector<uint32_t> materialOfGltf;  // glTF material -> index in raw.materials
+    GltfMaterials materials;
     bool keepNormals = true, keepColors = true, keepTexcoords = false;  // every primitive has them / textured
     uint32_t skippedPrimitives = 0;
-    // Vertices already added, by (POSITION, TEXCOORD_0, NORMAL, COLOR_0 accessors, node instance):
-    // primitives that share one vertex buffer (one primitive per material over common accessors)
-    // share its vertices instead of adding a copy each. Value: first index, vertex count.
-    std::map<std::array<int, 5>, std::pair<uint32_t, size_t>> added;
+    // Vertices already added, by (POSITION, TEXCOORD_n, NORMAL, COLOR_0 accessors, node instance,
+    // the material whose KHR_texture_transform moved its UVs or -1): primitives that share one
+    // vertex buffer (one primitive per material over common accessors) share its vertices instead
+    // of adding a copy each. Value: first index, vertex count.
+    std::map<std::array<int, 6>, std::pair<uint32_t, size_t>> added;
 };
 
 // Accessor `index` located in its buffer: element i's first byte is data + stride * i, and
@@ -264,7 +265,11 @@ int attributeOf(const tinygltf::Primitive& prim, const char* name) {
 // added the same accessors): its first index and count.
 std::pair<uint32_t, size_t> addVertices(Context& cx, const tinygltf::Primitive& prim, const Matrix& m, int instance) {
     const auto attr = [&](const char* name) { return attributeOf(prim, name); };
-    const std::array<int, 5> key{attr("POSITION"), attr("TEXCOORD_0"), attr("NORMAL"), attr("COLOR_0"), instance};
+    const bool known = prim.material >= 0 && static_cast<size_t>(prim.material) < cx.materials.uvOfGltf.size();
+    const UvMapping uvMap = known ? cx.materials.uvOfGltf[static_cast<size_t>(prim.material)] : UvMapping{};
+    const std::string uvName = "TEXCOORD_" + std::to_string(uvMap.set);
+    const std::array<int, 6> key{attr("POSITION"), attr(uvName.c_str()), attr("NORMAL"), attr("COLOR_0"), instance,
+                                 uvMap.identity() ? -1 : prim.material};
     if (const auto it = cx.added.find(key); it != cx.added.end()) return it->second;
     int width = 0;
     const std::vector<float> pos = readFloats(cx, attr("POSITION"), 3, 3, "POSITION", width);
@@ -278,8 +283,12 @@ std::pair<uint32_t, size_t> addVertices(Context& cx, const tinygltf::Primitive& 
     }
     if (cx.keepTexcoords) {
         const std::vector<float> uv =
-            attr("TEXCOORD_0") >= 0 ? readAttribute(cx, attr("TEXCOORD_0"), 2, "TEXCOORD_0", count) : std::vector<float>(2 * count, 0.0f);
-        for (size_t i = 0; i < count; ++i) raw.addTexcoord(uv[2 * i], uv[2 * i + 1], cx.path);
+            attr(uvName.c_str()) >= 0 ? readAttribute(cx, attr(uvName.c_str()), 2, uvName, count) : std::vector<float>(2 * count, 0.0f);
+        const std::array<double, 6>& a = uvMap.affine;
+        for (size_t i = 0; i < count; ++i) {
+            const double u = uv[2 * i], v = uv[2 * i + 1];
+            raw.addTexcoord(static_cast<float>(a[0] * u + a[2] * v + a[4]), static_cast<float>(a[1] * u + a[3] * v + a[5]), cx.path);
+        }
     }
     if (cx.keepNormals) addNormals(cx, attr("NORMAL"), count, m, determinant(m) < 0);
     if (cx.keepColors) addColors(cx, attr("COLOR_0"), count);
@@ -300,8 +309,8 @@ void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m,
     if (prim.indices < 0)
         for (size_t i = 0; i < count; ++i) indices[i] = static_cast<uint32_t>(i);
     indices = triangleList(prim.mode, std::move(indices));
-    const uint32_t material = prim.material >= 0 && static_cast<size_t>(prim.material) < cx.materialOfGltf.size()
-                                  ? cx.materialOfGltf[static_cast<size_t>(prim.material)]
+    const uint32_t material = prim.material >= 0 && static_cast<size_t>(prim.material) < cx.materials.materialOfGltf.size()
+                                  ? cx.materials.materialOfGltf[static_cast<size_t>(prim.material)]
                                   : static_cast<uint32_t>(raw.materials.size() - 1);
     for (size_t t = 0; t + 2 < indices.size(); t += 3) {
         RawTriangle tri;
@@ -347,74 +356,11 @@ void visitScene(const Context& cx, Visit visit) {
         if (!isChild[n]) visitNode(cx, static_cast<int>(n), identity, 0, visit, visits);
 }
 
-// An image stb_image decoded (8 or 16 bits per channel) as 8-bit grey or RGB.
-std::shared_ptr<Image> decodedImage(const Context& cx, const tinygltf::Image& img, size_t index) {
-    const size_t bytes = img.bits == 16 ? 2 : 1;
-    const size_t pixels = static_cast<size_t>(img.width) * static_cast<size_t>(img.height);
-    if (img.image.size() < pixels * static_cast<size_t>(img.component) * bytes)
-        throw InputError(cx.path + ": image " + std::to_string(index) + " is truncated");
-    auto image = std::make_shared<Image>();
-    image->width = static_cast<uint32_t>(img.width), image->height = static_cast<uint32_t>(img.height);
-    image->channels = img.component >= 3 ? 3 : 1;
-    image->pixels.reserve(pixels * image->channels);
-    for (size_t p = 0; p < pixels; ++p)
-        for (uint32_t c = 0; c < image->channels; ++c)  // the high byte of a little-endian 16-bit sample
-            image->pixels.push_back(img.image[(p * static_cast<size_t>(img.component) + c) * bytes + bytes - 1]);
-    return image;
-}
-
-// The bytes of an image embedded through a buffer view (empty if it is not): a JPEG's header
-// gives its quality and chroma (jpegQuality, jpegChroma420).
-std::span<const uint8_t> embeddedImageBytes(const tinygltf::Model& model, const tinygltf::Image& img) {
-    if (img.bufferView < 0 || img.bufferView >= static_cast<int>(model.bufferViews.size())) return {};
-    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(img.bufferView)];
-    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size())) return {};
-    const std::vector<unsigned char>& data = model.buffers[static_cast<size_t>(view.buffer)].data;
-    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) return {};
-    return std::span<const uint8_t>(data.data() + view.byteOffset, view.byteLength);
-}
-
-// The period of a sampler's wrap (wrap_uvs.cpp): REPEAT 1, MIRRORED_REPEAT 2, CLAMP_TO_EDGE none.
-float uvPeriod(int wrap) { return wrap == TINYGLTF_TEXTURE_WRAP_REPEAT ? 1.0f : wrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? 2.0f : 0.0f; }
-
-void addMaterials(Context& cx) {
-    for (const tinygltf::Material& mat : cx.model.materials) {
-        Material out{mat.name, "", nullptr};
-        const int tex = mat.pbrMetallicRoughness.baseColorTexture.index;
-        if (tex >= 0 && tex < static_cast<int>(cx.model.textures.size())) {
-            const int source = cx.model.textures[static_cast<size_t>(tex)].source;
-            const int sampler = cx.model.textures[static_cast<size_t>(tex)].sampler;  // none: REPEAT (glTF 2.0 §3.8.4.6)
-            if (sampler >= 0 && sampler < static_cast<int>(cx.model.samplers.size())) {
-                const tinygltf::Sampler& s = cx.model.samplers[static_cast<size_t>(sampler)];
-                out.uvPeriod[0] = uvPeriod(s.wrapS), out.uvPeriod[1] = uvPeriod(s.wrapT);
-            }
-            if (source >= 0 && source < static_cast<int>(cx.model.images.size())) {
-                const tinygltf::Image& img = cx.model.images[static_cast<size_t>(source)];
-                if (const auto failed = cx.images.unusable.find(source); failed != cx.images.unusable.end())
-                    cx.raw.stats.textureProblems.push_back({cx.path + ": image " + std::to_string(source) + " " + failed->second, out.name});
-                else if (const auto file = cx.images.written.find(source); file != cx.images.written.end())
-                    out.texturePath = file->second;
-                else if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0) {
-                    out.image = decodedImage(cx, img, static_cast<size_t>(source));
-                    const std::span<const uint8_t> bytes = embeddedImageBytes(cx.model, img);
-                    out.jpegQuality = jpegQuality(bytes), out.jpegChroma420 = jpegChroma420(bytes);
-                }
-                else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
-                    out.texturePath = resolveReference(cx.path, folderOf(cx.path), img.uri, "image", cx.options);
-            }
-        }
-        cx.materialOfGltf.push_back(static_cast<uint32_t>(cx.raw.materials.size()));
-        cx.raw.materials.push_back(out);
-    }
-    cx.raw.materials.push_back({"default", "", nullptr});
-}
-
 // Parses `bytes` (read_gltf_load.cpp) and appends its triangles to `raw` (not sealed).
 void convert(const uint8_t* bytes, size_t size, bool binary, const std::string& path, const ReadOptions& options,
              RawMesh& raw, EmbeddedImages& images) {
     const tinygltf::Model model = loadGltfModel(bytes, size, binary, path, options, images);
-    Context cx{model, path, options, raw, images, {}, true, true, false, 0, {}};
-    addMaterials(cx);
+    Context cx{model, path, options, raw, addGltfMaterials(model, images, path, options, raw), true, true, false, 0, {}};
     for (const Material& m : raw.materials) cx.keepTexcoords = cx.keepTexcoords || m.image || !m.texturePath.empty();
     visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix&, int) {
         if (!isTriangles(prim)) return;

@@ -98,7 +98,7 @@ bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err,
 tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, const std::string& path,
                               const ReadOptions& options, EmbeddedImages& images) {
     if (size >= UINT32_MAX) throw InputError(path + ": glTF larger than 4 GiB (not supported)");
-    checkImageViews(bytes, size, binary, path);
+    checkGltfJson(bytes, size, binary, path);
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
     std::string err, warn;

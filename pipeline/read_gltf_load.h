@@ -6,6 +6,7 @@
 #include "pipeline/pipeline.h"
 #include "pipeline/tiny_gltf_config.h"
 
+#include <array>
 #include <map>
 #include <string>
 
@@ -26,8 +27,37 @@ bool keepEncoded(int index, const uint8_t* bytes, size_t size, EmbeddedImages& i
 // tinygltf hands an image's buffer view to the image loader without checking it against its
 // buffer: a view past the buffer's declared byteLength would be read past the end of tinygltf's
 // copy (found by fuzz_glb). Checked here first, on glTF JSON or a GLB's JSON chunk; throws
-// InputError naming the image (read_glb_images.cpp). Anything else malformed is left to tinygltf.
-void checkImageViews(const uint8_t* bytes, size_t size, bool binary, const std::string& path);
+// InputError naming the image (read_glb_images.cpp), or the first required extension that is
+// not in kReadExtensions. Anything else malformed is left to tinygltf.
+void checkGltfJson(const uint8_t* bytes, size_t size, bool binary, const std::string& path);
+
+// The glTF extensions a file may list in extensionsRequired: tinygltf decodes Draco primitives,
+// readFloats reads quantized attributes, read_gltf_materials.cpp applies texture transforms and
+// reads a specular-glossiness material's diffuse texture, and an unlit material's base colour is
+// what hlod reads of every material. Any other required
+// extension is refused (InputError, checkGltfJson): the glTF 2.0 specification ("Specifying Extensions") forbids a
+// loader to go on without it, and it would build a wrong mesh (EXT_meshopt_compression) or
+// drop its textures (KHR_texture_basisu) without a word.
+inline constexpr std::array<const char*, 5> kReadExtensions = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
+                                                               "KHR_texture_transform", "KHR_materials_unlit",
+                                                               "KHR_materials_pbrSpecularGlossiness"};
+
+// How a material's base-colour texture reads its primitive's texture coordinates
+// (read_gltf_materials.cpp): TEXCOORD_<set>, then u' = a0 u + a2 v + a4, v' = a1 u + a3 v + a5
+// (KHR_texture_transform's offset, rotation and scale; the identity without it).
+struct UvMapping {
+    int set = 0;
+    std::array<double, 6> affine{1, 0, 0, 1, 0, 0};
+    bool identity() const { return affine == std::array<double, 6>{1, 0, 0, 1, 0, 0}; }
+};
+struct GltfMaterials {
+    std::vector<uint32_t> materialOfGltf;  // glTF material -> index in raw.materials
+    std::vector<UvMapping> uvOfGltf;       // glTF material -> its texture's UV mapping
+};
+// Appends one Material per glTF material, then the default one, to raw.materials; an unusable
+// embedded image becomes a TextureProblem of its materials (README "Textures: one rule").
+GltfMaterials addGltfMaterials(const tinygltf::Model& model, const EmbeddedImages& images, const std::string& path,
+                               const ReadOptions& options, RawMesh& raw);
 
 tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, const std::string& path,
                               const ReadOptions& options, EmbeddedImages& images);

@@ -1,13 +1,15 @@
 // OBJ + MTL input: many materials and texture atlases (map_Kd), as photogrammetry produces.
-// The OBJ is parsed here line by line in one streaming pass into a RawMesh (v, vt, vn, f with
-// v/vt/vn, v//vn and negative indices, polygons fanned, usemtl, mtllib), because a scan can be
+// The OBJ is parsed here line by line in one streaming pass into a RawMesh (v with optional
+// r g b, vt, vn, f with v/vt/vn, v//vn and negative indices, polygons fanned, usemtl, mtllib), because a scan can be
 // larger than memory and every number must be checked: tinyobjloader reads whole files and turns
 // an unparsable number into 0. The MTL files are parsed by tinyobjloader (LoadMtl).
 #include "pipeline/pipeline.h"
 
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -15,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <utility>
 
 namespace hlod {
 namespace {
@@ -36,6 +39,18 @@ std::string_view token(Line& l) {
     return {start, static_cast<size_t>(l.p - start)};
 }
 
+// A UTF-8 byte order mark, which Windows tools may write before an OBJ's or MTL's first keyword
+// (it would hide that line: an OBJ's first `mtllib`, an MTL's first `newmtl`).
+constexpr char kByteOrderMark[3] = {'\xEF', '\xBB', '\xBF'};
+
+void skipByteOrderMark(std::istream& in) {
+    char head[3] = {};
+    if (!in.read(head, 3) || std::memcmp(head, kByteOrderMark, 3) != 0) {
+        in.clear();
+        in.seekg(0);
+    }
+}
+
 class ObjParser {
 public:
     ObjParser(const std::string& path, RawMesh& raw, const ReadOptions& options)
@@ -48,9 +63,11 @@ public:
         std::vector<char> buffer(readBufferBytes(f.get()));
         std::string carry;
         size_t number = 0, n = 0;
+        bool first = true;
         while ((n = std::fread(buffer.data(), 1, buffer.size(), f.get())) > 0) {
             if (raw_.progress) raw_.progress->advance(n);
             const char* p = buffer.data();
+            if (std::exchange(first, false) && n >= 3 && std::memcmp(p, kByteOrderMark, 3) == 0) p += 3;
             const char* end = p + n;
             while (const char* nl = static_cast<const char*>(std::memchr(p, '\n', end - p))) {
                 if (carry.empty()) {
@@ -138,6 +155,7 @@ private:
                                                                                           : "is not a regular file"));
                 continue;
             }
+            skipByteOrderMark(in);
             std::map<std::string, int> ids;
             std::vector<tinyobj::material_t> materials;
             std::string warning, error;
@@ -152,6 +170,23 @@ private:
         }
     }
 
+    // "v x y z r g b": the vertex colours MeshLab and many scanners write (0..1, clamped), kept
+    // while every vertex has them (the first vertex without leaves the colours short, and a mesh
+    // whose colours do not match its vertices is read without them, as a PLY's).
+    void vertexColor(Line& l) {
+        Line rest = l;
+        const bool three = !token(rest).empty() && !token(rest).empty() && !token(rest).empty() && token(rest).empty();
+        everyVertexHasColor_ = everyVertexHasColor_ && three;
+        if (!everyVertexHasColor_) return;
+        uint8_t rgba[4] = {0, 0, 0, 255};
+        for (int c = 0; c < 3; ++c) {
+            const float v = number(l, true);
+            if (!std::isfinite(v)) corrupt(l, "a vertex colour is not a number");
+            rgba[c] = static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+        }
+        raw_.colors.push(rgba, 4);
+    }
+
     void line(Line l) {
         const std::string_view keyword = token(l);
         if (keyword == "v") {
@@ -160,6 +195,7 @@ private:
             double p[3];
             for (double& c : p) c = offset ? number<double>(l, true) : number(l, true);
             raw_.addPosition(p, path_);
+            vertexColor(l);
         } else if (keyword == "vt") {
             const float u = number(l, true), v = number(l, false);
             raw_.addTexcoord(u, 1.0f - v, path_);
@@ -190,7 +226,7 @@ private:
     std::map<std::string, uint32_t> byName_;
     std::set<std::string> undefined_;  // names of `usemtl` lines no library defines, reported once
     uint32_t material_ = kNone;
-    bool everyFaceHasTexcoords_ = true, everyFaceHasNormals_ = true, lastLine_ = false;
+    bool everyFaceHasTexcoords_ = true, everyFaceHasNormals_ = true, everyVertexHasColor_ = true, lastLine_ = false;
 };
 
 }  // namespace

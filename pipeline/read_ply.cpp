@@ -1,16 +1,22 @@
 // PLY input (ascii, binary little/big endian): positions, per-vertex normals, texture
-// coordinates (u/v, s/t, texture_u/texture_v) and colours when present; polygons are fanned into
+// coordinates (u/v, s/t, texture_u/texture_v, or per face: a `texcoord` list, as MeshLab and
+// Agisoft Metashape write them) and colours when present; `comment TextureFile` names the
+// texture, several of them one each, chosen per face by `texnumber`; polygons are fanned into
 // triangles. Read in one buffered pass into a RawMesh (in memory, or spilled to disk for a large
 // single input); every short read is reported as a truncated file.
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
+#include <unordered_map>
 
 namespace hlod {
 namespace {
@@ -234,40 +240,132 @@ void readVertices(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::st
     }
 }
 
-void readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::string& name) {
-    int list = -1;
+int findList(const PlyElement& e, std::initializer_list<const char*> names) {
     for (size_t i = 0; i < e.properties.size(); ++i)
-        if (e.properties[i].isList && (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
-            list = static_cast<int>(i);
+        for (const char* n : names)
+            if (e.properties[i].name == n && e.properties[i].isList) return static_cast<int>(i);
+    return -1;
+}
+
+// The faces' own texture coordinates (MeshLab's and Agisoft Metashape's textured PLY: a
+// `texcoord` list of 2 n floats for an n-gon). The corners of one vertex with the same (u, v)
+// share one texture coordinate, so that a chart stays one connected surface for the simplifier:
+// each vertex keeps its first pair (12 bytes a vertex); only a seam vertex's other pairs go to a map.
+class FaceTexcoords {
+public:
+    explicit FaceTexcoords(size_t vertices) : first_(vertices, kNone), firstUv_(vertices) {}
+
+    uint32_t index(RawMesh& raw, uint32_t vertex, float u, float v, const std::string& name) {
+        if (first_[vertex] == kNone) {
+            firstUv_[vertex] = {u, v};
+            return first_[vertex] = add(raw, u, v, name);
+        }
+        if (firstUv_[vertex][0] == u && firstUv_[vertex][1] == v) return first_[vertex];
+        const auto [it, added] = seams_.try_emplace(Key{vertex, u, v}, 0);
+        if (added) it->second = add(raw, u, v, name);
+        return it->second;
+    }
+
+private:
+    struct Key {
+        uint32_t vertex;
+        float u, v;
+        bool operator==(const Key&) const = default;
+    };
+    struct KeyHash {
+        size_t operator()(const Key& k) const {
+            return (size_t(k.vertex) * 73856093u) ^ (size_t(std::bit_cast<uint32_t>(k.u)) * 19349663u) ^
+                   (size_t(std::bit_cast<uint32_t>(k.v)) * 83492791u);
+        }
+    };
+    static uint32_t add(RawMesh& raw, float u, float v, const std::string& name) {
+        const auto index = static_cast<uint32_t>(raw.texcoords.size() / 2);
+        raw.addTexcoord(u, v, name);
+        return index;
+    }
+    std::vector<uint32_t> first_;
+    std::vector<std::array<float, 2>> firstUv_;
+    std::unordered_map<Key, uint32_t, KeyHash> seams_;
+};
+
+// One face's polygon, fanned into triangles: its vertices, its texture coordinates (2 per vertex,
+// or none) and its material.
+struct PlyFace {
+    std::vector<uint32_t> vertices;
+    std::vector<float> uvs;
+    uint32_t material = 0;
+};
+
+void addFace(RawMesh& raw, const PlyFace& face, FaceTexcoords* wedges, uint64_t number, const std::string& name) {
+    std::vector<uint32_t> texcoords(face.vertices);
+    if (wedges) {
+        if (face.uvs.size() != 2 * face.vertices.size())
+            throw InputError(name + ": corrupt PLY (face " + std::to_string(number) + " has " + std::to_string(face.vertices.size()) +
+                             " vertices but " + std::to_string(face.uvs.size()) + " texture coordinate values)");
+        for (size_t k = 0; k < face.vertices.size(); ++k) {
+            if (face.vertices[k] >= raw.positionCount())
+                throw InputError(name + ": face " + std::to_string(number) + " uses vertex " + std::to_string(face.vertices[k]) +
+                                 " but there are only " + std::to_string(raw.positionCount()));
+            texcoords[k] = wedges->index(raw, face.vertices[k], face.uvs[2 * k], 1.0f - face.uvs[2 * k + 1], name);
+        }
+    }
+    for (size_t k = 2; k < face.vertices.size(); ++k) {
+        RawTriangle t{};
+        t.material = face.material;
+        const size_t corners[3] = {0, k - 1, k};
+        for (int c = 0; c < 3; ++c) {
+            t.position[c] = t.normal[c] = face.vertices[corners[c]];
+            t.texcoord[c] = texcoords[corners[c]];
+        }
+        raw.addTriangle(t);
+    }
+}
+
+// A face's `texnumber`: which of the header's `comment TextureFile` lines its texture is (read
+// only when there are several).
+uint32_t textureNumber(double value, size_t textures, uint64_t number, const std::string& name) {
+    if (!(value >= 0 && value < static_cast<double>(textures)) || value != std::floor(value))
+        throw InputError(name + ": face " + std::to_string(number) + " uses texture " + formatConstant(value) + " but the header names " +
+                         std::to_string(textures) + " (comment TextureFile)");
+    return static_cast<uint32_t>(value);
+}
+
+// Reads the face element; returns whether its faces carry their own texture coordinates.
+bool readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::string& name, size_t textures) {
+    const int list = findList(e, {"vertex_indices", "vertex_index"}), uvList = findList(e, {"texcoord"});
+    const int texnumber = textures > 1 ? findProperty(e, {"texnumber"}) : -1;
     if (list < 0) throw InputError(name + ": unsupported PLY (face element without vertex_indices)");
-    std::vector<uint32_t> polygon;
+    std::optional<FaceTexcoords> wedges;
+    if (uvList >= 0) {
+        if (raw.positionCount() == 0) throw InputError(name + ": unsupported PLY (face texture coordinates before the vertices)");
+        wedges.emplace(raw.positionCount());
+        raw.hasTexcoords = true;
+    }
+    PlyFace face;
     for (uint64_t i = 0; i < e.count; ++i) {
+        face.vertices.clear(), face.uvs.clear(), face.material = 0;
         for (size_t p = 0; p < e.properties.size(); ++p) {
             const PlyProperty& prop = e.properties[p];
             if (!prop.isList) {
-                r.value(prop.type);
+                const double v = r.value(prop.type);
+                if (static_cast<int>(p) == texnumber) face.material = textureNumber(v, textures, i, name);
                 continue;
             }
             const double n = r.value(prop.countType);
-            if (!(n >= 0 && n <= 1024)) throw InputError(name + ": corrupt PLY (face with " + std::to_string(n) + " vertices)");
-            polygon.clear();
+            if (!(n >= 0 && n <= (static_cast<int>(p) == list ? 1024 : 2048)))
+                throw InputError(name + ": corrupt PLY (face with " + std::to_string(n) + " " + (static_cast<int>(p) == list ? "vertices" : prop.name + " values") + ")");
             for (int k = 0; k < static_cast<int>(n); ++k) {
-                const double index = r.value(prop.type);
-                if (static_cast<int>(p) == list) {
-                    if (!(index >= 0 && index < 4294967295.0))  // NaN fails too
-                        throw InputError(name + ": vertex index " + std::to_string(index) + " out of range");
-                    polygon.push_back(static_cast<uint32_t>(index));
-                }
-            }
-            for (size_t k = 2; static_cast<int>(p) == list && k < polygon.size(); ++k) {
-                RawTriangle t{};
-                t.material = 0;
-                const uint32_t corners[3] = {polygon[0], polygon[k - 1], polygon[k]};
-                for (int c = 0; c < 3; ++c) t.position[c] = t.texcoord[c] = t.normal[c] = corners[c];
-                raw.addTriangle(t);
+                const double value = r.value(prop.type);
+                if (static_cast<int>(p) == uvList) face.uvs.push_back(static_cast<float>(value));
+                if (static_cast<int>(p) != list) continue;
+                if (!(value >= 0 && value < 4294967295.0))  // NaN fails too
+                    throw InputError(name + ": vertex index " + std::to_string(value) + " out of range");
+                face.vertices.push_back(static_cast<uint32_t>(value));
             }
         }
+        addFace(raw, face, wedges ? &*wedges : nullptr, i, name);
     }
+    return wedges.has_value();
 }
 
 }  // namespace
@@ -279,7 +377,7 @@ void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options)
     const PlyHeader header = readHeader(f.get(), path);
     raw.offset = options.offset;
     PlyReader reader(f.get(), header.format, path, raw.progress);
-    bool haveVertices = false, haveFaces = false;
+    bool haveVertices = false, haveFaces = false, faceTexcoords = false;
     for (const PlyElement& e : header.elements) {
         if (e.name == "vertex") {
             if (findProperty(e, {"x"}) < 0 || findProperty(e, {"y"}) < 0 || findProperty(e, {"z"}) < 0)
@@ -287,7 +385,7 @@ void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options)
             readVertices(reader, e, raw, path);
             haveVertices = true;
         } else if (e.name == "face") {
-            readFaces(reader, e, raw, path);
+            faceTexcoords = readFaces(reader, e, raw, path, header.textures.size());
             haveFaces = true;
         } else {
             for (uint64_t i = 0; i < e.count; ++i)
@@ -298,10 +396,13 @@ void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options)
         }
     }
     if (!haveVertices || !haveFaces) throw InputError(path + ": PLY has no " + (haveVertices ? "faces" : "vertices"));
-    raw.sharedIndices = true;
-    raw.materials.push_back({"ply", "", nullptr});
-    if (!header.textures.empty() && raw.hasTexcoords)
-        raw.materials[0].texturePath = resolveReference(path, folderOf(path), header.textures[0], "texture", options);
+    raw.sharedIndices = !faceTexcoords;
+    // One material per `comment TextureFile` (faces choose by `texnumber`), or one untextured.
+    for (size_t m = 0; m < std::max<size_t>(header.textures.size(), 1); ++m) {
+        const bool textured = m < header.textures.size() && raw.hasTexcoords;
+        raw.materials.push_back({header.textures.size() > 1 ? header.textures[m] : "ply",
+                                 textured ? resolveReference(path, folderOf(path), header.textures[m], "texture", options) : "", nullptr});
+    }
     raw.seal();
 }
 

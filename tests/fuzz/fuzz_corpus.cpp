@@ -32,12 +32,15 @@ std::string head(const std::filesystem::path& file, int lines) {
     return out;
 }
 
-// A 3 x 3 vertex grid (8 triangles) with UVs as PLY, in ascii or binary little/big endian.
-std::string ply(const std::string& format) {
+// A 3 x 3 vertex grid (8 triangles) with UVs as PLY, in ascii or binary little/big endian; the
+// UVs per vertex, or per face (`texcoord` lists and a `texnumber` over two TextureFile lines).
+std::string ply(const std::string& format, bool faceUvs = false) {
     std::ostringstream out;
-    out << "ply\nformat " << format << " 1.0\ncomment TextureFile t.png\nelement vertex 9\nproperty float x\n"
-        << "property float y\nproperty float z\nproperty float u\nproperty float v\nproperty uchar red\n"
-        << "property uchar green\nproperty uchar blue\nelement face 8\nproperty list uchar int vertex_indices\nend_header\n";
+    out << "ply\nformat " << format << " 1.0\ncomment TextureFile t.png\n" << (faceUvs ? "comment TextureFile t.png\n" : "")
+        << "element vertex 9\nproperty float x\nproperty float y\nproperty float z\n"
+        << (faceUvs ? "" : "property float u\nproperty float v\n") << "property uchar red\n"
+        << "property uchar green\nproperty uchar blue\nelement face 8\nproperty list uchar int vertex_indices\n"
+        << (faceUvs ? "property list uchar float texcoord\nproperty int texnumber\n" : "") << "end_header\n";
     const auto put = [&](auto value) {
         if (format == "ascii") {
             out << +value << ' ';
@@ -50,7 +53,9 @@ std::string ply(const std::string& format) {
     };
     for (int y = 0; y < 3; ++y)
         for (int x = 0; x < 3; ++x) {
-            for (float f : {float(x), float(y), float(x * y) * 0.1f, x / 2.0f, y / 2.0f}) put(f);
+            for (float f : {float(x), float(y), float(x * y) * 0.1f}) put(f);
+            for (float f : {x / 2.0f, y / 2.0f})
+                if (!faceUvs) put(f);
             for (int c = 0; c < 3; ++c) put(uint8_t(40 * (x + y + c)));
             if (format == "ascii") out << '\n';
         }
@@ -59,6 +64,11 @@ std::string ply(const std::string& format) {
             for (const auto& t : {std::array{0, 1, 4}, std::array{0, 4, 3}}) {
                 put(uint8_t(3));
                 for (int k = 0; k < 3; ++k) put(int32_t(y * 3 + x + t[k] % 3 + 3 * (t[k] / 3)));
+                if (faceUvs) {
+                    put(uint8_t(6));
+                    for (int k = 0; k < 3; ++k) put((x + t[k] % 3) / 2.0f), put((y + t[k] / 3) / 2.0f);
+                    put(int32_t(x));
+                }
                 if (format == "ascii") out << '\n';
             }
     return out.str();
@@ -118,7 +128,10 @@ void readerSeeds(const std::filesystem::path& dir) {
     const fs::path samples = fs::path(HLOD_SOURCE_DIR) / "samples";
     for (const char* d : {"ply", "obj", "mtl", "gltf", "glb", "camera_path", "constants", "calibration"})
         fs::create_directories(dir / d);
-    for (const char* f : {"ascii", "binary_little_endian", "binary_big_endian"}) text(dir / "ply" / f, ply(f));
+    for (const char* f : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+        text(dir / "ply" / f, ply(f));
+        text(dir / "ply" / (std::string(f) + "_face_uvs"), ply(f, true));
+    }
     text(dir / "obj" / "quad.obj",
          "mtllib q.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\nusemtl a\n"
          "f 1/1/1 2/2/1 3/3/1 4/1/1\nf -1//1 -2//1 -3//1\nf 1 3 4\n");

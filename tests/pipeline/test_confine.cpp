@@ -48,6 +48,41 @@ TEST(Confine, MtlTextureDotDotAndAbsoluteRefusedUnlessAllowed) {
     }
 }
 
+// References as Windows tools write them are found where this file system has them: backslash
+// separators, another case, an absolute path to the exporter's disk (its name beside the input).
+// Never outside: a backslashed '..' is not followed, and a name two files match is not guessed.
+TEST(Confine, WindowsStyleReferencesAreFoundInsideTheFolderOnly) {
+    Layout l;
+    fs::create_directories(l.dir.path / "in" / "textures");
+    const std::vector<uint8_t> png = encodeTexture(testImage(4, 4), Codec::Png).bytes;
+    writeFile(l.in("textures/atlas_1.png"), png);
+    writeFile(l.in("atlas_2.png"), png);
+    writeFile(l.in("twin.png"), png), writeFile(l.in("TWIN.png"), png);
+    struct Case {
+        std::string reference, found;  // found: "" = left missing (the textures rule's warning)
+    } cases[] = {
+        {"textures\\atlas_1.png", l.in("textures/atlas_1.png")},
+        {"Textures\\ATLAS_1.PNG", l.in("textures/atlas_1.png")},
+        {"C:\\Users\\scan\\atlas_2.png", l.in("atlas_2.png")},
+        {"Atlas_2.png", l.in("atlas_2.png")},
+        {"..\\secret.png", ""},   // the name alone is tried, inside: there is none
+        {"Twin.png", ""},          // twin.png and TWIN.png: not guessed
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.reference);
+        writeObj(l.in("m.obj"), terrain(4), c.reference);
+        const SourceMesh s = readMesh(l.in("m.obj"));
+        if (c.found.empty()) {
+            ASSERT_FALSE(s.stats.textureProblems.empty());
+            EXPECT_NE(s.stats.textureProblems[0].what.find("is missing"), std::string::npos) << s.stats.textureProblems[0].what;
+            EXPECT_TRUE(s.materials[0].texturePath.empty());
+        } else {
+            EXPECT_TRUE(s.stats.textureProblems.empty());
+            EXPECT_EQ(s.materials[0].texturePath, fs::canonical(c.found).string());
+        }
+    }
+}
+
 TEST(Confine, MaterialLibraryOutsideRefused) {
     Layout l;
     writeObj(l.dir.file("m.obj"), terrain(4), "");

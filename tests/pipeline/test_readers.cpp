@@ -3,6 +3,7 @@
 #include "helpers.h"
 
 #include "formats/codec.h"
+#include "tests/support/run_hlod.h"
 
 #include <nlohmann/json.hpp>
 
@@ -74,6 +75,57 @@ TEST(ReadObj, ManyMaterialsAndFlippedV) {
         }
     EXPECT_EQ(s.piece.materials, p.materials);
     EXPECT_EQ(s.materials[1].texturePath, std::filesystem::canonical(dir.file("atlas.png")).string());
+}
+
+// "v x y z r g b" (MeshLab's and many scanners' vertex colours): read, welded with their
+// vertices, and built into the database; a mesh where one vertex lacks them is read without.
+TEST(ReadObj, VertexColoursReachTheDatabase) {
+    TempDir dir;
+    const Piece p = terrain(6);
+    std::ofstream out(dir.file("c.obj"));
+    for (size_t i = 0; i < p.mesh.vertexCount(); ++i)
+        out << "v " << p.mesh.positions[3 * i] << " " << p.mesh.positions[3 * i + 1] << " " << p.mesh.positions[3 * i + 2] << " "
+            << (i % 5) / 4.0 << " 0.5 " << (i % 2 ? 1.5 : -0.5) << "\n";  // blue clamped to 0..1
+    for (size_t t = 0; t < p.mesh.triangleCount(); ++t)
+        out << "f " << p.mesh.indices[3 * t] + 1 << " " << p.mesh.indices[3 * t + 1] + 1 << " " << p.mesh.indices[3 * t + 2] + 1 << "\n";
+    out.close();
+    const SourceMesh s = readMesh(dir.file("c.obj"));
+    ASSERT_EQ(s.piece.mesh.colors.size(), 4 * s.piece.mesh.vertexCount());
+    for (size_t c = 0; c < s.piece.mesh.indices.size(); ++c) {
+        const uint32_t v = p.mesh.indices[c];
+        const uint8_t* rgba = &s.piece.mesh.colors[4 * s.piece.mesh.indices[c]];
+        EXPECT_EQ(rgba[0], static_cast<uint8_t>(std::lround((v % 5) / 4.0 * 255))) << c;
+        EXPECT_EQ(rgba[1], 128) << c;
+        EXPECT_EQ(rgba[2], v % 2 ? 255 : 0) << c;
+        EXPECT_EQ(rgba[3], 255) << c;
+    }
+    ASSERT_EQ(runHlod({"build", dir.file("c.obj"), "-o", dir.file("c.hlod")}).exitCode, 0);
+    const Database db = Database::open(dir.file("c.hlod"));
+    size_t coloured = 0;
+    for (uint32_t b = 0; b < db.skeleton().blobs.size(); ++b)
+        if (db.skeleton().blobs[b].kind == BlobKind::Geometry) {
+            const MeshData m = decodeGeometry(db.readBlob(b), "blob");
+            EXPECT_EQ(m.colors.size(), 4 * m.vertexCount()) << "blob " << b;
+            coloured += !m.colors.empty();
+        }
+    EXPECT_GT(coloured, 0u);
+    std::ofstream(dir.file("c.obj"), std::ios::app) << "v 0 0 9\n";  // one vertex without: no colours at all
+    EXPECT_TRUE(readMesh(dir.file("c.obj")).piece.mesh.colors.empty());
+}
+
+// A UTF-8 byte order mark before the first keyword (Windows tools write one) hid the OBJ's
+// `mtllib` and the MTL's `newmtl`: every material was left untextured.
+TEST(ReadObj, AByteOrderMarkBeforeTheFirstKeyword) {
+    TempDir dir;
+    writeFile(dir.file("a.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+    const std::string bom = "\xEF\xBB\xBF";
+    std::ofstream(dir.file("b.obj")) << bom << "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
+    std::ofstream(dir.file("b.mtl")) << bom << "newmtl m\nKd 1 1 1\nmap_Kd a.png\n";
+    const SourceMesh s = readMesh(dir.file("b.obj"));
+    EXPECT_TRUE(s.stats.textureProblems.empty());
+    ASSERT_EQ(s.piece.materials.size(), 1u);
+    EXPECT_EQ(s.materials[s.piece.materials[0]].texturePath, std::filesystem::canonical(dir.file("a.png")).string());
+    EXPECT_EQ(s.piece.mesh.texcoords.size(), 6u);
 }
 
 // One mesh (positions, TEXCOORD_0, uint32 indices in a data-URI buffer) instanced by a node

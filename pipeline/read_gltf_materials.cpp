@@ -1,0 +1,143 @@
+// glTF materials for read_gltf.cpp (declared in read_gltf_load.h): each material's base-colour
+// texture (or KHR_materials_pbrSpecularGlossiness's diffuse one; embedded and decoded, embedded
+// and written to the image folder, or an external file confined to the input's folder), its
+// sampler's wrap, and how it reads its primitive's texture coordinates: the set `texCoord` names
+// and KHR_texture_transform's offset, rotation and scale.
+#include "pipeline/read_gltf_load.h"
+#include "pipeline/texture_store.h"
+
+#include <cmath>
+
+namespace hlod {
+namespace {
+
+// An image stb_image decoded (8 or 16 bits per channel) as 8-bit grey or RGB.
+std::shared_ptr<Image> decodedImage(const std::string& path, const tinygltf::Image& img, size_t index) {
+    const size_t bytes = img.bits == 16 ? 2 : 1;
+    const size_t pixels = static_cast<size_t>(img.width) * static_cast<size_t>(img.height);
+    if (img.image.size() < pixels * static_cast<size_t>(img.component) * bytes)
+        throw InputError(path + ": image " + std::to_string(index) + " is truncated");
+    auto image = std::make_shared<Image>();
+    image->width = static_cast<uint32_t>(img.width), image->height = static_cast<uint32_t>(img.height);
+    image->channels = img.component >= 3 ? 3 : 1;
+    image->pixels.reserve(pixels * image->channels);
+    for (size_t p = 0; p < pixels; ++p)
+        for (uint32_t c = 0; c < image->channels; ++c)  // the high byte of a little-endian 16-bit sample
+            image->pixels.push_back(img.image[(p * static_cast<size_t>(img.component) + c) * bytes + bytes - 1]);
+    return image;
+}
+
+// The bytes of an image embedded through a buffer view (empty if it is not): a JPEG's header
+// gives its quality and chroma (jpegQuality, jpegChroma420).
+std::span<const uint8_t> embeddedImageBytes(const tinygltf::Model& model, const tinygltf::Image& img) {
+    if (img.bufferView < 0 || img.bufferView >= static_cast<int>(model.bufferViews.size())) return {};
+    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(img.bufferView)];
+    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size())) return {};
+    const std::vector<unsigned char>& data = model.buffers[static_cast<size_t>(view.buffer)].data;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) return {};
+    return std::span<const uint8_t>(data.data() + view.byteOffset, view.byteLength);
+}
+
+// The period of a sampler's wrap (wrap_uvs.cpp): REPEAT 1, MIRRORED_REPEAT 2, CLAMP_TO_EDGE none.
+float uvPeriod(int wrap) { return wrap == TINYGLTF_TEXTURE_WRAP_REPEAT ? 1.0f : wrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? 2.0f : 0.0f; }
+
+// A finite JSON number (tinygltf::Value), or InputError naming `what`.
+double number(const tinygltf::Value& v, const std::string& what) {
+    if (!v.IsNumber()) throw InputError(what + " is not a number");
+    const double x = v.GetNumberAsDouble();
+    if (!std::isfinite(x)) throw InputError(what + " is not finite");
+    return x;
+}
+
+// Member `key` of an extension object (its element `index` when the member is a 2-array; -1:
+// a number), or `fallback` when absent.
+double member(const tinygltf::Value& object, const char* key, int index, double fallback, const std::string& what) {
+    if (!object.Has(key)) return fallback;
+    const tinygltf::Value& v = object.Get(key);
+    if (index < 0) return number(v, what + " " + key);
+    if (!v.IsArray() || v.ArrayLen() != 2) throw InputError(what + " " + key + " is not an array of 2 numbers");
+    return number(v.Get(index), what + " " + key);
+}
+
+// KHR_texture_transform (its README, "Overview" and the example "the lower left quadrant of the
+// source image, rotated clockwise 90°"): uv' = T(offset) R(rotation) S(scale) uv, with R's rows
+// (cos, sin) and (-sin, cos): the rotation that example needs (the GLSL listing there, read as
+// GLSL's column-major mat3, would turn the other way).
+UvMapping uvMapping(const tinygltf::TextureInfo& info, const std::string& what) {
+    UvMapping m;
+    m.set = info.texCoord;
+    const auto it = info.extensions.find("KHR_texture_transform");
+    if (it == info.extensions.end()) return m;
+    const tinygltf::Value& t = it->second;
+    const std::string name = what + ": KHR_texture_transform";
+    if (!t.IsObject()) throw InputError(name + " is not an object");
+    const double ox = member(t, "offset", 0, 0, name), oy = member(t, "offset", 1, 0, name);
+    const double r = member(t, "rotation", -1, 0, name), sx = member(t, "scale", 0, 1, name), sy = member(t, "scale", 1, 1, name);
+    if (t.Has("texCoord")) m.set = static_cast<int>(member(t, "texCoord", -1, 0, name));
+    const double c = std::cos(r), s = std::sin(r);
+    m.affine = {c * sx, -s * sx, s * sy, c * sy, ox, oy};
+    return m;
+}
+
+// The texture a material's colour comes from: its base-colour texture, or without one the
+// diffuse texture of KHR_materials_pbrSpecularGlossiness (the archived specular-glossiness
+// workflow of older exports), read into a TextureInfo.
+tinygltf::TextureInfo colourTexture(const tinygltf::Material& mat, const std::string& what) {
+    const tinygltf::TextureInfo& base = mat.pbrMetallicRoughness.baseColorTexture;
+    const auto it = mat.extensions.find("KHR_materials_pbrSpecularGlossiness");
+    if (base.index >= 0 || it == mat.extensions.end() || !it->second.IsObject() || !it->second.Has("diffuseTexture")) return base;
+    const tinygltf::Value& diffuse = it->second.Get("diffuseTexture");
+    const std::string name = what + ": KHR_materials_pbrSpecularGlossiness diffuseTexture";
+    if (!diffuse.IsObject()) throw InputError(name + " is not an object");
+    tinygltf::TextureInfo info;
+    info.index = static_cast<int>(member(diffuse, "index", -1, -1, name));
+    info.texCoord = static_cast<int>(member(diffuse, "texCoord", -1, 0, name));
+    if (diffuse.Has("extensions") && diffuse.Get("extensions").Has("KHR_texture_transform"))
+        info.extensions["KHR_texture_transform"] = diffuse.Get("extensions").Get("KHR_texture_transform");
+    return info;
+}
+
+}  // namespace
+
+GltfMaterials addGltfMaterials(const tinygltf::Model& model, const EmbeddedImages& images, const std::string& path,
+                               const ReadOptions& options, RawMesh& raw) {
+    GltfMaterials out;
+    for (size_t index = 0; index < model.materials.size(); ++index) {
+        const tinygltf::Material& mat = model.materials[index];
+        Material material{mat.name, "", nullptr};
+        const tinygltf::TextureInfo info = colourTexture(mat, path + ": material " + std::to_string(index));
+        out.uvOfGltf.push_back(uvMapping(info, path + ": material " + std::to_string(index)));
+        if (out.uvOfGltf.back().set < 0 || out.uvOfGltf.back().set > 255)
+            throw InputError(path + ": material " + std::to_string(index) + " reads texture coordinate set " +
+                             std::to_string(out.uvOfGltf.back().set));
+        const int tex = info.index;
+        if (tex >= 0 && tex < static_cast<int>(model.textures.size())) {
+            const int source = model.textures[static_cast<size_t>(tex)].source;
+            const int sampler = model.textures[static_cast<size_t>(tex)].sampler;  // none: REPEAT (glTF 2.0 §3.8.4.6)
+            if (sampler >= 0 && sampler < static_cast<int>(model.samplers.size())) {
+                const tinygltf::Sampler& s = model.samplers[static_cast<size_t>(sampler)];
+                material.uvPeriod[0] = uvPeriod(s.wrapS), material.uvPeriod[1] = uvPeriod(s.wrapT);
+            }
+            if (source >= 0 && source < static_cast<int>(model.images.size())) {
+                const tinygltf::Image& img = model.images[static_cast<size_t>(source)];
+                if (const auto failed = images.unusable.find(source); failed != images.unusable.end())
+                    raw.stats.textureProblems.push_back({path + ": image " + std::to_string(source) + " " + failed->second, material.name});
+                else if (const auto file = images.written.find(source); file != images.written.end())
+                    material.texturePath = file->second;
+                else if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0) {
+                    material.image = decodedImage(path, img, static_cast<size_t>(source));
+                    const std::span<const uint8_t> bytes = embeddedImageBytes(model, img);
+                    material.jpegQuality = jpegQuality(bytes), material.jpegChroma420 = jpegChroma420(bytes);
+                }
+                else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
+                    material.texturePath = resolveReference(path, folderOf(path), img.uri, "image", options);
+            }
+        }
+        out.materialOfGltf.push_back(static_cast<uint32_t>(raw.materials.size()));
+        raw.materials.push_back(material);
+    }
+    raw.materials.push_back({"default", "", nullptr});
+    return out;
+}
+
+}  // namespace hlod
