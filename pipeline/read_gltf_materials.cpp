@@ -6,7 +6,9 @@
 #include "pipeline/read_gltf_load.h"
 #include "pipeline/texture_store.h"
 
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 
 namespace hlod {
 namespace {
@@ -79,6 +81,33 @@ UvMapping uvMapping(const tinygltf::TextureInfo& info, const std::string& what) 
     return m;
 }
 
+// An image URI as a file name: glTF URIs are percent-encoded (RFC 3986, glTF 2.0 "URIs"), so
+// `my%20atlas.jpg` is the file `my atlas.jpg`; a `%` not followed by two hex digits, or coding a
+// control character, stays as written.
+std::string percentDecoded(const std::string& uri) {
+    std::string out;
+    for (size_t i = 0; i < uri.size(); ++i) {
+        const auto hex = [&](size_t k) { return k < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[k])); };
+        const int byte = uri[i] == '%' && hex(i + 1) && hex(i + 2) ? std::stoi(uri.substr(i + 1, 2), nullptr, 16) : -1;
+        if (byte >= 0x20) {  // not a control character (a NUL would end the name the system sees)
+            out += static_cast<char>(byte);
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+// An external image's file: the decoded URI, or the URI as written when only that file exists
+// (an exporter that wrote `%` into a file name without encoding it).
+std::string imageFile(const std::string& path, const std::string& uri, const ReadOptions& options) {
+    const std::string decoded = resolveReference(path, folderOf(path), percentDecoded(uri), "image", options);
+    if (std::filesystem::exists(decoded) || percentDecoded(uri) == uri) return decoded;
+    const std::string written = resolveReference(path, folderOf(path), uri, "image", options);
+    return std::filesystem::exists(written) ? written : decoded;
+}
+
 // The texture a material's colour comes from: its base-colour texture, or without one the
 // diffuse texture of KHR_materials_pbrSpecularGlossiness (the archived specular-glossiness
 // workflow of older exports), read into a TextureInfo.
@@ -130,7 +159,7 @@ GltfMaterials addGltfMaterials(const tinygltf::Model& model, const EmbeddedImage
                     material.jpegQuality = jpegQuality(bytes), material.jpegChroma420 = jpegChroma420(bytes);
                 }
                 else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
-                    material.texturePath = resolveReference(path, folderOf(path), img.uri, "image", options);
+                    material.texturePath = imageFile(path, img.uri, options);
             }
         }
         out.materialOfGltf.push_back(static_cast<uint32_t>(raw.materials.size()));

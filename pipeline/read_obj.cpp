@@ -39,6 +39,15 @@ std::string_view token(Line& l) {
     return {start, static_cast<size_t>(l.p - start)};
 }
 
+std::string_view trimmed(std::string_view text) {
+    while (!text.empty() && blank(text.front())) text.remove_prefix(1);
+    while (!text.empty() && blank(text.back())) text.remove_suffix(1);
+    return text;
+}
+
+// The rest of the line after the tokens read so far, without its surrounding blanks.
+std::string_view rest(const Line& l) { return trimmed({l.p, static_cast<size_t>(l.end - l.p)}); }
+
 // A UTF-8 byte order mark, which Windows tools may write before an OBJ's or MTL's first keyword
 // (it would hide that line: an OBJ's first `mtllib`, an MTL's first `newmtl`).
 constexpr char kByteOrderMark[3] = {'\xEF', '\xBB', '\xBF'};
@@ -141,32 +150,40 @@ private:
         if (corners < 3) corrupt(l, "face with fewer than 3 vertices");
     }
 
+    // `mtllib A B`: libraries A and B, or the one library `A B` when only that file exists (a
+    // name with a space, as exporters write it unescaped).
     void materialLibrary(Line& l) {
-        for (std::string_view name = token(l); !name.empty(); name = token(l)) {
-            const std::string file = resolveReference(path_, folder_, std::string(name), "material library", options_);
-            std::error_code statusError;
-            const std::filesystem::file_status status = std::filesystem::status(file, statusError);
-            std::ifstream in;
-            if (std::filesystem::is_regular_file(status)) in.open(file);
-            if (!in.is_open()) {  // its materials are then defined nowhere: each `usemtl` of one says so (textures rule)
-                raw_.stats.warnings.push_back(path_ + ": material library '" + std::string(name) + "' " +
-                                              (!std::filesystem::exists(status) ? "not found"
-                                               : std::filesystem::is_regular_file(status) ? "cannot be read"
-                                                                                          : "is not a regular file"));
-                continue;
-            }
-            skipByteOrderMark(in);
-            std::map<std::string, int> ids;
-            std::vector<tinyobj::material_t> materials;
-            std::string warning, error;
-            tinyobj::LoadMtl(&ids, &materials, &in, &warning, &error);
-            for (const tinyobj::material_t& m : materials) {
-                byName_[m.name] = static_cast<uint32_t>(raw_.materials.size());
-                raw_.materials.push_back(
-                    {m.name, m.diffuse_texname.empty() ? "" : resolveReference(path_, folder_, m.diffuse_texname, "texture", options_),
-                     nullptr});
-                if (m.diffuse_texopt.clamp) raw_.materials.back().uvPeriod[0] = raw_.materials.back().uvPeriod[1] = 0;  // map_Kd -clamp on
-            }
+        const std::string whole(rest(l));
+        std::error_code error;
+        if (whole.find_first_of(" \t") != std::string::npos && fs::is_regular_file(fs::path(folder_) / whole, error))
+            return loadLibrary(whole);
+        for (std::string_view name = token(l); !name.empty(); name = token(l)) loadLibrary(name);
+    }
+
+    void loadLibrary(std::string_view name) {
+        const std::string file = resolveReference(path_, folder_, std::string(name), "material library", options_);
+        std::error_code statusError;
+        const std::filesystem::file_status status = std::filesystem::status(file, statusError);
+        std::ifstream in;
+        if (std::filesystem::is_regular_file(status)) in.open(file);
+        if (!in.is_open()) {  // its materials are then defined nowhere: each `usemtl` of one says so (textures rule)
+            raw_.stats.warnings.push_back(path_ + ": material library '" + std::string(name) + "' " +
+                                          (!std::filesystem::exists(status) ? "not found"
+                                           : std::filesystem::is_regular_file(status) ? "cannot be read"
+                                                                                      : "is not a regular file"));
+            return;
+        }
+        skipByteOrderMark(in);
+        std::map<std::string, int> ids;
+        std::vector<tinyobj::material_t> materials;
+        std::string warning, error;
+        tinyobj::LoadMtl(&ids, &materials, &in, &warning, &error);
+        for (const tinyobj::material_t& m : materials) {
+            byName_[std::string(trimmed(m.name))] = static_cast<uint32_t>(raw_.materials.size());
+            raw_.materials.push_back(
+                {m.name, m.diffuse_texname.empty() ? "" : resolveReference(path_, folder_, m.diffuse_texname, "texture", options_),
+                 nullptr});
+            if (m.diffuse_texopt.clamp) raw_.materials.back().uvPeriod[0] = raw_.materials.back().uvPeriod[1] = 0;  // map_Kd -clamp on
         }
     }
 
@@ -174,8 +191,8 @@ private:
     // while every vertex has them (the first vertex without leaves the colours short, and a mesh
     // whose colours do not match its vertices is read without them, as a PLY's).
     void vertexColor(Line& l) {
-        Line rest = l;
-        const bool three = !token(rest).empty() && !token(rest).empty() && !token(rest).empty() && token(rest).empty();
+        Line after = l;
+        const bool three = !token(after).empty() && !token(after).empty() && !token(after).empty() && token(after).empty();
         everyVertexHasColor_ = everyVertexHasColor_ && three;
         if (!everyVertexHasColor_) return;
         uint8_t rgba[4] = {0, 0, 0, 255};
@@ -206,7 +223,8 @@ private:
         } else if (keyword == "f") {
             face(l);
         } else if (keyword == "usemtl") {
-            const std::string name(token(l));
+            // The rest of the line, as tinyobjloader reads `newmtl` (a name may hold spaces), else its first word.
+            const std::string whole(rest(l)), name = byName_.count(whole) ? whole : std::string(token(l));
             const auto it = byName_.find(name);
             material_ = it == byName_.end() ? kNone : it->second;
             // A material no library defines is unusable like a missing texture (README "Textures: one

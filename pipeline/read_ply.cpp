@@ -186,7 +186,9 @@ PlyHeader readHeader(std::FILE* f, const std::string& name) {
         } else if (word == "comment") {
             std::string tag, file;
             in >> tag;
-            if (tag == "TextureFile" && in >> file) h.textures.push_back(file);
+            std::getline(in, file);  // the rest of the line: a file name may hold spaces
+            const size_t first = file.find_first_not_of(" \t\r\n"), last = file.find_last_not_of(" \t\r\n");
+            if (tag == "TextureFile" && first != std::string::npos) h.textures.push_back(file.substr(first, last - first + 1));
         }
     }
     throw InputError(name + ": truncated PLY header (no end_header)");

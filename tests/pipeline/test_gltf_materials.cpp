@@ -128,6 +128,27 @@ TEST(GltfMaterials, ASpecularGlossinessMaterialsDiffuseTextureIsItsColour) {
     expectTexcoords(s, m, [](float u, float v) { return std::pair{u, v}; });
 }
 
+// glTF URIs are percent-encoded: `my%20atlas.png` is the file `my atlas.png`, inside the same
+// confinement (an encoded '..' is still a '..').
+TEST(GltfMaterials, PercentEncodedImageUrisNameTheirFiles) {
+    TempDir dir;
+    const MeshData m = terrain(4).mesh;
+    tinygltf::Model model = twoSetModel(dir, m, 1, nullptr);
+    writeFile(dir.file("my atlas.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+    model.images[0].uri = "my%20atlas.png";
+    saveModel(model, dir.file("space.gltf"));
+    EXPECT_EQ(readMesh(dir.file("space.gltf")).materials[0].texturePath, std::filesystem::canonical(dir.file("my atlas.png")).string());
+    for (const std::string name : {"100%.png", "a%41.png"}) {  // a '%' an exporter did not encode: the file as written
+        writeFile(dir.file(name), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+        model.images[0].uri = name;
+        saveModel(model, dir.file("percent.gltf"));
+        EXPECT_EQ(readMesh(dir.file("percent.gltf")).materials[0].texturePath, std::filesystem::canonical(dir.file(name)).string());
+    }
+    model.images[0].uri = "..%2Fa.png";
+    saveModel(model, dir.file("up.gltf"));
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("up.gltf")); }).find("image '../a.png' has a '..' component (refused"), std::string::npos);
+}
+
 TEST(GltfBadInput, RequiredExtensionsHlodDoesNotReadAreRefused) {
     TempDir dir;
     const MeshData m = terrain(4).mesh;

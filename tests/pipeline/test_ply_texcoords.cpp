@@ -106,6 +106,15 @@ TEST(PlyFaceTexcoords, BuildIsTexturedLikeTheObj) {
     }
 }
 
+TEST(PlyFaceTexcoords, ATextureFileNameMayHoldSpaces) {
+    TempDir dir;
+    writeFile(dir.file("my atlas.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+    writeFaceTexcoordPly(dir.file("m.ply"), terrain(4), {"my atlas.png"}, false);
+    const SourceMesh s = readMesh(dir.file("m.ply"));
+    EXPECT_TRUE(s.stats.textureProblems.empty());
+    EXPECT_EQ(s.materials[0].texturePath, std::filesystem::canonical(dir.file("my atlas.png")).string());
+}
+
 TEST(PlyFaceTexcoords, BadFacesSayWhich) {
     const std::string vertices = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
     const std::string faces = "element face 1\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\n";

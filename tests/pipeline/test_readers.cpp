@@ -128,6 +128,21 @@ TEST(ReadObj, AByteOrderMarkBeforeTheFirstKeyword) {
     EXPECT_EQ(s.piece.mesh.texcoords.size(), 6u);
 }
 
+// Names with spaces, as exporters write them unescaped: the library `my lib.mtl` (not `my` and
+// `lib.mtl`), the material `my material` (as tinyobjloader reads its `newmtl`), the texture.
+TEST(ReadObj, NamesWithSpaces) {
+    TempDir dir;
+    writeFile(dir.file("my tex.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+    std::ofstream(dir.file("s.obj")) << "mtllib my lib.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                        "usemtl my material\nf 1/1 2/2 3/3\n";
+    std::ofstream(dir.file("my lib.mtl")) << "newmtl my material\nKd 1 1 1\nmap_Kd my tex.png\n";
+    const SourceMesh s = readMesh(dir.file("s.obj"));
+    EXPECT_TRUE(s.stats.textureProblems.empty());
+    EXPECT_TRUE(s.stats.warnings.empty());
+    ASSERT_EQ(s.piece.materials.size(), 1u);
+    EXPECT_EQ(s.materials[s.piece.materials[0]].texturePath, std::filesystem::canonical(dir.file("my tex.png")).string());
+}
+
 // One mesh (positions, TEXCOORD_0, uint32 indices in a data-URI buffer) instanced by a node
 // translated by (10, 0, 0) whose child is scaled by 2.
 void writeGltf(const std::string& path, const MeshData& m) {
