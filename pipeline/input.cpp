@@ -67,8 +67,9 @@ fs::path ignoringCase(const fs::path& base, const fs::path& relative) {
 }
 
 // A reference as Windows tools write it, where this file system has it: the reference itself,
-// then with backslashes as separators, then its last name alone in the input's folder (an
-// exporter's absolute path to its own disk, `C:\scan\atlas_1.jpg`); each component's case is
+// then with backslashes as separators, then, for a reference with a backslash or a drive letter,
+// its last name alone in the input's folder (an exporter's absolute path to its own disk,
+// `C:\scan\atlas_1.jpg`; a POSIX `lod1/atlas.jpg` is never taken for another `atlas.jpg`); each component's case is
 // ignored when exactly one entry of its folder so matches. Empty when none exists. A slashed
 // form that is absolute or has a '..' component is not tried.
 fs::path windowsFallback(const fs::path& base, const std::string& reference) {
@@ -79,7 +80,9 @@ fs::path windowsFallback(const fs::path& base, const std::string& reference) {
     const bool up = std::any_of(posix.begin(), posix.end(), [](const fs::path& part) { return part == ".."; });
     if (slashed != reference && !posix.is_absolute() && !up) candidates.push_back(posix);
     const fs::path name = posix.filename();
-    if (!name.empty() && name != "." && name != ".." && name != posix) candidates.push_back(name);
+    const bool windows = slashed != reference || (reference.size() > 1 && std::isalpha(static_cast<unsigned char>(reference[0])) &&
+                                                  reference[1] == ':');
+    if (windows && !name.empty() && name != "." && name != ".." && name != posix) candidates.push_back(name);
     for (const fs::path& candidate : candidates)
         if (fs::path found = ignoringCase(base, candidate); !found.empty()) return found;
     return {};

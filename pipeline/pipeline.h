@@ -120,8 +120,8 @@ struct ReadOptions {
 void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
 void parseObj(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
 void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options = {});  // read_gltf.cpp
-// Welds the corners (OBJ: by position/texcoord/normal index triple, in first-use order) into
-// an indexed SourceMesh and sanitizes it.
+// Welds the corners (OBJ, and PLY with per-face UVs: by position/texcoord/normal index triple,
+// in first-use order) into an indexed SourceMesh and sanitizes it.
 SourceMesh toSourceMesh(const RawMesh& raw, const std::string& name);
 // The three corners of triangle t as vertices with every attribute of the layout; throws
 // InputError when an index is out of range. Returns false for a degenerate triangle.

@@ -17,7 +17,6 @@
 // checked against its buffer view and buffer before it is read: corrupt files give
 // InputError("FILE: problem").
 #include "pipeline/read_gltf_load.h"
-#include "pipeline/texture_store.h"
 
 #include <array>
 #include <cmath>
@@ -400,6 +399,7 @@ void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options
     {
         const MappedFile file(path);
         const bool glb = isGlb(path);
+        if (glb && !images.dir.empty()) checkGltfJson(file.data, file.size, true, path);  // before its images are written
         const std::vector<uint8_t> compact = glb && !images.dir.empty() ? glbWithoutImages(file, images) : std::vector<uint8_t>{};
         if (compact.empty()) convert(file.data, file.size, glb, path, options, raw, images);
         else convert(compact.data(), compact.size(), true, path, options, raw, images);

@@ -7,11 +7,15 @@
 #include "pipeline/texture_store.h"
 
 #include <cctype>
+#include <climits>
+#include <exception>
 #include <cmath>
 #include <filesystem>
 
 namespace hlod {
 namespace {
+
+constexpr int kMaxTexcoordSet = 255;  // TEXCOORD_n: a larger n names no attribute any exporter writes
 
 // An image stb_image decoded (8 or 16 bits per channel) as 8-bit grey or RGB.
 std::shared_ptr<Image> decodedImage(const std::string& path, const tinygltf::Image& img, size_t index) {
@@ -61,6 +65,15 @@ double member(const tinygltf::Value& object, const char* key, int index, double 
     return number(v.Get(index), what + " " + key);
 }
 
+// An integer member in [0, high] (a glTF index or coordinate set), or `fallback` when absent.
+int integerMember(const tinygltf::Value& object, const char* key, int fallback, int high, const std::string& what) {
+    const double x = member(object, key, -1, fallback, what);
+    if (x == fallback) return fallback;
+    if (!(x >= 0 && x <= high && x == std::floor(x)))
+        throw InputError(what + " " + key + " is " + formatConstant(x) + ", not an integer from 0 to " + std::to_string(high));
+    return static_cast<int>(x);
+}
+
 // KHR_texture_transform (its README, "Overview" and the example "the lower left quadrant of the
 // source image, rotated clockwise 90°"): uv' = T(offset) R(rotation) S(scale) uv, with R's rows
 // (cos, sin) and (-sin, cos): the rotation that example needs (the GLSL listing there, read as
@@ -75,7 +88,7 @@ UvMapping uvMapping(const tinygltf::TextureInfo& info, const std::string& what) 
     if (!t.IsObject()) throw InputError(name + " is not an object");
     const double ox = member(t, "offset", 0, 0, name), oy = member(t, "offset", 1, 0, name);
     const double r = member(t, "rotation", -1, 0, name), sx = member(t, "scale", 0, 1, name), sy = member(t, "scale", 1, 1, name);
-    if (t.Has("texCoord")) m.set = static_cast<int>(member(t, "texCoord", -1, 0, name));
+    m.set = integerMember(t, "texCoord", m.set, kMaxTexcoordSet, name);
     const double c = std::cos(r), s = std::sin(r);
     m.affine = {c * sx, -s * sx, s * sy, c * sy, ox, oy};
     return m;
@@ -99,13 +112,26 @@ std::string percentDecoded(const std::string& uri) {
     return out;
 }
 
-// An external image's file: the decoded URI, or the URI as written when only that file exists
-// (an exporter that wrote `%` into a file name without encoding it).
+// An external image's file: the decoded URI's, or, when no file has that name or it is refused,
+// the URI's as written when that one exists (an exporter that wrote `%` into a name unencoded).
 std::string imageFile(const std::string& path, const std::string& uri, const ReadOptions& options) {
-    const std::string decoded = resolveReference(path, folderOf(path), percentDecoded(uri), "image", options);
-    if (std::filesystem::exists(decoded) || percentDecoded(uri) == uri) return decoded;
-    const std::string written = resolveReference(path, folderOf(path), uri, "image", options);
-    return std::filesystem::exists(written) ? written : decoded;
+    const std::string decoded = percentDecoded(uri);
+    if (decoded == uri) return resolveReference(path, folderOf(path), uri, "image", options);
+    std::string file;
+    std::exception_ptr refused;
+    try {
+        file = resolveReference(path, folderOf(path), decoded, "image", options);
+        if (std::filesystem::exists(file)) return file;
+    } catch (const InputError&) {
+        refused = std::current_exception();
+    }
+    try {
+        const std::string written = resolveReference(path, folderOf(path), uri, "image", options);
+        if (std::filesystem::exists(written)) return written;
+    } catch (const InputError&) {  // the decoded name's answer stands
+    }
+    if (refused) std::rethrow_exception(refused);
+    return file;
 }
 
 // The texture a material's colour comes from: its base-colour texture, or without one the
@@ -119,8 +145,8 @@ tinygltf::TextureInfo colourTexture(const tinygltf::Material& mat, const std::st
     const std::string name = what + ": KHR_materials_pbrSpecularGlossiness diffuseTexture";
     if (!diffuse.IsObject()) throw InputError(name + " is not an object");
     tinygltf::TextureInfo info;
-    info.index = static_cast<int>(member(diffuse, "index", -1, -1, name));
-    info.texCoord = static_cast<int>(member(diffuse, "texCoord", -1, 0, name));
+    info.index = integerMember(diffuse, "index", -1, INT_MAX, name);
+    info.texCoord = integerMember(diffuse, "texCoord", 0, kMaxTexcoordSet, name);
     if (diffuse.Has("extensions") && diffuse.Get("extensions").Has("KHR_texture_transform"))
         info.extensions["KHR_texture_transform"] = diffuse.Get("extensions").Get("KHR_texture_transform");
     return info;
@@ -136,7 +162,7 @@ GltfMaterials addGltfMaterials(const tinygltf::Model& model, const EmbeddedImage
         Material material{mat.name, "", nullptr};
         const tinygltf::TextureInfo info = colourTexture(mat, path + ": material " + std::to_string(index));
         out.uvOfGltf.push_back(uvMapping(info, path + ": material " + std::to_string(index)));
-        if (out.uvOfGltf.back().set < 0 || out.uvOfGltf.back().set > 255)
+        if (out.uvOfGltf.back().set < 0 || out.uvOfGltf.back().set > kMaxTexcoordSet)
             throw InputError(path + ": material " + std::to_string(index) + " reads texture coordinate set " +
                              std::to_string(out.uvOfGltf.back().set));
         const int tex = info.index;

@@ -76,8 +76,8 @@ public:
         while ((n = std::fread(buffer.data(), 1, buffer.size(), f.get())) > 0) {
             if (raw_.progress) raw_.progress->advance(n);
             const char* p = buffer.data();
-            if (std::exchange(first, false) && n >= 3 && std::memcmp(p, kByteOrderMark, 3) == 0) p += 3;
             const char* end = p + n;
+            if (std::exchange(first, false) && n >= 3 && std::memcmp(p, kByteOrderMark, 3) == 0) p += 3;
             while (const char* nl = static_cast<const char*>(std::memchr(p, '\n', end - p))) {
                 if (carry.empty()) {
                     line({p, nl, ++number});

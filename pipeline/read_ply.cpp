@@ -258,6 +258,7 @@ public:
     explicit FaceTexcoords(size_t vertices) : first_(vertices, kNone), firstUv_(vertices) {}
 
     uint32_t index(RawMesh& raw, uint32_t vertex, float u, float v, const std::string& name) {
+        u += 0.0f, v += 0.0f;  // -0 is +0: one key, one hash
         if (first_[vertex] == kNone) {
             firstUv_[vertex] = {u, v};
             return first_[vertex] = add(raw, u, v, name);
@@ -293,21 +294,25 @@ private:
 // One face's polygon, fanned into triangles: its vertices, its texture coordinates (2 per vertex,
 // or none) and its material.
 struct PlyFace {
-    std::vector<uint32_t> vertices;
+    std::vector<uint32_t> vertices, texcoords;  // texcoords: indices into raw.texcoords (the vertices' without face UVs)
     std::vector<float> uvs;
     uint32_t material = 0;
 };
 
-void addFace(RawMesh& raw, const PlyFace& face, FaceTexcoords* wedges, uint64_t number, const std::string& name) {
-    std::vector<uint32_t> texcoords(face.vertices);
+void addFace(RawMesh& raw, PlyFace& face, FaceTexcoords* wedges, uint64_t number, const std::string& name) {
+    std::vector<uint32_t>& texcoords = face.texcoords;
+    texcoords = face.vertices;
     if (wedges) {
+        const std::string which = name + ": face " + std::to_string(number);
         if (face.uvs.size() != 2 * face.vertices.size())
             throw InputError(name + ": corrupt PLY (face " + std::to_string(number) + " has " + std::to_string(face.vertices.size()) +
                              " vertices but " + std::to_string(face.uvs.size()) + " texture coordinate values)");
         for (size_t k = 0; k < face.vertices.size(); ++k) {
             if (face.vertices[k] >= raw.positionCount())
-                throw InputError(name + ": face " + std::to_string(number) + " uses vertex " + std::to_string(face.vertices[k]) +
-                                 " but there are only " + std::to_string(raw.positionCount()));
+                throw InputError(which + " uses vertex " + std::to_string(face.vertices[k]) + " but there are only " +
+                                 std::to_string(raw.positionCount()));
+            if (!std::isfinite(face.uvs[2 * k]) || !std::isfinite(face.uvs[2 * k + 1]))
+                throw InputError(which + " has a NaN/Inf texture coordinate");
             texcoords[k] = wedges->index(raw, face.vertices[k], face.uvs[2 * k], 1.0f - face.uvs[2 * k + 1], name);
         }
     }
@@ -339,9 +344,13 @@ bool readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
     if (list < 0) throw InputError(name + ": unsupported PLY (face element without vertex_indices)");
     std::optional<FaceTexcoords> wedges;
     if (uvList >= 0) {
-        if (raw.positionCount() == 0) throw InputError(name + ": unsupported PLY (face texture coordinates before the vertices)");
+        if (raw.positionCount() == 0) throw InputError(name + ": unsupported PLY (face texture coordinates without vertices before them)");
         wedges.emplace(raw.positionCount());
         raw.hasTexcoords = true;
+        // The table's 12 bytes a vertex come out of the parse's memory budget (spillBeyond): the
+        // arrays spill that much sooner. A seam vertex's further UVs (a map entry each) are not counted.
+        const uint64_t table = 12 * uint64_t(raw.positionCount());
+        raw.spillBudget = raw.spillBudget > table ? raw.spillBudget - table : 0;
     }
     PlyFace face;
     for (uint64_t i = 0; i < e.count; ++i) {
@@ -354,8 +363,9 @@ bool readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
                 continue;
             }
             const double n = r.value(prop.countType);
-            if (!(n >= 0 && n <= (static_cast<int>(p) == list ? 1024 : 2048)))
-                throw InputError(name + ": corrupt PLY (face with " + std::to_string(n) + " " + (static_cast<int>(p) == list ? "vertices" : prop.name + " values") + ")");
+            const bool corners = static_cast<int>(p) == list;
+            if (!(n >= 0 && n <= (corners ? 1024 : 2048)))
+                throw InputError(name + ": corrupt PLY (face with " + formatConstant(n) + " " + (corners ? "vertices" : prop.name + " values") + ")");
             for (int k = 0; k < static_cast<int>(n); ++k) {
                 const double value = r.value(prop.type);
                 if (static_cast<int>(p) == uvList) face.uvs.push_back(static_cast<float>(value));
@@ -387,6 +397,7 @@ void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options)
             readVertices(reader, e, raw, path);
             haveVertices = true;
         } else if (e.name == "face") {
+            if (haveFaces) throw InputError(path + ": unsupported PLY (two face elements)");
             faceTexcoords = readFaces(reader, e, raw, path, header.textures.size());
             haveFaces = true;
         } else {

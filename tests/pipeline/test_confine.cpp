@@ -67,6 +67,7 @@ TEST(Confine, WindowsStyleReferencesAreFoundInsideTheFolderOnly) {
         {"Atlas_2.png", l.in("atlas_2.png")},
         {"..\\secret.png", ""},   // the name alone is tried, inside: there is none
         {"Twin.png", ""},          // twin.png and TWIN.png: not guessed
+        {"lod1/atlas_2.png", ""},  // a POSIX path is not taken for another file of its name
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.reference);
@@ -81,6 +82,9 @@ TEST(Confine, WindowsStyleReferencesAreFoundInsideTheFolderOnly) {
             EXPECT_EQ(s.materials[0].texturePath, fs::canonical(c.found).string());
         }
     }
+    fs::create_directory_symlink(l.dir.path, l.dir.path / "in" / "Link");  // a link out, found by its case
+    writeObj(l.in("m.obj"), terrain(4), "link\\secret.png");
+    expectRefused(errorOf([&] { readMesh(l.in("m.obj")); }), l.in("m.obj"), "link\\secret.png");
 }
 
 TEST(Confine, MaterialLibraryOutsideRefused) {

@@ -187,6 +187,11 @@ TEST(GltfBadInput, AMalformedTextureTransformNamesItsMaterial) {
     saveModel(twoSetModel(dir, m, 1, &scale), dir.file("s.gltf"));
     EXPECT_NE(errorOf([&] { readMesh(dir.file("s.gltf")); }).find("s.gltf: material 0: KHR_texture_transform scale is not an array of 2 numbers"),
               std::string::npos);
+    const tinygltf::Value hugeSet(tinygltf::Value::Object{{"texCoord", tinygltf::Value(1e10)}});
+    saveModel(twoSetModel(dir, m, 1, &hugeSet), dir.file("t.gltf"));
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("t.gltf")); }).find("t.gltf: material 0: KHR_texture_transform texCoord is 1e+10, not an integer from 0 to 255"),
+              std::string::npos)
+        << errorOf([&] { readMesh(dir.file("t.gltf")); });
 }
 
 }  // namespace

@@ -69,6 +69,24 @@ TEST(PlyFaceTexcoords, ReadAsTheSameObjIsRead) {
     }
 }
 
+// A budget smaller than the welding table: the parsed arrays go to spill files at once, and the
+// mesh read back from them is the one read in memory.
+TEST(PlyFaceTexcoords, ASpilledParseReadsTheSame) {
+    TempDir dir;
+    writeTextures(dir);
+    writeFaceTexcoordPly(dir.file("m.ply"), terrain(16, 100, true), {"a.png", "b.png"}, true, true);
+    RawMesh raw;
+    raw.spillBeyond(1024, dir.file(""));
+    parsePly(dir.file("m.ply"), raw);
+    EXPECT_TRUE(raw.positions.spilled());
+    const SourceMesh spilled = toSourceMesh(raw, "m.ply"), read = readMesh(dir.file("m.ply"));
+    EXPECT_EQ(spilled.piece.mesh.positions, read.piece.mesh.positions);
+    EXPECT_EQ(spilled.piece.mesh.texcoords, read.piece.mesh.texcoords);
+    EXPECT_EQ(spilled.piece.mesh.colors, read.piece.mesh.colors);
+    EXPECT_EQ(spilled.piece.mesh.indices, read.piece.mesh.indices);
+    EXPECT_EQ(spilled.piece.materials, read.piece.materials);
+}
+
 TEST(PlyFaceTexcoords, ASeamVertexIsSplitOncePerUv) {
     // Four triangles around vertex 4; the two on the left give it u = 0.1, the two on the right 0.9.
     TempDir dir;
@@ -109,10 +127,12 @@ TEST(PlyFaceTexcoords, BuildIsTexturedLikeTheObj) {
 TEST(PlyFaceTexcoords, ATextureFileNameMayHoldSpaces) {
     TempDir dir;
     writeFile(dir.file("my atlas.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
-    writeFaceTexcoordPly(dir.file("m.ply"), terrain(4), {"my atlas.png"}, false);
+    writeFaceTexcoordPly(dir.file("m.ply"), terrain(4, 100, true), {"my atlas.png"}, false);  // texnumber 0 and 1
     const SourceMesh s = readMesh(dir.file("m.ply"));
     EXPECT_TRUE(s.stats.textureProblems.empty());
     EXPECT_EQ(s.materials[0].texturePath, std::filesystem::canonical(dir.file("my atlas.png")).string());
+    // With one TextureFile line there is one texture: `texnumber` is not read.
+    EXPECT_EQ(s.piece.materials, std::vector<uint32_t>(s.piece.mesh.triangleCount(), 0u));
 }
 
 TEST(PlyFaceTexcoords, BadFacesSayWhich) {
@@ -136,8 +156,14 @@ TEST(PlyFaceTexcoords, BadFacesSayWhich) {
         {"vertex out of range", "ply\nformat ascii 1.0\n" + vertices + faces + "end_header\n" + points + "3 0 1 7 6 0 0 1 0 0 1\n",
          "t.ply: face 0 uses vertex 7 but there are only 3"},
         {"faces first", "ply\nformat ascii 1.0\n" + faces + vertices + "end_header\n3 0 1 2 6 0 0 1 0 0 1\n" + points,
-         "t.ply: unsupported PLY (face texture coordinates before the vertices)"},
-        {"huge texcoord list", "ply\nformat ascii 1.0\n" + vertices + faces + "end_header\n" + points + "3 0 1 2 255 0\n",
+         "t.ply: unsupported PLY (face texture coordinates without vertices before them)"},
+        {"texcoord list past its cap", "ply\nformat ascii 1.0\n" + vertices + faces + "end_header\n" + points + "3 0 1 2 2049 0\n",
+         "t.ply: corrupt PLY (face with 2049 texcoord values)"},
+        {"NaN texcoord", "ply\nformat ascii 1.0\n" + vertices + faces + "end_header\n" + points + "3 0 1 2 6 0 0 nan 0 0 1\n",
+         "t.ply: face 0 has a NaN/Inf texture coordinate"},
+        {"two face elements", "ply\nformat ascii 1.0\n" + vertices + faces + faces + "end_header\n" + points +
+             "3 0 1 2 6 0 0 1 0 0 1\n3 0 1 2 6 0 0 1 0 0 1\n", "t.ply: unsupported PLY (two face elements)"},
+        {"texcoord list cut short", "ply\nformat ascii 1.0\n" + vertices + faces + "end_header\n" + points + "3 0 1 2 255 0\n",
          ""},  // 255 values promised, 1 given: the file ends early
     };
     for (const Case& c : cases) {
