@@ -29,6 +29,7 @@ void putWord(std::vector<uint8_t>& out, uint32_t v) {
     out.insert(out.end(), p, p + 4);
 }
 
+
 // The buffer views some accessor or Draco-compressed primitive reads: never taken out.
 std::set<size_t> viewsReadAsData(const json& doc) {
     std::set<size_t> used;
@@ -44,16 +45,17 @@ std::set<size_t> viewsReadAsData(const json& doc) {
 
 std::vector<uint8_t> rebuilt(const MappedFile& file, EmbeddedImages& images) {
     const uint8_t* glb = file.data;
-    const size_t size = file.size;
-    if (size < 28 || word(glb) != kMagic || word(glb + 4) != 2 || word(glb + 8) > size) return {};
-    const size_t jsonLength = word(glb + 12);
-    if (word(glb + 16) != kJson || jsonLength > size - 20 || size - 20 - jsonLength < 8) return {};
-    const uint8_t* chunk = glb + 20 + jsonLength;
-    const size_t binLength = word(chunk);
-    if (word(chunk + 4) != kBin || binLength > size - 28 - jsonLength) return {};
-    const uint8_t* bin = chunk + 8;
-    json doc = json::parse(glb + 20, glb + 20 + jsonLength, nullptr, false);
+    GlbChunks chunks;
+    if (!splitGlb(glb, file.size, chunks) || chunks.bin.empty()) return {};
+    const uint8_t* bin = chunks.bin.data();
+    const size_t binLength = chunks.bin.size();
+    json doc = json::parse(chunks.json.begin(), chunks.json.end(), nullptr, false);
     if (doc.is_discarded() || !doc.is_object() || !doc.contains("bufferViews") || !doc["bufferViews"].is_array()) return {};
+    // Compressed views (EXT_meshopt_compression) read buffer 0 through their extension, not their
+    // own range: compacting it would lose them, so such a file's images stay in the chunk.
+    if (doc.contains("extensionsUsed") && doc["extensionsUsed"].is_array())
+        for (const json& name : doc["extensionsUsed"])
+            if (name == "EXT_meshopt_compression") return {};
     json& views = doc["bufferViews"];
     const std::set<size_t> data = viewsReadAsData(doc);
     // A view of the BIN chunk (buffer 0, which has no uri in a GLB) and its bytes [offset, offset + length).
@@ -92,15 +94,7 @@ std::vector<uint8_t> rebuilt(const MappedFile& file, EmbeddedImages& images) {
     while (compact.size() % 4 || compact.empty()) compact.push_back(0);
     for (size_t v : taken) views[v]["byteOffset"] = 0, views[v]["byteLength"] = 1;  // unread now
     if (doc.contains("buffers") && doc["buffers"].is_array() && !doc["buffers"].empty()) doc["buffers"][0]["byteLength"] = compact.size();
-    std::string text = doc.dump();
-    while (text.size() % 4) text.push_back(' ');
-    std::vector<uint8_t> out;
-    putWord(out, kMagic), putWord(out, 2), putWord(out, static_cast<uint32_t>(28 + text.size() + compact.size()));
-    putWord(out, static_cast<uint32_t>(text.size())), putWord(out, kJson);
-    out.insert(out.end(), text.begin(), text.end());
-    putWord(out, static_cast<uint32_t>(compact.size())), putWord(out, kBin);
-    out.insert(out.end(), compact.begin(), compact.end());
-    return out;
+    return assembleGlb(doc.dump(), compact);
 }
 
 // A JSON number member as a double (-1 when absent or not a number).
@@ -111,12 +105,37 @@ double number(const json& object, const char* key) {
 
 }  // namespace
 
+bool splitGlb(const uint8_t* bytes, size_t size, GlbChunks& out) {
+    if (size < 20 || word(bytes) != kMagic || word(bytes + 4) != 2) return false;
+    const size_t jsonLength = word(bytes + 12);
+    if (word(bytes + 16) != kJson || jsonLength > size - 20) return false;
+    out.json = {bytes + 20, jsonLength}, out.bin = {};
+    const uint8_t* chunk = bytes + 20 + jsonLength;
+    const size_t rest = size - 20 - jsonLength;
+    if (rest >= 8 && word(chunk + 4) == kBin && word(chunk) <= rest - 8) out.bin = {chunk + 8, word(chunk)};
+    return true;
+}
+
+std::vector<uint8_t> assembleGlb(std::string text, std::span<const uint8_t> bin) {
+    while (text.size() % 4) text.push_back(' ');
+    const size_t padded = (bin.size() + 3) / 4 * 4;
+    std::vector<uint8_t> out;
+    putWord(out, kMagic), putWord(out, 2), putWord(out, static_cast<uint32_t>(20 + text.size() + (bin.empty() ? 0 : 8 + padded)));
+    putWord(out, static_cast<uint32_t>(text.size())), putWord(out, kJson);
+    out.insert(out.end(), text.begin(), text.end());
+    if (bin.empty()) return out;
+    putWord(out, static_cast<uint32_t>(padded)), putWord(out, kBin);
+    out.insert(out.end(), bin.begin(), bin.end());
+    out.resize(out.size() + padded - bin.size(), 0);
+    return out;
+}
+
 void checkGltfJson(const uint8_t* bytes, size_t size, bool binary, const std::string& path) {
     const uint8_t* text = bytes;
     size_t length = size;
-    if (binary) {
-        if (size < 20 || word(bytes + 16) != kJson || word(bytes + 12) > size - 20) return;  // tinygltf reports it
-        text = bytes + 20, length = word(bytes + 12);
+    if (GlbChunks chunks; binary) {
+        if (!splitGlb(bytes, size, chunks)) return;  // tinygltf reports it
+        text = chunks.json.data(), length = chunks.json.size();
     }
     const json doc = json::parse(text, text + length, nullptr, false);
     if (doc.is_discarded() || !doc.is_object()) return;

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <map>
+#include <span>
 #include <string>
 
 namespace hlod {
@@ -24,6 +25,15 @@ struct EmbeddedImages {
 // or its problem kept in images.unusable; false (nothing done) for any other format.
 bool keepEncoded(int index, const uint8_t* bytes, size_t size, EmbeddedImages& images);
 
+// A GLB container (glTF 2.0 §4.4: a 12-byte header, a JSON chunk, an optional BIN chunk, each
+// 4-byte aligned): splitGlb finds the chunks (bin empty when there is none; false when the
+// header or the JSON chunk does not hold), assembleGlb writes one (padding both chunks).
+struct GlbChunks {
+    std::span<const uint8_t> json, bin;
+};
+bool splitGlb(const uint8_t* bytes, size_t size, GlbChunks& out);
+std::vector<uint8_t> assembleGlb(std::string json, std::span<const uint8_t> bin);
+
 // tinygltf hands an image's buffer view to the image loader without checking it against its
 // buffer: a view past the buffer's declared byteLength would be read past the end of tinygltf's
 // copy (found by fuzz_glb). Checked here first, on glTF JSON or a GLB's JSON chunk; throws
@@ -32,15 +42,22 @@ bool keepEncoded(int index, const uint8_t* bytes, size_t size, EmbeddedImages& i
 void checkGltfJson(const uint8_t* bytes, size_t size, bool binary, const std::string& path);
 
 // The glTF extensions a file may list in extensionsRequired: tinygltf decodes Draco primitives,
-// readFloats reads quantized attributes, read_gltf_materials.cpp applies texture transforms and
-// reads a specular-glossiness material's diffuse texture, and an unlit material's base colour is
-// what hlod reads of every material. Any other required
-// extension is refused (InputError, checkGltfJson): the glTF 2.0 specification ("Specifying Extensions") forbids a
-// loader to go on without it, and it would build a wrong mesh (EXT_meshopt_compression) or
-// drop its textures (KHR_texture_basisu) without a word.
-inline constexpr std::array<const char*, 5> kReadExtensions = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
-                                                               "KHR_texture_transform", "KHR_materials_unlit",
-                                                               "KHR_materials_pbrSpecularGlossiness"};
+// read_gltf_meshopt.cpp meshoptimizer-coded buffer views, readFloats reads quantized attributes,
+// read_gltf_materials.cpp applies texture transforms and reads a specular-glossiness material's
+// diffuse texture, and an unlit material's base colour is what hlod reads of every material. Any
+// other required extension is refused (InputError, checkGltfJson): the glTF 2.0 specification
+// ("Specifying Extensions") forbids a loader to go on without it, and it would drop textures
+// (KHR_texture_basisu) or instances (EXT_mesh_gpu_instancing) without a word.
+inline constexpr std::array<const char*, 6> kReadExtensions = {"KHR_draco_mesh_compression", "EXT_meshopt_compression",
+                                                               "KHR_mesh_quantization",      "KHR_texture_transform",
+                                                               "KHR_materials_unlit",        "KHR_materials_pbrSpecularGlossiness"};
+
+// read_gltf_meshopt.cpp (EXT_meshopt_compression): the file with each fallback buffer (a
+// byteLength without data, which tinygltf cannot load) given three bytes, or empty when it has
+// none; then, on the loaded model, every compressed view decoded into a buffer of its own
+// (InputError naming the view when it does not decode or claims more than its data can hold).
+std::vector<uint8_t> withMeshoptFallbacksFilled(const uint8_t* bytes, size_t size, bool binary);
+void decodeMeshoptViews(tinygltf::Model& model, const std::string& path);
 
 // How a material's base-colour texture reads its primitive's texture coordinates
 // (read_gltf_materials.cpp): TEXCOORD_<set>, then u' = a0 u + a2 v + a4, v' = a1 u + a3 v + a5

@@ -364,8 +364,11 @@ bool readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
             }
             const double n = r.value(prop.countType);
             const bool corners = static_cast<int>(p) == list;
-            if (!(n >= 0 && n <= (corners ? 1024 : 2048)))
-                throw InputError(name + ": corrupt PLY (face with " + formatConstant(n) + " " + (corners ? "vertices" : prop.name + " values") + ")");
+            if (!(n >= 0 && n <= (corners ? 1024 : 2048))) {
+                const bool whole = n >= 0 && n < 1e18 && n == std::floor(n);
+                throw InputError(name + ": corrupt PLY (face with " + (whole ? std::to_string(static_cast<uint64_t>(n)) : formatConstant(n)) +
+                                 " " + (corners ? "vertices" : prop.name + " values") + ")");
+            }
             for (int k = 0; k < static_cast<int>(n); ++k) {
                 const double value = r.value(prop.type);
                 if (static_cast<int>(p) == uvList) face.uvs.push_back(static_cast<float>(value));

@@ -6,6 +6,8 @@
 #include "formats/codec.h"
 #include "tests/support/synthetic.h"
 
+#include <meshoptimizer.h>
+
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -106,6 +108,35 @@ std::string glb(std::string json, std::string bin) {
     return out;
 }
 
+// The triangle as gltfpack writes it (EXT_meshopt_compression): its three views coded by
+// meshoptimizer into the BIN chunk, each pointing at a fallback buffer that has no data.
+std::string glbMeshopt() {
+    const std::string triangle = triangleBuffer();  // 3 positions, then 3 UVs
+    const unsigned int corners[3] = {0, 1, 2};
+    std::string bin, views;
+    const auto add = [&](std::vector<unsigned char> code, size_t size, size_t count, size_t stride, const char* mode) {
+        code.resize(size);
+        while (bin.size() % 4) bin += '\0';
+        views += std::string(views.empty() ? "" : ",") + R"({"buffer":1,"byteLength":)" + std::to_string(count * stride) +
+                 (std::string(mode) == "ATTRIBUTES" ? R"(,"byteStride":)" + std::to_string(stride) : "") +
+                 R"(,"extensions":{"EXT_meshopt_compression":{"buffer":0,"byteOffset":)" + std::to_string(bin.size()) +
+                 R"(,"byteLength":)" + std::to_string(size) + R"(,"byteStride":)" + std::to_string(stride) + R"(,"count":)" +
+                 std::to_string(count) + R"(,"mode":")" + mode + R"("}}})";
+        bin.append(code.begin(), code.end());
+    };
+    std::vector<unsigned char> code(meshopt_encodeVertexBufferBound(3, 12) + meshopt_encodeIndexBufferBound(3, 3));
+    add(code, meshopt_encodeVertexBuffer(code.data(), code.size(), triangle.data(), 3, 12), 3, 12, "ATTRIBUTES");
+    add(code, meshopt_encodeVertexBuffer(code.data(), code.size(), triangle.data() + 36, 3, 8), 3, 8, "ATTRIBUTES");
+    add(code, meshopt_encodeIndexBuffer(code.data(), code.size(), corners, 3), 3, 2, "TRIANGLES");
+    std::string json = gltfJson("");
+    const size_t from = json.find(R"("buffers")"), to = json.find(R"("accessors")");
+    json.replace(from, to - from, R"("extensionsUsed":["EXT_meshopt_compression"],"extensionsRequired":["EXT_meshopt_compression"],)"
+                                  R"("buffers":[{"byteLength":)" + std::to_string(bin.size()) +
+                                      R"(},{"byteLength":60,"extensions":{"EXT_meshopt_compression":{"fallback":true}}}],)"
+                                      R"("bufferViews":[)" + views + "],");
+    return glb(json, bin);
+}
+
 // The triangle with its texture, a 4 x 4 PNG, in the BIN chunk as buffer view 3 (what
 // glbWithoutImages takes out).
 std::string glbWithImage() {
@@ -152,6 +183,7 @@ void readerSeeds(const std::filesystem::path& dir) {
     text(dir / "gltf" / "external.gltf", gltfJson("in.bin"));
     text(dir / "glb" / "triangle.glb", glb(gltfJson(""), triangleBuffer()));
     text(dir / "glb" / "textured.glb", glbWithImage());
+    text(dir / "glb" / "meshopt.glb", glbMeshopt());
     for (const char* p : {"walk.path", "drive.path"})
         text(dir / "camera_path" / p, head(samples / "banana" / p, 12));
     text(dir / "camera_path" / "cut.path", "hlod-camera-path 1\n0 0 0 1.7 0 0 0 1 60\n0.001 5 0 1.7 0 1 0 0 60 # cut\n\n2 5 5 1.7 0 0.7071 0 0.7071 90\n");
