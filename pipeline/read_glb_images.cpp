@@ -46,16 +46,12 @@ std::set<size_t> viewsReadAsData(const json& doc) {
 std::vector<uint8_t> rebuilt(const MappedFile& file, EmbeddedImages& images) {
     const uint8_t* glb = file.data;
     GlbChunks chunks;
+    if (file.size < 28 || word(glb) != kMagic || word(glb + 4) != 2 || word(glb + 8) > file.size) return {};
     if (!splitGlb(glb, file.size, chunks) || chunks.bin.empty()) return {};
     const uint8_t* bin = chunks.bin.data();
     const size_t binLength = chunks.bin.size();
     json doc = json::parse(chunks.json.begin(), chunks.json.end(), nullptr, false);
     if (doc.is_discarded() || !doc.is_object() || !doc.contains("bufferViews") || !doc["bufferViews"].is_array()) return {};
-    // Compressed views (EXT_meshopt_compression) read buffer 0 through their extension, not their
-    // own range: compacting it would lose them, so such a file's images stay in the chunk.
-    if (doc.contains("extensionsUsed") && doc["extensionsUsed"].is_array())
-        for (const json& name : doc["extensionsUsed"])
-            if (name == "EXT_meshopt_compression") return {};
     json& views = doc["bufferViews"];
     const std::set<size_t> data = viewsReadAsData(doc);
     // A view of the BIN chunk (buffer 0, which has no uri in a GLB) and its bytes [offset, offset + length).
@@ -83,13 +79,24 @@ std::vector<uint8_t> rebuilt(const MappedFile& file, EmbeddedImages& images) {
     if (taken.empty()) return {};
     doc["images"] = std::move(imagesJson);
     std::vector<uint8_t> compact;
+    const auto keep = [&](json& owner, size_t offset, size_t length) {  // the bytes moved, owner's byteOffset with them
+        while (compact.size() % 4) compact.push_back(0);
+        owner["byteOffset"] = compact.size();
+        compact.insert(compact.end(), bin + offset, bin + offset + length);
+    };
     for (size_t v = 0; v < views.size(); ++v) {
         size_t offset = 0, length = 0;
-        if (taken.count(v) || !inBin(v)) continue;
-        if (!range(v, offset, length)) return {};  // tinygltf reports it
-        while (compact.size() % 4) compact.push_back(0);
-        views[v]["byteOffset"] = compact.size();
-        compact.insert(compact.end(), bin + offset, bin + offset + length);
+        if (!taken.count(v) && inBin(v)) {
+            if (!range(v, offset, length)) return {};  // tinygltf reports it
+            keep(views[v], offset, length);
+        }
+        // A compressed view (EXT_meshopt_compression, gltfpack's) reads buffer 0 through its extension.
+        if (!views[v].is_object() || !views[v].contains("extensions") || !views[v]["extensions"].is_object()) continue;
+        const auto e = views[v]["extensions"].find("EXT_meshopt_compression");
+        if (e == views[v]["extensions"].end() || !e->is_object() || e->value("buffer", -1) != 0) continue;
+        offset = e->value("byteOffset", size_t{0}), length = e->value("byteLength", size_t{0});
+        if (offset > binLength || length > binLength - offset) return {};  // decodeMeshoptViews reports it
+        keep(*e, offset, length);
     }
     while (compact.size() % 4 || compact.empty()) compact.push_back(0);
     for (size_t v : taken) views[v]["byteOffset"] = 0, views[v]["byteLength"] = 1;  // unread now
@@ -106,7 +113,7 @@ double number(const json& object, const char* key) {
 }  // namespace
 
 bool splitGlb(const uint8_t* bytes, size_t size, GlbChunks& out) {
-    if (size < 20 || word(bytes) != kMagic || word(bytes + 4) != 2) return false;
+    if (size < 20) return false;
     const size_t jsonLength = word(bytes + 12);
     if (word(bytes + 16) != kJson || jsonLength > size - 20) return false;
     out.json = {bytes + 20, jsonLength}, out.bin = {};
@@ -147,17 +154,26 @@ void checkGltfJson(const uint8_t* bytes, size_t size, bool binary, const std::st
             throw InputError(path + ": requires glTF extension " + name.get<std::string>() + ", which hlod does not read (it reads " + read + ")");
         }
     const json images = array("images"), views = array("bufferViews"), buffers = array("buffers");
-    for (size_t i = 0; i < images.size(); ++i) {
-        const double v = images[i].is_object() ? number(images[i], "bufferView") : -1;
-        if (v < 0 || v >= double(views.size()) || !views[size_t(v)].is_object()) continue;
+    // What tinygltf reads straight from a view's bytes without checking them: an image, a Draco primitive.
+    const auto check = [&](const json& index, const std::string& what) {
+        const double v = index.is_number() ? index.get<double>() : -1;
+        if (v < 0 || v >= double(views.size()) || !views[size_t(v)].is_object()) return;
         const json& view = views[size_t(v)];
         const double b = number(view, "buffer");
-        if (b < 0 || b >= double(buffers.size()) || !buffers[size_t(b)].is_object()) continue;
+        if (b < 0 || b >= double(buffers.size()) || !buffers[size_t(b)].is_object()) return;
         const double end = std::max(0.0, number(view, "byteOffset")) + number(view, "byteLength");
         if (end > number(buffers[size_t(b)], "byteLength"))
-            throw InputError(path + ": image " + std::to_string(i) + ": buffer view " + std::to_string(size_t(v)) +
+            throw InputError(path + ": " + what + ": buffer view " + std::to_string(size_t(v)) +
                              " runs past its buffer's byteLength (truncated or corrupt file)");
-    }
+    };
+    for (size_t i = 0; i < images.size(); ++i)
+        if (images[i].is_object() && images[i].contains("bufferView")) check(images[i]["bufferView"], "image " + std::to_string(i));
+    for (const json& mesh : array("meshes"))
+        for (const json& prim : mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array() ? mesh["primitives"] : json::array())
+            if (prim.is_object() && prim.contains("extensions") && prim["extensions"].is_object() &&
+                prim["extensions"].contains("KHR_draco_mesh_compression") && prim["extensions"]["KHR_draco_mesh_compression"].is_object() &&
+                prim["extensions"]["KHR_draco_mesh_compression"].contains("bufferView"))
+                check(prim["extensions"]["KHR_draco_mesh_compression"]["bufferView"], "a Draco primitive");
 }
 
 std::vector<uint8_t> glbWithoutImages(const MappedFile& file, EmbeddedImages& images) {

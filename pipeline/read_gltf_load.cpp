@@ -99,8 +99,9 @@ tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, co
                               const ReadOptions& options, EmbeddedImages& images) {
     if (size >= UINT32_MAX) throw InputError(path + ": glTF larger than 4 GiB (not supported)");
     checkGltfJson(bytes, size, binary, path);
-    const std::vector<uint8_t> filled = withMeshoptFallbacksFilled(bytes, size, binary);
-    if (!filled.empty()) bytes = filled.data(), size = filled.size();
+    const MeshoptFile meshopt = meshoptPlan(bytes, size, binary, path);
+    if (!meshopt.bytes.empty()) bytes = meshopt.bytes.data(), size = meshopt.bytes.size();
+    if (size >= UINT32_MAX) throw InputError(path + ": glTF larger than 4 GiB (not supported)");
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
     std::string err, warn;
@@ -114,7 +115,7 @@ tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, co
                            : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(data), length, files.folder);
     if (!files.refused.empty()) throw InputError(files.refused);
     if (!ok) throw InputError(path + ": corrupt glTF (" + err.substr(0, err.find('\n')) + ")");
-    decodeMeshoptViews(model, path);
+    decodeMeshoptViews(model, meshopt, path);
     return model;
 }
 

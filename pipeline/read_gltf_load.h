@@ -52,12 +52,24 @@ inline constexpr std::array<const char*, 6> kReadExtensions = {"KHR_draco_mesh_c
                                                                "KHR_mesh_quantization",      "KHR_texture_transform",
                                                                "KHR_materials_unlit",        "KHR_materials_pbrSpecularGlossiness"};
 
-// read_gltf_meshopt.cpp (EXT_meshopt_compression): the file with each fallback buffer (a
-// byteLength without data, which tinygltf cannot load) given three bytes, or empty when it has
-// none; then, on the loaded model, every compressed view decoded into a buffer of its own
-// (InputError naming the view when it does not decode or claims more than its data can hold).
-std::vector<uint8_t> withMeshoptFallbacksFilled(const uint8_t* bytes, size_t size, bool binary);
-void decodeMeshoptViews(tinygltf::Model& model, const std::string& path);
+// read_gltf_meshopt.cpp (EXT_meshopt_compression). meshoptPlan: every compressed view's numbers
+// from the file's JSON, checked (InputError naming the view: a mode, stride or filter that do not
+// fit, more decoded bytes claimed than 64 per byte of data, an image or Draco primitive on a
+// fallback buffer), and the file with each fallback buffer given three bytes (`bytes`, empty when
+// none needs it). decodeMeshoptViews: on the model tinygltf loaded, each view decoded into a
+// buffer of its own and pointed at it (InputError when it does not decode).
+struct MeshoptView {
+    size_t index = 0;  // of the buffer view
+    uint64_t buffer = 0, offset = 0, length = 0, stride = 0, count = 0;
+    std::string mode, filter;
+};
+struct MeshoptFile {
+    std::vector<uint8_t> bytes;
+    std::vector<MeshoptView> views;
+    size_t fileBuffers = 0;  // the file's own buffers (decoded ones are appended after them)
+};
+MeshoptFile meshoptPlan(const uint8_t* bytes, size_t size, bool binary, const std::string& path);
+void decodeMeshoptViews(tinygltf::Model& model, const MeshoptFile& file, const std::string& path);
 
 // How a material's base-colour texture reads its primitive's texture coordinates
 // (read_gltf_materials.cpp): TEXCOORD_<set>, then u' = a0 u + a2 v + a4, v' = a1 u + a3 v + a5
