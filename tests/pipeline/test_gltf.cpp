@@ -243,6 +243,20 @@ TEST(GltfBadInput, ImageBufferViewPastItsBuffer) {
     EXPECT_NE(errorOf([&] { parseGltf(dir.file("past.glb"), raw, options); }).find("runs past its buffer"), std::string::npos);
 }
 
+// tinygltf hands a Draco primitive's buffer view to Draco unchecked too: checked the same way.
+TEST(GltfBadInput, DracoBufferViewPastItsBuffer) {
+    TempDir dir;
+    std::ofstream(dir.file("d.gltf"))
+        << R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],"extensionsUsed":["KHR_draco_mesh_compression"],)"
+           R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"extensions":{"KHR_draco_mesh_compression":)"
+           R"({"bufferView":0,"attributes":{"POSITION":0}}}}]}],"accessors":[{"componentType":5126,"count":3,"type":"VEC3"}],)"
+           R"("bufferViews":[{"buffer":0,"byteOffset":4,"byteLength":100}],)"
+           R"("buffers":[{"byteLength":12,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAA"}]})";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("d.gltf")); }).find("d.gltf: a Draco primitive: buffer view 0 runs past its buffer's byteLength"),
+              std::string::npos)
+        << errorOf([&] { readMesh(dir.file("d.gltf")); });
+}
+
 // Embedded images that cannot be used are TextureProblems that leave their material untextured,
 // as a missing texture file does: a PNG whose header claims 20000 x 16385 texels (more than
 // kMaxTextureTexels: a decompression bomb of a few hundred bytes) is never decoded, and bytes
