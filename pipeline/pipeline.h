@@ -81,6 +81,7 @@ struct RawMesh {
     SpillArray<RawTriangle> triangles;
     bool hasTexcoords = false, hasNormals = false;    // every triangle has them
     bool sharedIndices = false;                       // texcoord/normal indices equal position's (PLY without per-face UVs)
+    bool texcoordsPerCorner = false;                  // one texcoord per corner, welded by value (PLY with per-face UVs)
     Box3f bounds{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};
     std::vector<Material> materials;
     ReadStats stats;

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <unordered_map>
@@ -31,16 +32,24 @@ void checkCoordinates(const float* p, size_t index, const std::string& name) {
                      " but there are only " + std::to_string(count));
 }
 
+// A corner's position and normal indices and its texture coordinate: its index (u; v = 0), or
+// with texcoordsPerCorner its value's bits.
 struct CornerKey {
-    uint32_t p, t, n;
+    uint32_t p, u, v, n;
     bool operator==(const CornerKey&) const = default;
 };
 struct CornerHash {
     size_t operator()(const CornerKey& k) const {
-        return (static_cast<size_t>(k.p) * 73856093u) ^ (static_cast<size_t>(k.t) * 19349663u) ^
-               (static_cast<size_t>(k.n) * 83492791u);
+        return (static_cast<size_t>(k.p) * 73856093u) ^ (static_cast<size_t>(k.u) * 19349663u) ^
+               (static_cast<size_t>(k.v) * 2654435761u) ^ (static_cast<size_t>(k.n) * 83492791u);
     }
 };
+CornerKey cornerKey(const RawMesh& raw, const RawTriangle& tri, const Corner& corner, int c) {
+    CornerKey key{tri.position[c], 0, 0, raw.hasNormals ? tri.normal[c] : 0};
+    if (raw.texcoordsPerCorner) key.u = std::bit_cast<uint32_t>(corner.texcoord[0]), key.v = std::bit_cast<uint32_t>(corner.texcoord[1]);
+    else if (raw.hasTexcoords) key.u = tri.texcoord[c];
+    return key;
+}
 
 uint32_t materialOf(const RawMesh& raw, const RawTriangle& t) {
     return t.material == kNone ? static_cast<uint32_t>(raw.materials.size() - 1) : t.material;
@@ -61,7 +70,8 @@ void copyIndexed(const RawMesh& raw, SourceMesh& out) {
 }
 
 // An OBJ, or a PLY with per-face texture coordinates: corners welded by their (position,
-// texcoord, normal) index triple, in first-use order; colours are the positions'.
+// texcoord, normal) index triple (the PLY's: by the texcoord's value), in first-use order;
+// colours are the positions'.
 void weldCorners(const RawMesh& raw, SourceMesh& out, const std::string& name) {
     MeshData& m = out.piece.mesh;
     const bool colors = raw.colors.size() == 4 * raw.positionCount() && raw.positionCount() > 0;
@@ -71,8 +81,7 @@ void weldCorners(const RawMesh& raw, SourceMesh& out, const std::string& name) {
         const RawTriangle& tri = raw.triangles[t];
         rawCorners(raw, t, corner, name);  // range checks; degenerate ones are dropped by sanitize
         for (int c = 0; c < 3; ++c) {
-            const CornerKey key{tri.position[c], raw.hasTexcoords ? tri.texcoord[c] : 0, raw.hasNormals ? tri.normal[c] : 0};
-            auto [it, added] = ids.try_emplace(key, static_cast<uint32_t>(m.vertexCount()));
+            auto [it, added] = ids.try_emplace(cornerKey(raw, tri, corner[c], c), static_cast<uint32_t>(m.vertexCount()));
             if (added) {
                 m.positions.insert(m.positions.end(), corner[c].position, corner[c].position + 3);
                 if (raw.hasTexcoords) m.texcoords.insert(m.texcoords.end(), corner[c].texcoord, corner[c].texcoord + 2);

@@ -7,16 +7,11 @@
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
-#include <array>
-#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <memory>
-#include <optional>
 #include <sstream>
-#include <unordered_map>
 
 namespace hlod {
 namespace {
@@ -249,48 +244,6 @@ int findList(const PlyElement& e, std::initializer_list<const char*> names) {
     return -1;
 }
 
-// The faces' own texture coordinates (MeshLab's and Agisoft Metashape's textured PLY: a
-// `texcoord` list of 2 n floats for an n-gon). The corners of one vertex with the same (u, v)
-// share one texture coordinate, so that a chart stays one connected surface for the simplifier:
-// each vertex keeps its first pair (12 bytes a vertex); only a seam vertex's other pairs go to a map.
-class FaceTexcoords {
-public:
-    explicit FaceTexcoords(size_t vertices) : first_(vertices, kNone), firstUv_(vertices) {}
-
-    uint32_t index(RawMesh& raw, uint32_t vertex, float u, float v, const std::string& name) {
-        u += 0.0f, v += 0.0f;  // -0 is +0: one key, one hash
-        if (first_[vertex] == kNone) {
-            firstUv_[vertex] = {u, v};
-            return first_[vertex] = add(raw, u, v, name);
-        }
-        if (firstUv_[vertex][0] == u && firstUv_[vertex][1] == v) return first_[vertex];
-        const auto [it, added] = seams_.try_emplace(Key{vertex, u, v}, 0);
-        if (added) it->second = add(raw, u, v, name);
-        return it->second;
-    }
-
-private:
-    struct Key {
-        uint32_t vertex;
-        float u, v;
-        bool operator==(const Key&) const = default;
-    };
-    struct KeyHash {
-        size_t operator()(const Key& k) const {
-            return (size_t(k.vertex) * 73856093u) ^ (size_t(std::bit_cast<uint32_t>(k.u)) * 19349663u) ^
-                   (size_t(std::bit_cast<uint32_t>(k.v)) * 83492791u);
-        }
-    };
-    static uint32_t add(RawMesh& raw, float u, float v, const std::string& name) {
-        const auto index = static_cast<uint32_t>(raw.texcoords.size() / 2);
-        raw.addTexcoord(u, v, name);
-        return index;
-    }
-    std::vector<uint32_t> first_;
-    std::vector<std::array<float, 2>> firstUv_;
-    std::unordered_map<Key, uint32_t, KeyHash> seams_;
-};
-
 // One face's polygon, fanned into triangles: its vertices, its texture coordinates (2 per vertex,
 // or none) and its material.
 struct PlyFace {
@@ -299,10 +252,15 @@ struct PlyFace {
     uint32_t material = 0;
 };
 
-void addFace(RawMesh& raw, PlyFace& face, FaceTexcoords* wedges, uint64_t number, const std::string& name) {
+// With face UVs (MeshLab's and Agisoft Metashape's textured PLY: a `texcoord` list of 2 n floats
+// for an n-gon) each corner gets a texture coordinate of its own, held in the arrays that spill
+// (24 bytes a triangle) rather than in a table of the vertices' UVs that no budget bounds; the
+// corners of one vertex with the same (u, v) become one vertex when welded by value (toSourceMesh
+// here, weld.cpp after the split), so a chart stays one connected surface for the simplifier.
+void addFace(RawMesh& raw, PlyFace& face, bool faceUvs, uint64_t number, const std::string& name) {
     std::vector<uint32_t>& texcoords = face.texcoords;
     texcoords = face.vertices;
-    if (wedges) {
+    if (faceUvs) {
         const std::string which = name + ": face " + std::to_string(number);
         if (face.uvs.size() != 2 * face.vertices.size())
             throw InputError(name + ": corrupt PLY (face " + std::to_string(number) + " has " + std::to_string(face.vertices.size()) +
@@ -313,7 +271,8 @@ void addFace(RawMesh& raw, PlyFace& face, FaceTexcoords* wedges, uint64_t number
                                  std::to_string(raw.positionCount()));
             if (!std::isfinite(face.uvs[2 * k]) || !std::isfinite(face.uvs[2 * k + 1]))
                 throw InputError(which + " has a NaN/Inf texture coordinate");
-            texcoords[k] = wedges->index(raw, face.vertices[k], face.uvs[2 * k], 1.0f - face.uvs[2 * k + 1], name);
+            texcoords[k] = static_cast<uint32_t>(raw.texcoords.size() / 2);
+            raw.addTexcoord(face.uvs[2 * k] + 0.0f, 1.0f - face.uvs[2 * k + 1] + 0.0f, name);  // + 0: -0 welds with +0
         }
     }
     for (size_t k = 2; k < face.vertices.size(); ++k) {
@@ -342,15 +301,10 @@ bool readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
     const int list = findList(e, {"vertex_indices", "vertex_index"}), uvList = findList(e, {"texcoord"});
     const int texnumber = textures > 1 ? findProperty(e, {"texnumber"}) : -1;
     if (list < 0) throw InputError(name + ": unsupported PLY (face element without vertex_indices)");
-    std::optional<FaceTexcoords> wedges;
-    if (uvList >= 0) {
+    const bool faceUvs = uvList >= 0;
+    if (faceUvs) {
         if (raw.positionCount() == 0) throw InputError(name + ": unsupported PLY (face texture coordinates without vertices before them)");
-        wedges.emplace(raw.positionCount());
         raw.hasTexcoords = true;
-        // The table's 12 bytes a vertex come out of the parse's memory budget (spillBeyond): the
-        // arrays spill that much sooner. A seam vertex's further UVs (a map entry each) are not counted.
-        const uint64_t table = 12 * uint64_t(raw.positionCount());
-        raw.spillBudget = raw.spillBudget > table ? raw.spillBudget - table : 0;
     }
     PlyFace face;
     for (uint64_t i = 0; i < e.count; ++i) {
@@ -378,9 +332,9 @@ bool readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
                 face.vertices.push_back(static_cast<uint32_t>(value));
             }
         }
-        addFace(raw, face, wedges ? &*wedges : nullptr, i, name);
+        addFace(raw, face, faceUvs, i, name);
     }
-    return wedges.has_value();
+    return faceUvs;
 }
 
 }  // namespace
@@ -413,6 +367,7 @@ void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options)
     }
     if (!haveVertices || !haveFaces) throw InputError(path + ": PLY has no " + (haveVertices ? "faces" : "vertices"));
     raw.sharedIndices = !faceTexcoords;
+    raw.texcoordsPerCorner = faceTexcoords;
     // One material per `comment TextureFile` (faces choose by `texnumber`), or one untextured.
     for (size_t m = 0; m < std::max<size_t>(header.textures.size(), 1); ++m) {
         const bool textured = m < header.textures.size() && raw.hasTexcoords;

@@ -79,6 +79,8 @@ std::vector<CellFile> streamSplit(const RawMesh& raw, const GridSpec& grid, cons
     uint64_t kept = 0;
     for (size_t t = 0; t < raw.triangles.size(); ++t) {
         if ((t & 0xFFFF) == 0xFFFF) {
+            if (raw.texcoordsPerCorner)  // a PLY's face UVs are read once, in order, too
+                raw.texcoords.release(2 * size_t(raw.triangles[t - 0xFFFF].texcoord[0]), 2 * size_t(raw.triangles[t].texcoord[0]));
             raw.triangles.release(t - 0xFFFF, t + 1);  // read once, in order: keep them out of the RSS
             if (progress) progress->advance(0x10000);
         }

@@ -69,8 +69,8 @@ TEST(PlyFaceTexcoords, ReadAsTheSameObjIsRead) {
     }
 }
 
-// A budget smaller than the welding table: the parsed arrays go to spill files at once, and the
-// mesh read back from them is the one read in memory.
+// A tiny budget: the parsed arrays (each corner's texture coordinate among them) go to spill
+// files at once, and the mesh read back from them is the one read in memory.
 TEST(PlyFaceTexcoords, ASpilledParseReadsTheSame) {
     TempDir dir;
     writeTextures(dir);
@@ -103,6 +103,14 @@ TEST(PlyFaceTexcoords, ASeamVertexIsSplitOncePerUv) {
     // not the 12 of one per corner.
     EXPECT_EQ(s.piece.mesh.vertexCount(), 6u);
     EXPECT_TRUE(s.stats.warnings.empty());
+    // A corner's u = -0 is the other corner's u = 0: the two triangles share their edge's vertices.
+    std::ofstream(dir.file("z.ply")) << "ply\nformat ascii 1.0\ncomment TextureFile a.png\nelement vertex 4\n"
+                                        "property float x\nproperty float y\nproperty float z\nelement face 2\n"
+                                        "property list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n"
+                                        "0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+                                        "3 0 1 2 6 0 0 1 0 1 1\n3 0 2 3 6 -0 0 1 1 -0 1\n";
+    const SourceMesh z = readMesh(dir.file("z.ply"));
+    EXPECT_EQ(z.piece.mesh.vertexCount(), 4u);
 }
 
 TEST(PlyFaceTexcoords, BuildIsTexturedLikeTheObj) {
