@@ -113,6 +113,8 @@ double number(const json& object, const char* key) {
 }  // namespace
 
 bool splitGlb(const uint8_t* bytes, size_t size, GlbChunks& out) {
+    if (size < 20 || word(bytes + 8) > size) return false;
+    size = word(bytes + 8);  // the header's length, as tinygltf reads it: bytes past it are not the file's
     if (size < 20) return false;
     const size_t jsonLength = word(bytes + 12);
     if (word(bytes + 16) != kJson || jsonLength > size - 20) return false;

@@ -26,8 +26,9 @@ struct EmbeddedImages {
 bool keepEncoded(int index, const uint8_t* bytes, size_t size, EmbeddedImages& images);
 
 // A GLB container (glTF 2.0 §4.4: a 12-byte header, a JSON chunk, an optional BIN chunk, each
-// 4-byte aligned): splitGlb finds the chunks (bin empty when there is none; false when the
-// header or the JSON chunk does not hold), assembleGlb writes one (padding both chunks).
+// 4-byte aligned): splitGlb finds the chunks within the header's length, as tinygltf does (bin
+// empty when there is none; false when that length exceeds the file or the JSON chunk does not
+// hold), assembleGlb writes one (padding both chunks).
 struct GlbChunks {
     std::span<const uint8_t> json, bin;
 };

@@ -195,6 +195,19 @@ TEST(GltfBadInput, MeshoptViewsThatDoNotDecodeSayWhich) {
         const std::string error = errorOf([&] { readMesh(dir.file("bad.gltf")); });
         EXPECT_NE(error.find(dir.file("bad.gltf") + ": " + c.error), std::string::npos) << error;
     }
+    // A GLB whose header claims more bytes than the file holds is refused as any such GLB is, not
+    // repaired when the fallback buffers are filled (the file is written anew then).
+    writeCoded(codedTerrain(m, normals, quaternions), dir.file("long.glb"), true);
+    std::vector<uint8_t> glb = readFile(dir.file("long.glb"));
+    const uint32_t claimed = static_cast<uint32_t>(glb.size() + 4);
+    std::memcpy(glb.data() + 8, &claimed, 4);
+    writeFile(dir.file("long.glb"), glb);
+    for (const auto& read : {std::function<void()>([&] { readMesh(dir.file("long.glb")); }),
+                             std::function<void()>([&] { RawMesh raw; parseGltf(dir.file("long.glb"), raw); })}) {
+        const std::string error = errorOf(read);
+        EXPECT_NE(error.find(dir.file("long.glb") + ": "), std::string::npos) << error;
+        EXPECT_NE(error.find("Invalid glTF binary"), std::string::npos) << error;
+    }
 }
 
 }  // namespace
