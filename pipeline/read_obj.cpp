@@ -1,6 +1,7 @@
 // OBJ + MTL input: many materials and texture atlases (map_Kd), as photogrammetry produces.
 // The OBJ is parsed here line by line in one streaming pass into a RawMesh (v with optional
-// r g b, vt, vn, f with v/vt/vn, v//vn and negative indices, polygons fanned, usemtl, mtllib), because a scan can be
+// r g b, vt, vn, f with v/vt/vn, v//vn and negative indices, polygons fanned, usemtl, mtllib; a `\` at
+// a line's end continues it), because a scan can be
 // larger than memory and every number must be checked: tinyobjloader reads whole files and turns
 // an unparsable number into 0. The MTL files are parsed by tinyobjloader (LoadMtl).
 #include "pipeline/pipeline.h"
@@ -48,6 +49,14 @@ std::string_view trimmed(std::string_view text) {
 // The rest of the line after the tokens read so far, without its surrounding blanks.
 std::string_view rest(const Line& l) { return trimmed({l.p, static_cast<size_t>(l.end - l.p)}); }
 
+// Where a line that goes on on the next one ends: the OBJ specification's `\` at its end (after
+// blanks; not a comment's, which may end in a Windows folder). npos for any other line.
+size_t continuation(std::string_view text) {
+    const std::string_view t = trimmed(text);
+    if (t.empty() || t.back() != '\\' || t.front() == '#') return std::string_view::npos;
+    return static_cast<size_t>(t.data() + t.size() - 1 - text.data());
+}
+
 // A UTF-8 byte order mark, which Windows tools may write before an OBJ's or MTL's first keyword
 // (it would hide that line: an OBJ's first `mtllib`, an MTL's first `newmtl`).
 constexpr char kByteOrderMark[3] = {'\xEF', '\xBB', '\xBF'};
@@ -79,11 +88,15 @@ public:
             const char* end = p + n;
             if (std::exchange(first, false) && n >= 3 && std::memcmp(p, kByteOrderMark, 3) == 0) p += 3;
             while (const char* nl = static_cast<const char*>(std::memchr(p, '\n', end - p))) {
-                if (carry.empty()) {
-                    line({p, nl, ++number});
+                if (!carry.empty()) carry.append(p, nl);
+                const std::string_view text = carry.empty() ? std::string_view(p, nl - p) : std::string_view(carry);
+                ++number;
+                if (const size_t cut = continuation(text); cut != std::string_view::npos) {
+                    if (carry.empty()) carry.assign(p, cut);
+                    else carry.resize(cut);  // text is carry
+                    carry.push_back(' ');
                 } else {
-                    carry.append(p, nl);
-                    line({carry.data(), carry.data() + carry.size(), ++number});
+                    line({text.data(), text.data() + text.size(), number});
                     carry.clear();
                 }
                 p = nl + 1;
@@ -92,6 +105,7 @@ public:
         }
         if (std::ferror(f.get())) throw InputError(path_ + ": read error (" + std::strerror(errno) + ")");
         lastLine_ = true;
+        if (const size_t cut = continuation(carry); cut != std::string_view::npos) carry.resize(cut);
         if (!carry.empty()) line({carry.data(), carry.data() + carry.size(), ++number});
         raw_.hasTexcoords = everyFaceHasTexcoords_ && raw_.texcoords.size() > 0;
         raw_.hasNormals = everyFaceHasNormals_ && raw_.normals.size() > 0;

@@ -139,6 +139,35 @@ TEST(ReadObj, AByteOrderMarkBeforeTheFirstKeyword) {
     EXPECT_EQ(readMesh(dir.file("big.obj")).piece.mesh.triangleCount(), 200u);
 }
 
+// The OBJ specification's line continuation: a `\` at a line's end (before blanks or a CR) joins
+// the next line, across the reader's 4 KiB first read too; a comment ending in `\` (a Windows
+// folder) does not swallow the line after it.
+TEST(ReadObj, ABackslashContinuesALine) {
+    TempDir dir;
+    writeFile(dir.file("a.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+    std::ofstream(dir.file("b.mtl")) << "newmtl m\nKd 1 1 1\nmap_Kd a.png\n";
+    std::ofstream plain(dir.file("plain.obj")), continued(dir.file("continued.obj"));
+    plain << "mtllib b.mtl\n", continued << "mtllib b.mtl\n";
+    for (int i = 0; i < 200; ++i) {
+        plain << "v " << i << " 0 0\nv " << i << " 1 0\nv " << i + 1 << " 1 0\nvt 0 0\n";
+        continued << "v " << i << " \\\n0 0\nv " << i << " 1 0\nv " << i + 1 << " 1 \\ \r\n 0\nvt 0 0\n";
+    }
+    plain << "usemtl m\n", continued << "# from C:\\scans\\\nusemtl m\n";
+    for (int i = 0; i < 200; ++i) {
+        plain << "f " << 3 * i + 1 << "/1 " << 3 * i + 2 << "/1 " << 3 * i + 3 << "/1\n";
+        continued << "f " << 3 * i + 1 << "/1 \\\n" << 3 * i + 2 << "/1\t\\\n  " << 3 * i + 3 << "/1" << (i < 199 ? "\n" : " \\");
+    }
+    plain.close(), continued.close();
+    ASSERT_GT(std::filesystem::file_size(dir.file("continued.obj")), 4096u);
+    const SourceMesh a = readMesh(dir.file("plain.obj")), b = readMesh(dir.file("continued.obj"));
+    EXPECT_EQ(b.piece.mesh.triangleCount(), 200u);
+    EXPECT_EQ(a.piece.mesh.positions, b.piece.mesh.positions);
+    EXPECT_EQ(a.piece.mesh.indices, b.piece.mesh.indices);
+    EXPECT_EQ(a.piece.mesh.texcoords, b.piece.mesh.texcoords);
+    EXPECT_EQ(b.piece.materials, std::vector<uint32_t>(200, a.piece.materials[0]));
+    EXPECT_FALSE(b.materials[b.piece.materials[0]].texturePath.empty());  // `usemtl m` was read
+}
+
 // Names with spaces, as exporters write them unescaped: the library `my lib.mtl` (not `my` and
 // `lib.mtl`), the material `my material` (as tinyobjloader reads its `newmtl`), the texture.
 TEST(ReadObj, NamesWithSpaces) {
