@@ -210,8 +210,9 @@ struct GateTicket {
     ~GateTicket() { gate.release(bytes); }
 };
 
-void buildOne(const BlockSource& source, const std::vector<Material>& materials, uint32_t index, const std::string& dir,
-              const BuildOptions& options, MemoryGate& gate, Progress& progress, BlockStats& stats) {
+void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t index, const std::string& dir, const BuildOptions& options,
+              MemoryGate& gate, Progress& progress, BlockStats& stats) {
+    const std::vector<Material>& materials = inputs.materials;
     SourceMesh mesh;
     if (source.isPiece) {
         mesh.piece = loadPiece(source.file);
@@ -245,7 +246,9 @@ void buildOne(const BlockSource& source, const std::vector<Material>& materials,
     BlockRecordWriter records(blockRecordPath(dir, index));
     const auto build = [&] {
         taskBegin();  // tbb_sync.h
-        BlockStats s = buildBlock(mesh.piece, mesh.materials, index, options, &progress, [&](NodeRecord&& r) { records.add(r); });
+        // A grid cell shares its border only across the grid's lines; a folder's mesh file may abut any other.
+        const Sides shared = source.isPiece && inputs.grid ? blockSides(pieceBounds(mesh.piece.mesh), *inputs.grid) : kAllSides;
+        BlockStats s = buildBlock(mesh.piece, mesh.materials, index, options, &progress, [&](NodeRecord&& r) { records.add(r); }, shared);
         taskEnd();
         return s;
     };
@@ -404,7 +407,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
         };
         const auto buildIt = [&](uint32_t b) {
             taskBegin();
-            buildOne(inputs.blocks[b], inputs.materials, b, recordDir, blockOptions, gate, progress, stats[b]);
+            buildOne(inputs.blocks[b], inputs, b, recordDir, blockOptions, gate, progress, stats[b]);
             taskEnd();
         };
         const tbb::filter<void, void> filters = tbb::make_filter<void, uint32_t>(tbb::filter_mode::serial_in_order, take) &

@@ -52,6 +52,7 @@ struct Pending {
     double factor;
     uint32_t level;
     uint32_t parentLocal;
+    Sides shared;  // the piece's sides another piece may share a border across
 };
 
 // Source texels the triangles of `mesh` cover in `texture` (the area of their UV triangles).
@@ -159,7 +160,7 @@ NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, cons
         }
     out.record = packNode(parts, images, jpeg, bounds, kNone, level, blockIndex, out.error.max, options);
     if (!sourceParts.empty()) out.fidelity = leafFidelity(sourceParts, parts, images, out.record, textures);
-    out.baked = simplified.geometryOnly;
+    out.baked = simplified.geometryOnly && images[0].width > 0;  // an untextured piece is simplified alone, not baked
     for (const SubMesh& part : parts) out.triangles += part.mesh.triangleCount();
     for (const Image& image : images) out.texels += uint64_t(image.width) * image.height;
     return out;
@@ -269,7 +270,7 @@ struct BottomUpTree {  // the nodes of a block, in the order they finish (emitte
     std::vector<BottomUpNode> nodes;
     BlobSpill spill;
 };
-uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions& options, uint32_t blockIndex,
+uint32_t bottomUp(Piece piece, Sides shared, double factor, uint32_t level, const BuildOptions& options, uint32_t blockIndex,
                   BlockTextures& textures, Progress* progress, BottomUpTree& tree, SimplifiedNode& result) {
     const Constants& c = options.constants;
     BottomUpNode node;
@@ -277,11 +278,12 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
         result = {piece, false};
         node.out = finishNode(result, piece, nullptr, {}, factor, level, true, blockIndex, options, textures);
     } else {
-        std::vector<Piece> children = dividePiece(piece, static_cast<uint32_t>(c.levelFactor), options.planes);
+        std::vector<Sides> childSides;
+        std::vector<Piece> children = dividePiece(piece, static_cast<uint32_t>(c.levelFactor), options.planes, shared, &childSides);
         std::vector<SimplifiedNode> simplifiedChildren(children.size());
         node.children.resize(children.size());
         parallelFor(children.size(), [&](size_t k) {
-            node.children[k] = bottomUp(std::move(children[k]), factor / c.levelFactor, level + 1, options, blockIndex, textures,
+            node.children[k] = bottomUp(std::move(children[k]), childSides[k], factor / c.levelFactor, level + 1, options, blockIndex, textures,
                                         progress, tree, simplifiedChildren[k]);
         });
         SurfaceError inherited;  // the children's largest errors, field by field
@@ -296,7 +298,7 @@ uint32_t bottomUp(Piece piece, double factor, uint32_t level, const BuildOptions
         const Piece input = joinPieces(simplifiedChildren, geometryOnly);
         simplifiedChildren.clear();
         const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
-        result = simplifyNode(input, std::max(1.0, double(input.mesh.triangleCount()) / target), options.simplifier);
+        result = simplifyNode(input, std::max(1.0, double(input.mesh.triangleCount()) / target), options.simplifier, shared);
         result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
         if (options.bottomUpError == BottomUpError::Simplifier) {
             inherited = {inherited.oneSided + result.error, inherited.max + result.error, inherited.mean + result.error};
@@ -326,6 +328,7 @@ struct Level {
     std::vector<Pending> pending;
     std::vector<std::optional<NodeOut>> done;  // finished, not yet emitted
     std::vector<std::vector<Piece>> children;
+    std::vector<std::vector<Sides>> childSides;
     size_t emitted = 0;
     std::atomic<size_t> next{0};
     std::mutex mutex;
@@ -337,20 +340,23 @@ void topDownLevel(Level& level, uint32_t levelBase, const BuildOptions& options,
     const size_t n = level.pending.size();
     level.done.resize(n);
     level.children.resize(n);
+    level.childSides.resize(n);
     const size_t workers = std::min<size_t>(n, static_cast<size_t>(tbb::this_task_arena::max_concurrency()));
     parallelFor(workers, [&](size_t) {
         for (size_t i; (i = level.next++) < n && !tbb::is_current_task_group_canceling();) {
             Pending& p = level.pending[i];
             const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
-            const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier);
+            const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier, p.shared);
             NodeOut out = finishNode(simplified, p.piece, &p.piece.mesh, {}, p.factor, p.level, leaf, blockIndex, options, textures);
             out.record.parentLocal = p.parentLocal;
             if (progress) progress->advance(p.piece.mesh.triangleCount());
             std::vector<Piece> children;
-            if (!leaf) children = dividePiece(p.piece, static_cast<uint32_t>(c.levelFactor), options.planes);
+            std::vector<Sides> childSides;
+            if (!leaf) children = dividePiece(p.piece, static_cast<uint32_t>(c.levelFactor), options.planes, p.shared, &childSides);
             p.piece = {};
             const std::lock_guard lock(level.mutex);
             level.children[i] = std::move(children);
+            level.childSides[i] = std::move(childSides);
             level.done[i] = std::move(out);
             for (; level.emitted < n && level.done[level.emitted]; ++level.emitted) {  // in breadth-first order
                 NodeOut& ready = *level.done[level.emitted];
@@ -377,7 +383,8 @@ void checkBuildOptions(const BuildOptions& o) {
 }
 
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
-                      const BuildOptions& blockOptions, Progress* progress, const std::function<void(NodeRecord&&)>& emit) {
+                      const BuildOptions& blockOptions, Progress* progress, const std::function<void(NodeRecord&&)>& emit,
+                      Sides shared) {
     checkBuildOptions(blockOptions);
     BuildOptions options = blockOptions;  // every node of the block on one position lattice
     if (options.draco.positionStep <= 0)
@@ -394,7 +401,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         BottomUpTree tree(options.tempDir);
         SimplifiedNode root;
         const uint32_t rootId = tbb::this_task_arena::isolate(
-            [&] { return bottomUp(std::move(welded), rootFactor, 0, options, blockIndex, textures, progress, tree, root); });
+            [&] { return bottomUp(std::move(welded), shared, rootFactor, 0, options, blockIndex, textures, progress, tree, root); });
         std::vector<BottomUpNode>& nodes = tree.nodes;
         std::deque<std::pair<uint32_t, uint32_t>> order{{rootId, kNone}};  // emitted breadth-first, as top-down
         while (!order.empty()) {
@@ -410,7 +417,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         }
     } else {
         std::vector<Pending> pending;
-        pending.push_back({std::move(welded), rootFactor, 0, kNone});
+        pending.push_back({std::move(welded), rootFactor, 0, kNone, shared});
         while (!pending.empty()) {
             Level level;
             level.pending = std::move(pending);
@@ -421,9 +428,9 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
                 [&] { topDownLevel(level, levelBase, options, blockIndex, textures, progress, stats, parentOf, emit); });
             pending.clear();
             for (size_t i = 0; i < level.pending.size(); ++i)
-                for (Piece& child : level.children[i])  // §3.2: simplification_hlod(i+1)
-                    pending.push_back({std::move(child), level.pending[i].factor / c.levelFactor, level.pending[i].level + 1,
-                                       levelBase + static_cast<uint32_t>(i)});
+                for (size_t k = 0; k < level.children[i].size(); ++k)  // §3.2: simplification_hlod(i+1)
+                    pending.push_back({std::move(level.children[i][k]), level.pending[i].factor / c.levelFactor,
+                                       level.pending[i].level + 1, levelBase + static_cast<uint32_t>(i), level.childSides[i][k]});
         }
     }
     // A node's error bounds its whole subtree's: a child's measure can exceed its parent's.

@@ -238,7 +238,7 @@ std::vector<float> evenPlanes(float lo, float hi, uint32_t count) {
 
 }  // namespace
 
-std::vector<Piece> dividePiece(const Piece& piece, uint32_t count, Planes placement) {
+std::vector<Piece> dividePiece(const Piece& piece, uint32_t count, Planes placement, Sides shared, std::vector<Sides>* childSides) {
     const Box3f b = pieceBounds(piece.mesh);
     const float lo[3] = {b.min.x, b.min.y, b.min.z}, hi[3] = {b.max.x, b.max.y, b.max.z};
     const float extent[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
@@ -246,16 +246,20 @@ std::vector<Piece> dividePiece(const Piece& piece, uint32_t count, Planes placem
     const std::vector<float> planes = placement == Planes::Even ? evenPlanes(lo[axis], hi[axis], count)
                                                                 : divisionPlanes(piece.mesh, axis, count);
     std::vector<Piece> pieces;
+    std::vector<Sides> sides;  // a slab's: the piece's, and the planes below and above it
     Piece rest;
     const Piece* above = &piece;  // the part above the planes so far (the piece itself: not copied)
-    for (float plane : planes) {
-        CutResult cut = cutPiece(*above, axis, plane);
-        if (cut.below.mesh.triangleCount() > 0) pieces.push_back(std::move(cut.below));
+    for (size_t k = 0; k < planes.size(); ++k) {
+        CutResult cut = cutPiece(*above, axis, planes[k]);
+        if (cut.below.mesh.triangleCount() > 0)
+            pieces.push_back(std::move(cut.below)), sides.push_back(shared | sideBit(axis, true) | (k > 0 ? sideBit(axis, false) : 0));
         rest = std::move(cut.above), above = &rest;
     }
-    if (above->mesh.triangleCount() == 0) return pieces;
-    if (above == &piece) pieces.push_back(piece);  // no plane: the piece whole
-    else pieces.push_back(std::move(rest));
+    if (above->mesh.triangleCount() > 0) {
+        if (above == &piece) pieces.push_back(piece), sides.push_back(shared);  // no plane: the piece whole
+        else pieces.push_back(std::move(rest)), sides.push_back(shared | sideBit(axis, false));
+    }
+    if (childSides) *childSides = std::move(sides);
     return pieces;
 }
 

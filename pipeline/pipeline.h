@@ -184,11 +184,20 @@ struct CutResult {
     Piece below, above;
 };
 CutResult cutPiece(const Piece& piece, int axis, float position);
+// A piece's six sides (bit 2a: its low side on axis a, bit 2a + 1: its high side) beyond which
+// another piece may share its border: a cut plane of the block grid or of §3.2's division, or any
+// side of a block whose neighbours are unknown (a folder input's). A border vertex on the
+// bounding-box face of such a side is locked (sharedVertices); the other sides border nothing.
+using Sides = uint8_t;
+inline constexpr Sides kAllSides = 0x3F;
+inline constexpr Sides sideBit(int axis, bool high) { return static_cast<Sides>(1u << (2 * axis + (high ? 1 : 0))); }
 // §3.2 division into `count` pieces by count-1 planes perpendicular to the longest bounding-box
 // dimension. Planes::Balanced: each plane minimises 3 x crossing triangles + the triangle-count
 // imbalance over 64 candidate positions through existing vertices (cut.cpp says why);
-// Planes::Even: evenly spaced over the bounding box. Empty pieces are dropped.
-std::vector<Piece> dividePiece(const Piece& piece, uint32_t count, Planes planes = Planes::Balanced);
+// Planes::Even: evenly spaced over the bounding box. Empty pieces are dropped. `shared`: the
+// piece's sides; `childSides` (when given) receives each piece's, those and its cut ones.
+std::vector<Piece> dividePiece(const Piece& piece, uint32_t count, Planes planes = Planes::Balanced, Sides shared = kAllSides,
+                               std::vector<Sides>* childSides = nullptr);
 Box3f pieceBounds(const MeshData& mesh);
 
 // split_blocks.cpp: a grid over the two longest (horizontal) axes of the input bounds.
@@ -206,6 +215,10 @@ inline float gridPlane(const GridSpec& g, bool alongV, uint32_t k) {
 }
 // Cuts `piece` along the grid lines; returns one piece per cell (row-major in V then U).
 std::vector<Piece> splitByGrid(const Piece& piece, const GridSpec& grid);
+// The sides of a block of the grid (bounds: its own) that lie on a grid line, the only places a
+// neighbouring block shares its border: the input's outline, and a block's side that stops short
+// of its cell's line, border nothing.
+Sides blockSides(const Box3f& block, const GridSpec& grid);
 
 // split_stream.cpp: splitByGrid out of core, for a RawMesh read from its spill files: each
 // triangle goes to every cell its bounds reach (buffers of about `bufferBytes` in all, flushed to
@@ -232,7 +245,7 @@ Piece weldPiece(const Piece& piece, double epsilon);
 // simplify.cpp. simplifyNode simplifies a (welded) piece as one mesh to about
 // triangleCount / factor with quadric error metrics, material and UV changes being attribute
 // seams; locked are the vertices neighbours share: open-border vertices on the piece's
-// bounding-box faces (the cut planes). When seams keep it above kTargetSlack x the target, it
+// bounding-box faces of its `shared` sides (the cut planes). When seams keep it above kTargetSlack x the target, it
 // simplifies the geometry alone (geometryOnly: no texture coordinates, all material 0). When a
 // result exceeds kTargetSlack x the target, closable scan holes are filled and it is simplified
 // again.
@@ -254,11 +267,11 @@ struct SimplifiedNode {
     // (its decimater reports none) and for an unsimplified piece. Not a distance bound.
     double error = 0;
 };
-std::vector<uint8_t> sharedVertices(const Piece& piece);  // per vertex: must stay for crack-free borders
+std::vector<uint8_t> sharedVertices(const Piece& piece, Sides shared = kAllSides);  // per vertex: must stay for crack-free borders
 // withLocked false: SubMesh::locked left empty (the build's nodes, which only pack and measure
 // their parts, skip the border search: ~3 % of a bottom-up build).
 std::vector<SubMesh> splitByMaterial(const Piece& piece, bool withLocked = true);
-SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier);
+SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier, Sides shared = kAllSides);
 // One mesh on its own (positions and attributes as they are); `locked` per vertex of `mesh`;
 // when empty, sharedVertices of the mesh alone.
 MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier, const std::vector<uint8_t>& locked = {});
@@ -398,11 +411,12 @@ struct BlockStats {
 // `emit` receives each node as soon as it is packed (bounded memory). All its nodes are encoded
 // on the position lattice options.draco.positionStep; when 0, the block's own
 // positionLatticeStep (blocks then share borders exactly only if their steps agree).
+// `shared`: the block's sides another block may share a border across (blockSides).
 // Throws std::invalid_argument (a usage error) for --mode bottom-up --bottom-up-error simplifier
 // with --simplifier openmesh: OpenMesh's decimater reports no error of its own.
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
                       const BuildOptions& options, Progress* progress,
-                      const std::function<void(NodeRecord&&)>& emit);
+                      const std::function<void(NodeRecord&&)>& emit, Sides shared = kAllSides);
 // The checks of buildBlock, for runBuild and writeSplitWork to refuse early (std::invalid_argument):
 // jobs in 0..kMaxJobs, a finite blockSize and position step >= 0, a bottom-up error the
 // simplifier can give.

@@ -5,9 +5,11 @@
 // attribute seam, not a topological border (issue #16: simplifying each material apart, with its
 // seam vertices locked, kept coarse levels of chunked multi-atlas scans at 40-55 % of the input).
 // The vertices a neighbouring node shares are locked, so pieces of any level meet without
-// cracks: open-border vertices on the piece's bounding-box faces (every cut plane, of the block
-// grid or of §3.2's division, is such a face). Other open borders (scan holes, occlusion gaps,
-// the edge of the scanned area) simplify freely: locking every border, as
+// cracks: open-border vertices on the piece's bounding-box faces of its shared sides (every cut
+// plane, of the block grid or of §3.2's division, is such a face; a folder input's block has
+// unknown neighbours, so all its sides are shared). Other open borders (scan holes, occlusion
+// gaps, the edge of the scanned area, also where it lies on the input's bounding box: stop 40)
+// simplify freely: locking every border, as
 // meshopt_SimplifyLockBorder does, keeps a hole-riddled scan from ever reaching its target. Both
 // simplifiers only collapse edges onto existing vertices, so texture coordinates stay exact.
 // meshoptimizer (default, ~1.4 M tri/s) or OpenMesh's Decimater with ModQuadric (~50 k tri/s,
@@ -115,7 +117,7 @@ std::vector<uint32_t> simplifyOpenMesh(const MeshData& mesh, const std::vector<u
 
 }  // namespace
 
-std::vector<uint8_t> sharedVertices(const Piece& piece) {
+std::vector<uint8_t> sharedVertices(const Piece& piece, Sides shared) {
     const MeshData& m = piece.mesh;
     const size_t vc = m.vertexCount();
     std::vector<uint32_t> position(vc);  // vertices with equal positions share an id
@@ -151,7 +153,9 @@ std::vector<uint8_t> sharedVertices(const Piece& piece) {
     std::vector<uint8_t> locked(vc);
     for (size_t i = 0; i < vc; ++i) {
         const float* p = &m.positions[3 * i];
-        const bool onFace = p[0] == lo[0] || p[0] == hi[0] || p[1] == lo[1] || p[1] == hi[1] || p[2] == lo[2] || p[2] == hi[2];
+        bool onFace = false;
+        for (int a = 0; a < 3; ++a)
+            onFace = onFace || (p[a] == lo[a] && (shared & sideBit(a, false))) || (p[a] == hi[a] && (shared & sideBit(a, true)));
         locked[i] = border[position[i]] && onFace;
     }
     return locked;
@@ -217,7 +221,7 @@ MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier
     return compact(mesh, simplifyToTarget(mesh, mesh.indices, targetOf(mesh.triangleCount(), factor), lock, simplifier));
 }
 
-SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier) {
+SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier, Sides shared) {
     SimplifiedNode out;
     const MeshData& m = piece.mesh;
     if (factor <= 1 || m.triangleCount() < 2) {
@@ -225,7 +229,7 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
         return out;
     }
     const size_t vc = m.vertexCount(), target = targetOf(m.triangleCount(), factor);
-    const std::vector<uint8_t> lock = sharedVertices(piece);
+    const std::vector<uint8_t> lock = sharedVertices(piece, shared);
     std::vector<uint32_t> position(vc);  // vertices with equal positions share an id
     const size_t positions = meshopt_generateVertexRemap(position.data(), nullptr, vc, m.positions.data(), vc, 3 * sizeof(float));
     // 1. Seam-preserving: meshoptimizer keeps a seam's two sides together (a seam vertex only

@@ -110,6 +110,20 @@ std::vector<Piece> splitByGrid(const Piece& piece, const GridSpec& grid) {
     return cells;
 }
 
+Sides blockSides(const Box3f& block, const GridSpec& grid) {
+    const float lo[3] = {block.min.x, block.min.y, block.min.z}, hi[3] = {block.max.x, block.max.y, block.max.z};
+    Sides shared = 0;
+    for (const bool alongV : {false, true}) {
+        const int axis = alongV ? grid.axisV : grid.axisU;
+        for (uint32_t k = 1; k < (alongV ? grid.cellsV : grid.cellsU); ++k) {
+            const float plane = gridPlane(grid, alongV, k);  // the value both splits cut at, exactly
+            if (lo[axis] == plane) shared |= sideBit(axis, false);
+            if (hi[axis] == plane) shared |= sideBit(axis, true);
+        }
+    }
+    return shared;
+}
+
 void appendPiece(const std::string& file, const Piece& piece) {
     File f(std::fopen(file.c_str(), "ab"), &std::fclose);
     if (!f) throw std::runtime_error(file + ": cannot write (" + std::strerror(errno) + ")");

@@ -71,6 +71,41 @@ TEST(Divide, PiecesHaveEqualTriangleCountsAndTileTheParent) {
         EXPECT_EQ(pieceBounds(pieces[k - 1].mesh).max.x, pieceBounds(pieces[k].mesh).min.x);
 }
 
+// Each slab's sides (stop 40): the piece's own, and the planes that cut it from its neighbours.
+TEST(Divide, EachPieceKnowsTheSidesItShares) {
+    const Piece p = terrain(64);
+    const Sides highY = sideBit(1, true);
+    std::vector<Sides> sides;
+    const std::vector<Piece> pieces = dividePiece(p, 4, Planes::Balanced, highY, &sides);
+    ASSERT_EQ(pieces.size(), 4u);
+    ASSERT_EQ(sides.size(), 4u);
+    EXPECT_EQ(sides[0], highY | sideBit(0, true));
+    EXPECT_EQ(sides[1], highY | sideBit(0, false) | sideBit(0, true));
+    EXPECT_EQ(sides[2], highY | sideBit(0, false) | sideBit(0, true));
+    EXPECT_EQ(sides[3], highY | sideBit(0, false));
+    Piece ends;  // the middle slabs of even planes are empty and dropped: the outer two keep their cuts
+    ends.mesh = p.mesh, ends.mesh.indices.clear();
+    for (size_t t = 0; t < p.mesh.triangleCount(); ++t)
+        if (const float x = p.mesh.positions[3 * p.mesh.indices[3 * t]]; x < 19 || x > 81) {
+            ends.mesh.indices.insert(ends.mesh.indices.end(), p.mesh.indices.begin() + 3 * t, p.mesh.indices.begin() + 3 * t + 3);
+            ends.materials.push_back(0);
+        }
+    ASSERT_EQ(dividePiece(ends, 4, Planes::Even, 0, &sides).size(), 2u);
+    EXPECT_EQ(sides, (std::vector<Sides>{sideBit(0, true), sideBit(0, false)}));
+}
+
+// A block shares only the sides on grid lines: the input's outline borders nothing (stop 40).
+TEST(Grid, ABlockSharesTheSidesOnGridLines) {
+    const Piece p = terrain(50, 100);
+    const GridSpec g = chooseGrid(pieceBounds(p.mesh), p.mesh.triangleCount(), 1250, 0);
+    ASSERT_EQ(g.cellsU * g.cellsV, 4u);
+    const std::vector<Piece> cells = splitByGrid(p, g);
+    const Sides highU = sideBit(g.axisU, true), highV = sideBit(g.axisV, true);
+    EXPECT_EQ(blockSides(pieceBounds(cells[0].mesh), g), highU | highV);
+    EXPECT_EQ(blockSides(pieceBounds(cells[3].mesh), g), sideBit(g.axisU, false) | sideBit(g.axisV, false));
+    EXPECT_EQ(blockSides(pieceBounds(p.mesh), g), 0);  // the whole input touches no line with a face
+}
+
 TEST(Grid, SplitTilesTheInputOverTheTwoLongestAxes) {
     Piece p = terrain(50, 100);
     for (size_t i = 0; i < p.mesh.vertexCount(); ++i) std::swap(p.mesh.positions[3 * i + 1], p.mesh.positions[3 * i + 2]);

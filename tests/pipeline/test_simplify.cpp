@@ -50,6 +50,29 @@ TEST_P(Simplify, ReachesTheFactorAndKeepsBorderVertices) {
 
 INSTANTIATE_TEST_SUITE_P(Both, Simplify, ::testing::Values(Simplifier::Meshopt, Simplifier::OpenMesh));
 
+// Only border vertices on the faces of the piece's shared sides are locked (stop 40): an outline
+// on no cut plane simplifies like any open border, so a piece reaches a target its outline
+// alone would exceed (240 outline vertices, a target of 120 triangles).
+TEST(Simplify, OnlyTheSharedSidesBordersAreLocked) {
+    const uint32_t n = 60;
+    const Piece p = terrain(n);
+    const auto count = [](const std::vector<uint8_t>& v) { return std::count(v.begin(), v.end(), 1); };
+    EXPECT_EQ(count(sharedVertices(p)), 4 * n);
+    EXPECT_EQ(count(sharedVertices(p, 0)), 0);
+    EXPECT_EQ(count(sharedVertices(p, sideBit(0, false))), n + 1);             // x = 0
+    EXPECT_EQ(count(sharedVertices(p, sideBit(0, false) | sideBit(1, true))), 2 * n + 1);  // and y = 100
+    const double factor = 60, target = p.mesh.triangleCount() / factor;
+    const SimplifiedNode locked = simplifyNode(p, factor, Simplifier::Meshopt);
+    const SimplifiedNode free = simplifyNode(p, factor, Simplifier::Meshopt, 0);
+    EXPECT_GT(double(locked.piece.mesh.triangleCount()), kTargetSlack * target);
+    EXPECT_LE(double(free.piece.mesh.triangleCount()), kTargetSlack * target);
+    const SimplifiedNode oneSide = simplifyNode(p, factor, Simplifier::Meshopt, sideBit(0, false));
+    std::set<std::array<float, 3>> kept;  // the x = 0 side's vertices all stay
+    for (size_t i = 0; i < oneSide.piece.mesh.vertexCount(); ++i)
+        if (oneSide.piece.mesh.positions[3 * i] == 0) kept.insert({0, oneSide.piece.mesh.positions[3 * i + 1], oneSide.piece.mesh.positions[3 * i + 2]});
+    EXPECT_EQ(kept.size(), n + 1);
+}
+
 // A scanned block riddled with small holes (2 x 2 quads missing every 4 quads: 784 holes, as
 // glass and occluders leave in a facade scan) whose outer edge lies on the cut planes (480
 // locked vertices). Without closing holes each keeps >= 3 border vertices: with V = B border
