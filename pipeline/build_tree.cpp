@@ -52,7 +52,7 @@ struct Pending {
     double factor;
     uint32_t level;
     uint32_t parentLocal;
-    Sides shared;  // the piece's sides another piece may share a border across
+    Sides shared = kAllSides;  // the piece's sides another piece may share a border across
 };
 
 // Source texels the triangles of `mesh` cover in `texture` (the area of their UV triangles).

@@ -46,7 +46,7 @@ struct CornerHash {
 };
 CornerKey cornerKey(const RawMesh& raw, const RawTriangle& tri, const Corner& corner, int c) {
     CornerKey key{tri.position[c], 0, 0, raw.hasNormals ? tri.normal[c] : 0};
-    if (raw.texcoordsPerCorner) key.u = std::bit_cast<uint32_t>(corner.texcoord[0]), key.v = std::bit_cast<uint32_t>(corner.texcoord[1]);
+    if (raw.texcoordsPerCorner && raw.hasTexcoords) key.u = std::bit_cast<uint32_t>(corner.texcoord[0]), key.v = std::bit_cast<uint32_t>(corner.texcoord[1]);
     else if (raw.hasTexcoords) key.u = tri.texcoord[c];
     return key;
 }

@@ -27,8 +27,10 @@ bool keepEncoded(int index, const uint8_t* bytes, size_t size, EmbeddedImages& i
 
 // A GLB container (glTF 2.0 §4.4: a 12-byte header, a JSON chunk, an optional BIN chunk, each
 // 4-byte aligned): splitGlb finds the chunks within the header's length, as tinygltf does (bin
-// empty when there is none; false when that length exceeds the file or the JSON chunk does not
-// hold), assembleGlb writes one (padding both chunks).
+// empty when there is none; false for what tinygltf refuses: a length beyond the file, a JSON
+// chunk that does not fit, a second chunk that is not a BIN chunk of 4 n bytes; and for a BIN
+// chunk longer than the bytes after its header, which checkGltfJson refuses since tinygltf would
+// read past them), assembleGlb writes one (padding both chunks).
 struct GlbChunks {
     std::span<const uint8_t> json, bin;
 };
@@ -39,7 +41,8 @@ std::vector<uint8_t> assembleGlb(std::string json, std::span<const uint8_t> bin)
 // buffer: a view past the buffer's declared byteLength would be read past the end of tinygltf's
 // copy (found by fuzz_glb). Checked here first, on glTF JSON or a GLB's JSON chunk; throws
 // InputError naming the image (read_glb_images.cpp), or the first required extension that is
-// not in kReadExtensions. Anything else malformed is left to tinygltf.
+// not in kReadExtensions, or a GLB's BIN chunk claiming more bytes than follow its header (tinygltf
+// would read past the file). Anything else malformed is left to tinygltf.
 void checkGltfJson(const uint8_t* bytes, size_t size, bool binary, const std::string& path);
 
 // The glTF extensions a file may list in extensionsRequired: tinygltf decodes Draco primitives,

@@ -50,10 +50,11 @@ std::string_view trimmed(std::string_view text) {
 std::string_view rest(const Line& l) { return trimmed({l.p, static_cast<size_t>(l.end - l.p)}); }
 
 // Where a line that goes on on the next one ends: the OBJ specification's `\` at its end (after
-// blanks; not a comment's, which may end in a Windows folder). npos for any other line.
+// blanks). Not a line holding `#`: a comment, whole or after the data, may end in a Windows
+// folder, and joining would swallow the next line. npos for any other line.
 size_t continuation(std::string_view text) {
     const std::string_view t = trimmed(text);
-    if (t.empty() || t.back() != '\\' || t.front() == '#') return std::string_view::npos;
+    if (t.empty() || t.back() != '\\' || t.find('#') != std::string_view::npos) return std::string_view::npos;
     return static_cast<size_t>(t.data() + t.size() - 1 - text.data());
 }
 

@@ -271,6 +271,8 @@ void addFace(RawMesh& raw, PlyFace& face, bool faceUvs, uint64_t number, const s
                                  std::to_string(raw.positionCount()));
             if (!std::isfinite(face.uvs[2 * k]) || !std::isfinite(face.uvs[2 * k + 1]))
                 throw InputError(which + " has a NaN/Inf texture coordinate");
+            if (raw.texcoords.size() / 2 >= UINT32_MAX)  // a corner's index would wrap
+                throw InputError(which + ": more than 4,294,967,294 face texture coordinates (not supported)");
             texcoords[k] = static_cast<uint32_t>(raw.texcoords.size() / 2);
             raw.addTexcoord(face.uvs[2 * k] + 0.0f, 1.0f - face.uvs[2 * k + 1] + 0.0f, name);  // + 0: -0 welds with +0
         }

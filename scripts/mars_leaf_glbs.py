@@ -24,6 +24,8 @@ def glb_mesh(glb, path):
     binary = glb[20 + json_length + 8:]
     if any('matrix' in n or 'translation' in n or 'rotation' in n or 'scale' in n for n in doc.get('nodes', [])):
         raise ValueError(path + ': a node transform (not merged)')
+    if len(doc['meshes']) != 1 or len(doc['meshes'][0]['primitives']) != 1 or len(doc['images']) != 1:
+        raise ValueError(path + ': not one mesh of one primitive and one image (not merged)')
     primitive = doc['meshes'][0]['primitives'][0]
 
     def accessor(index, width):
@@ -31,6 +33,9 @@ def glb_mesh(glb, path):
         view = doc['bufferViews'][a['bufferView']]
         start = view.get('byteOffset', 0) + a.get('byteOffset', 0)
         code = {5126: 'f', 5125: 'I', 5123: 'H', 5121: 'B'}[a['componentType']]
+        if (width > 1 and code != 'f') or a.get('normalized') or a.get('sparse') or \
+                view.get('byteStride', width * struct.calcsize(code)) != width * struct.calcsize(code):
+            raise ValueError(path + ': an interleaved, quantized or sparse accessor (not merged)')
         values = struct.unpack_from('<%d%s' % (a['count'] * width, code), binary, start)
         return [values[k:k + width] for k in range(0, len(values), width)]
 
@@ -41,20 +46,21 @@ def glb_mesh(glb, path):
 
 
 def write_obj(glbs, out):
-    obj, mtl = open(os.path.join(out, 'mars.obj'), 'w'), open(os.path.join(out, 'mars.mtl'), 'w')
-    obj.write('mtllib mars.mtl\n')
-    base = 1
-    for i, (name, glb) in enumerate(glbs):
-        positions, uvs, indices, jpeg = glb_mesh(glb, name)
-        open(os.path.join(out, 'leaf_%03d.jpg' % i), 'wb').write(jpeg)
-        mtl.write('newmtl leaf_%03d\nKd 1 1 1\nmap_Kd leaf_%03d.jpg\n' % (i, i))
-        obj.writelines('v %.9g %.9g %.9g\n' % p for p in positions)
-        obj.writelines('vt %.9g %.9g\n' % (u, 1 - v) for u, v in uvs)  # OBJ's v runs up
-        obj.write('usemtl leaf_%03d\n' % i)
-        for t in range(0, len(indices) - 2, 3):
-            a, b, c = (base + k for k in indices[t:t + 3])
-            obj.write('f %d/%d %d/%d %d/%d\n' % (a, a, b, b, c, c))
-        base += len(positions)
+    with open(os.path.join(out, 'mars.obj'), 'w') as obj, open(os.path.join(out, 'mars.mtl'), 'w') as mtl:
+        obj.write('mtllib mars.mtl\n')
+        base = 1
+        for i, (name, glb) in enumerate(glbs):
+            positions, uvs, indices, jpeg = glb_mesh(glb, name)
+            with open(os.path.join(out, 'leaf_%03d.jpg' % i), 'wb') as image:
+                image.write(jpeg)
+            mtl.write('newmtl leaf_%03d\nKd 1 1 1\nmap_Kd leaf_%03d.jpg\n' % (i, i))
+            obj.writelines('v %.9g %.9g %.9g\n' % p for p in positions)
+            obj.writelines('vt %.9g %.9g\n' % (u, 1 - v) for u, v in uvs)  # OBJ's v runs up
+            obj.write('usemtl leaf_%03d\n' % i)
+            for t in range(0, len(indices) - 2, 3):
+                a, b, c = (base + k for k in indices[t:t + 3])
+                obj.write('f %d/%d %d/%d %d/%d\n' % (a, a, b, b, c, c))
+            base += len(positions)
 
 
 def main(argv):

@@ -166,6 +166,7 @@ void readerSeeds(const std::filesystem::path& dir) {
     text(dir / "obj" / "quad.obj",
          "mtllib q.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\nusemtl a\n"
          "f 1/1/1 2/2/1 3/3/1 4/1/1\nf -1//1 -2//1 -3//1\nf 1 3 4\n");
+    text(dir / "obj" / "continued.obj", "v 0 0 \\\n0\nv 1 0 0\nv 1 1 0\n# C:\\scans\\\nf 1 \\ \r\n2 \\\n3\nf 1 3 \\");
     text(dir / "obj" / "city-head.obj", head(samples / "city" / "block_000.obj", 120));
     text(dir / "obj" / "banana-head.obj", head(samples / "banana" / "textured_simple_reoriented.obj", 120));
     text(dir / "mtl" / "synthetic.mtl", "newmtl material0\nKd 1 0.5 0.25\nmap_Kd -s 1 1 1 t.png\nnewmtl a\nmap_Kd sub/t.jpg\n");

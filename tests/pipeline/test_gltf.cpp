@@ -5,6 +5,7 @@
 #include "helpers.h"
 
 #include "formats/codec.h"
+#include "pipeline/read_gltf_load.h"
 #include "pipeline/tiny_gltf_config.h"
 #include "tests/support/gltf_model.h"
 #include "tests/support/run_hlod.h"
@@ -241,6 +242,21 @@ TEST(GltfBadInput, ImageBufferViewPastItsBuffer) {
     options.imageDir = dir.file("images");
     RawMesh raw;
     EXPECT_NE(errorOf([&] { parseGltf(dir.file("past.glb"), raw, options); }).find("runs past its buffer"), std::string::npos);
+}
+
+// A BIN chunk claiming up to 8 bytes more than follow its header: tinygltf checks its length
+// without the header and copied past the end (a heap over-read under fuzz_glb, stop 40).
+TEST(GltfBadInput, BinChunkLongerThanItsBytes) {
+    TempDir dir;
+    std::vector<uint8_t> glb = assembleGlb(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":8}]})", std::vector<uint8_t>{1, 2, 3, 4});
+    const size_t chunk = glb.size() - 12;  // the BIN chunk's header: 4 bytes of data follow it
+    glb[chunk] = 8;                         // claimed: 8
+    writeFile(dir.file("over.glb"), glb);
+    const std::string expected = dir.file("over.glb") + ": corrupt GLB (its BIN chunk claims 8 bytes, 4 follow its header)";
+    EXPECT_EQ(errorOf([&] { readMesh(dir.file("over.glb")); }), expected);
+    EXPECT_EQ(errorOf([&] { readGltfBytes(glb, true, dir.file("over.glb")); }), expected);
+    RawMesh raw;
+    EXPECT_EQ(errorOf([&] { parseGltf(dir.file("over.glb"), raw); }), expected);
 }
 
 // tinygltf hands a Draco primitive's buffer view to Draco unchecked too: checked the same way.

@@ -141,7 +141,7 @@ TEST(ReadObj, AByteOrderMarkBeforeTheFirstKeyword) {
 
 // The OBJ specification's line continuation: a `\` at a line's end (before blanks or a CR) joins
 // the next line, across the reader's 4 KiB first read too; a comment ending in `\` (a Windows
-// folder) does not swallow the line after it.
+// folder), whole or after the data, does not swallow the line after it.
 TEST(ReadObj, ABackslashContinuesALine) {
     TempDir dir;
     writeFile(dir.file("a.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
@@ -152,7 +152,7 @@ TEST(ReadObj, ABackslashContinuesALine) {
         plain << "v " << i << " 0 0\nv " << i << " 1 0\nv " << i + 1 << " 1 0\nvt 0 0\n";
         continued << "v " << i << " \\\n0 0\nv " << i << " 1 0\nv " << i + 1 << " 1 \\ \r\n 0\nvt 0 0\n";
     }
-    plain << "usemtl m\n", continued << "# from C:\\scans\\\nusemtl m\n";
+    plain << "usemtl m\n", continued << "# from C:\\scans\\\ng part # in C:\\scans\\\nusemtl m\n";
     for (int i = 0; i < 200; ++i) {
         plain << "f " << 3 * i + 1 << "/1 " << 3 * i + 2 << "/1 " << 3 * i + 3 << "/1\n";
         continued << "f " << 3 * i + 1 << "/1 \\\n" << 3 * i + 2 << "/1\t\\\n  " << 3 * i + 3 << "/1" << (i < 199 ? "\n" : " \\");
