@@ -185,6 +185,9 @@ void readerSeeds(const std::filesystem::path& dir) {
     text(dir / "glb" / "triangle.glb", glb(gltfJson(""), triangleBuffer()));
     text(dir / "glb" / "textured.glb", glbWithImage());
     text(dir / "glb" / "meshopt.glb", glbMeshopt());
+    std::string overrun = glb(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":8}]})", "\1\2\3\4");
+    overrun[overrun.size() - 12] = 8;  // the BIN chunk claims 8 bytes, 4 follow (tinygltf read past them)
+    text(dir / "glb" / "bin-overrun.glb", overrun);
     for (const char* p : {"walk.path", "drive.path"})
         text(dir / "camera_path" / p, head(samples / "banana" / p, 12));
     text(dir / "camera_path" / "cut.path", "hlod-camera-path 1\n0 0 0 1.7 0 0 0 1 60\n0.001 5 0 1.7 0 1 0 0 60 # cut\n\n2 5 5 1.7 0 0.7071 0 0.7071 90\n");
