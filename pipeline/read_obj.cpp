@@ -81,7 +81,7 @@ public:
         if (!f) throw InputError(path_ + ": cannot open (" + std::strerror(errno) + ")");
         std::vector<char> buffer(readBufferBytes(f.get()));
         std::string carry;
-        size_t number = 0, n = 0;
+        size_t number = 0, n = 0, joined = std::string::npos;  // joined: carry's size after a `\` joined a line
         bool first = true;
         while ((n = std::fread(buffer.data(), 1, buffer.size(), f.get())) > 0) {
             if (raw_.progress) raw_.progress->advance(n);
@@ -96,6 +96,7 @@ public:
                     if (carry.empty()) carry.assign(p, cut);
                     else carry.resize(cut);  // text is carry
                     carry.push_back(' ');
+                    joined = carry.size();
                 } else {
                     line({text.data(), text.data() + text.size(), number});
                     carry.clear();
@@ -107,7 +108,8 @@ public:
         if (std::ferror(f.get())) throw InputError(path_ + ": read error (" + std::strerror(errno) + ")");
         lastLine_ = true;
         if (const size_t cut = continuation(carry); cut != std::string_view::npos) carry.resize(cut);
-        if (!carry.empty()) line({carry.data(), carry.data() + carry.size(), ++number});
+        // The last line: after the last newline, or (nothing after it) the one a final `\` continued.
+        if (!carry.empty()) line({carry.data(), carry.data() + carry.size(), carry.size() == joined ? number : ++number});
         raw_.hasTexcoords = everyFaceHasTexcoords_ && raw_.texcoords.size() > 0;
         raw_.hasNormals = everyFaceHasNormals_ && raw_.normals.size() > 0;
         raw_.materials.push_back({"default", "", nullptr});

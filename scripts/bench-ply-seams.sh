@@ -7,13 +7,14 @@
 #
 #   bash scripts/bench-ply-seams.sh            # N=1000 K=1 LIMIT=256M HLOD=build/hlod OUT=out/bench-ply-seams
 #   N=1415 K=8 LIMIT=1G bash scripts/bench-ply-seams.sh
-#   BUILD_FLAGS="--mode bottom-up --bottom-up-error simplifier" (the default here: the quick build)
+#   BUILD_FLAGS="--mode bottom-up --bottom-up-error simplifier" (the default here: the quick build);
+#   BUILD_FLAGS= (empty) builds with hlod's defaults
 set -euo pipefail
 cd "$(dirname "$0")/.."
 HLOD=${HLOD:-build/hlod}
 OUT=${OUT:-out/bench-ply-seams}
 N=${N:-1000} K=${K:-1} LIMIT=${LIMIT:-256M}
-BUILD_FLAGS=${BUILD_FLAGS:---mode bottom-up --bottom-up-error simplifier}
+BUILD_FLAGS=${BUILD_FLAGS---mode bottom-up --bottom-up-error simplifier}
 mkdir -p "$OUT"
 python3 - "$N" "$K" "$OUT" <<'EOF'
 import array, math, struct, sys, zlib

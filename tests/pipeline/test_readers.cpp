@@ -166,6 +166,11 @@ TEST(ReadObj, ABackslashContinuesALine) {
     EXPECT_EQ(a.piece.mesh.texcoords, b.piece.mesh.texcoords);
     EXPECT_EQ(b.piece.materials, std::vector<uint32_t>(200, a.piece.materials[0]));
     EXPECT_FALSE(b.materials[b.piece.materials[0]].texturePath.empty());  // `usemtl m` was read
+    // An error in a line a final `\` continued names the last line there is.
+    std::ofstream(dir.file("end.obj")) << "v 0 0 0\nv 1 0 0\nf 1 \\\n2 \\\n";
+    EXPECT_NE(errorOf([&] { readMesh(dir.file("end.obj")); }).find("end.obj:4: truncated or corrupt OBJ (face with fewer than 3"),
+              std::string::npos)
+        << errorOf([&] { readMesh(dir.file("end.obj")); });
 }
 
 // Names with spaces, as exporters write them unescaped: the library `my lib.mtl` (not `my` and
