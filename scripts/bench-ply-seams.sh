@@ -2,8 +2,8 @@
 # Memory of a textured PLY as Agisoft Metashape and MeshLab write it (UVs per face), when its
 # charts are small (not run by the tests; figures, not assertions). Generates an N x N height
 # grid (2 (N-1)^2 triangles) whose charts are K x K quads (K = 1: every quad its own chart, the
-# worst case: about three UVs per vertex), one 256 x 256 PNG, then builds it under
-# --memory-limit and prints the read stage's and the whole build's peak RSS.
+# worst case: four UVs per inner vertex), one 256 x 256 PNG, then builds it under --memory-limit
+# and prints the read, split and build stage lines and the summary (each with the peak RSS so far).
 #
 #   bash scripts/bench-ply-seams.sh            # N=1000 K=1 LIMIT=256M HLOD=build/hlod OUT=out/bench-ply-seams
 #   N=1415 K=8 LIMIT=1G bash scripts/bench-ply-seams.sh
@@ -52,5 +52,6 @@ with open(out + '/seams.ply', 'wb') as f:
         f.write(row)
 EOF
 # shellcheck disable=SC2086
-"$HLOD" build "$OUT/seams.ply" -o "$OUT/seams.hlod" --memory-limit "$LIMIT" $BUILD_FLAGS 2>&1 |
-    grep -E '^(read|split|build) +[0-9.]+ s|^summary' || true
+"$HLOD" build "$OUT/seams.ply" -o "$OUT/seams.hlod" --memory-limit "$LIMIT" $BUILD_FLAGS > "$OUT/build.log" 2>&1 ||
+    { tail -3 "$OUT/build.log" >&2; exit 1; }
+grep -E '^(read|split|build) +[0-9.]+ s|^summary' "$OUT/build.log"

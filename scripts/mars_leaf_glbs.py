@@ -4,10 +4,11 @@
 Usage: scripts/mars_leaf_glbs.py [--obj] [TILESET_DIR] OUT_DIR
 Each leaf b3dm (a tile with content and no children) holds one GLB after its 28-byte header and
 its feature and batch tables (3D Tiles 1.0, Batched 3D Model); the GLB is written as is, named
-NNN_TILE.glb in tileset order sorted by path. The tiles' transforms are ignored (the textures,
-which pipeline/TEXTURE_SIZE.md measures, do not depend on them). With --obj the leaves become
+NNN_TILE.glb in tileset order sorted by path. A root transform other than the identity is
+refused; the other tiles' transforms are ignored (the textures, which pipeline/TEXTURE_SIZE.md
+measures, do not depend on them). With --obj the leaves become
 one mesh instead, OUT_DIR/mars.obj (y up, as glTF: build it with --up y) with mars.mtl and one
-JPEG per leaf: the terrain as one scan, its outline on its bounding box (B1's tiles share one
+JPEG per leaf: the terrain as one scan, its ragged outline partly on its bounding box (B1's tiles share one
 frame: an identity root transform, none below it, no RTC_CENTER; a file that has one is refused).
 Exit 2 on bad arguments or a missing or malformed tileset.
 """

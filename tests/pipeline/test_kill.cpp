@@ -63,8 +63,9 @@ struct KillSweep : ::testing::Test {
     }
     // Kills `args` at kKills points (seeded) in [0.25, 1.2) x `span` (before a quarter of the run
     // the process is still starting); after each,
-    // every file under out/ but `complete` (which must be absent or equal `expected`) must not
-    // open as a database unless it is the whole reference. Then reruns `args` and checks nothing but `keep` is left under out/.
+    // every file under out/ but `complete` (absent or equal to `reference`) must not open as a
+    // database unless it equals `reference` (a whole one left under its temporary name). Then
+    // reruns `args`; the callers check that nothing but their kept files is left.
     void sweep(const std::vector<std::string>& args, const fs::path& complete, uint32_t seed,
                std::chrono::microseconds span) {
         std::mt19937 random(seed);
