@@ -53,7 +53,23 @@ struct Pending {
     uint32_t level;
     uint32_t parentLocal;
     Sides shared = kAllSides;  // the piece's sides another piece may share a border across
+    double ceiling = HUGE_VAL;  // top-down: the error this node's simplification may reach (errorCeiling)
 };
+
+// --error-cap on (pipeline/TREE.md "Locked borders cost triangles, not accuracy"): the error a
+// node's simplification may reach (simplifyNode's ceiling). A child stops at its parent's
+// simplifier error; a block's root, whose borders on shared sides stay whole, at the error the
+// same piece reaches at the same factor with no border locked. Never below the position lattice
+// step: stored positions cannot tell smaller errors apart, and a flat piece's near-zero error
+// would otherwise freeze it.
+double errorCeiling(double error, const BuildOptions& options) {
+    return options.errorCap ? std::max(error, options.draco.positionStep) : HUGE_VAL;
+}
+double rootCeiling(const Piece& root, double factor, Sides shared, const BuildOptions& options) {
+    if (!options.errorCap || options.simplifier != Simplifier::Meshopt || shared == 0 ||
+        isLeaf(factor, options.constants.levelFactor, options.leafRule)) return HUGE_VAL;
+    return errorCeiling(simplifyNode(root, factor, options.simplifier, 0).error, options);
+}
 
 // Source texels the triangles of `mesh` cover in `texture` (the area of their UV triangles).
 double usedTexels(const MeshData& mesh, const Image& texture) {
@@ -329,6 +345,7 @@ struct Level {
     std::vector<std::optional<NodeOut>> done;  // finished, not yet emitted
     std::vector<std::vector<Piece>> children;
     std::vector<std::vector<Sides>> childSides;
+    std::vector<double> ceiling;
     size_t emitted = 0;
     std::atomic<size_t> next{0};
     std::mutex mutex;
@@ -341,12 +358,13 @@ void topDownLevel(Level& level, uint32_t levelBase, const BuildOptions& options,
     level.done.resize(n);
     level.children.resize(n);
     level.childSides.resize(n);
+    level.ceiling.resize(n);
     const size_t workers = std::min<size_t>(n, static_cast<size_t>(tbb::this_task_arena::max_concurrency()));
     parallelFor(workers, [&](size_t) {
         for (size_t i; (i = level.next++) < n && !tbb::is_current_task_group_canceling();) {
             Pending& p = level.pending[i];
             const bool leaf = isLeaf(p.factor, c.levelFactor, options.leafRule);
-            const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier, p.shared);
+            const SimplifiedNode simplified = leaf ? SimplifiedNode{p.piece, false} : simplifyNode(p.piece, p.factor, options.simplifier, p.shared, p.ceiling);
             NodeOut out = finishNode(simplified, p.piece, &p.piece.mesh, {}, p.factor, p.level, leaf, blockIndex, options, textures);
             out.record.parentLocal = p.parentLocal;
             if (progress) progress->advance(p.piece.mesh.triangleCount());
@@ -357,6 +375,7 @@ void topDownLevel(Level& level, uint32_t levelBase, const BuildOptions& options,
             const std::lock_guard lock(level.mutex);
             level.children[i] = std::move(children);
             level.childSides[i] = std::move(childSides);
+            level.ceiling[i] = errorCeiling(simplified.error, options);
             level.done[i] = std::move(out);
             for (; level.emitted < n && level.done[level.emitted]; ++level.emitted) {  // in breadth-first order
                 NodeOut& ready = *level.done[level.emitted];
@@ -417,7 +436,8 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         }
     } else {
         std::vector<Pending> pending;
-        pending.push_back({std::move(welded), rootFactor, 0, kNone, shared});
+        const double ceiling = rootCeiling(welded, rootFactor, shared, options);
+        pending.push_back({std::move(welded), rootFactor, 0, kNone, shared, ceiling});
         while (!pending.empty()) {
             Level level;
             level.pending = std::move(pending);
@@ -430,7 +450,8 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
             for (size_t i = 0; i < level.pending.size(); ++i)
                 for (size_t k = 0; k < level.children[i].size(); ++k)  // §3.2: simplification_hlod(i+1)
                     pending.push_back({std::move(level.children[i][k]), level.pending[i].factor / c.levelFactor,
-                                       level.pending[i].level + 1, levelBase + static_cast<uint32_t>(i), level.childSides[i][k]});
+                                       level.pending[i].level + 1, levelBase + static_cast<uint32_t>(i), level.childSides[i][k],
+                                       level.ceiling[i]});
         }
     }
     // A node's error bounds its whole subtree's: a child's measure can exceed its parent's.

@@ -16,6 +16,7 @@
 #include "pipeline/tree_rules.h"
 
 #include <array>
+#include <cmath>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
@@ -242,13 +243,14 @@ Piece loadPiece(const std::string& file);
 // normals dropped, and every vertex serves one material (identical vertices merged).
 Piece weldPiece(const Piece& piece, double epsilon);
 
-// simplify.cpp. simplifyNode simplifies a (welded) piece as one mesh to about
-// triangleCount / factor with quadric error metrics, material and UV changes being attribute
-// seams; locked are the vertices neighbours share: open-border vertices on the piece's
-// bounding-box faces of its `shared` sides (the cut planes). When seams keep it above kTargetSlack x the target, it
-// simplifies the geometry alone (geometryOnly: no texture coordinates, all material 0). When a
-// result exceeds kTargetSlack x the target, closable scan holes are filled and it is simplified
-// again.
+// simplify.cpp. simplifyNode simplifies a (welded) piece as one mesh to about triangleCount / factor
+// with quadric error metrics, material and UV changes being attribute seams; locked are the vertices
+// neighbours share: open-border vertices on the piece's bounding-box faces of its `shared` sides (the
+// cut planes). When seams keep it above kTargetSlack x the target, it simplifies the geometry alone
+// (geometryOnly: no texture coordinates, all material 0). When a result exceeds kTargetSlack x the
+// target, closable scan holes are filled and it is simplified again. `ceiling` (input units,
+// meshoptimizer only): the kept pass is redone with each round stopping there when its error
+// exceeds it, so it may keep more triangles (pipeline/TREE.md).
 enum class Simplifier { Meshopt, OpenMesh };
 // The chroma of node textures (--jpeg-chroma, pipeline/TEXTURE_SIZE.md "Stop 17"): each material's
 // JPEG source's own (4:2:0 for a 4:2:0 JPEG, else 4:4:4), or one for all.
@@ -262,16 +264,15 @@ struct SubMesh {
 struct SimplifiedNode {
     Piece piece;
     bool geometryOnly = false;  // the source UVs no longer apply: the node needs a baked texture
-    // The simplifier's own estimate of its error, in input units (--bottom-up-error simplifier):
-    // meshoptimizer's, summed over the hole-filling rounds of the pass kept; 0 with OpenMesh
-    // (its decimater reports none) and for an unsimplified piece. Not a distance bound.
+    // The simplifier's own estimate of its error, input units (--bottom-up-error simplifier, --error-cap): meshoptimizer's,
+    // summed over the rounds of the pass kept; 0 with OpenMesh and for an unsimplified piece. Not a distance bound.
     double error = 0;
 };
 std::vector<uint8_t> sharedVertices(const Piece& piece, Sides shared = kAllSides);  // per vertex: must stay for crack-free borders
 // withLocked false: SubMesh::locked left empty (the build's nodes, which only pack and measure
 // their parts, skip the border search: ~3 % of a bottom-up build).
 std::vector<SubMesh> splitByMaterial(const Piece& piece, bool withLocked = true);
-SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier, Sides shared = kAllSides);
+SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier, Sides shared = kAllSides, double ceiling = HUGE_VAL);
 // One mesh on its own (positions and attributes as they are); `locked` per vertex of `mesh`;
 // when empty, sharedVertices of the mesh alone.
 MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier, const std::vector<uint8_t>& locked = {});
@@ -304,7 +305,6 @@ Image loadTexture(const std::string& path);  // 8-bit, 1 or 3 channels; throws I
 // bytes)", "is not a readable image (...)", "has absurd size ..."), or "" when it looks usable
 // (its pixels are decoded, and a truncated or corrupt body found, when a block loads it).
 std::string textureProblem(const std::string& path);
-
 class TextureStore;  // pipeline/texture_store.h
 
 // bake.cpp (charts: chart.cpp; pipeline/BAKE.md): a new parameterisation of a simplified node
@@ -331,6 +331,7 @@ struct BuildOptions {
     BuildMode mode = BuildMode::TopDown;     // tree_rules.h, pipeline/BUILD_SPEED.md
     BottomUpError bottomUpError = BottomUpError::Bound;  // --mode bottom-up only
     Planes planes = Planes::Balanced;
+    bool errorCap = true;  // top-down: roots capped at their free-border error, children at their parent's (pipeline/TREE.md)
     DracoOptions draco{.texcoordBits = 0};  // texcoordBits 0: per node, a quarter texel of its texture (pack.cpp)
     int jpegQuality = 85;
     JpegChroma jpegChroma = JpegChroma::Source;  // 4:2:0 atlases hold 16 x 16 blocks, 4:4:4 ones 8 x 8

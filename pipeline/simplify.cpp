@@ -25,6 +25,10 @@
 // of the result (no locked vertex, not a surface's outline: fill_holes.cpp) are triangulated and
 // the result simplified again, up to kFillRounds times. Locked vertices never move, so borders
 // stay crack-free.
+// Error ceiling (simplifyNode's `ceiling`, --error-cap on, pipeline/TREE.md): when the pass
+// kept (chosen as without a ceiling) ends above it, that pass runs again from the piece, each of
+// its rounds with meshoptimizer's target_error set to it, stopping before the target where the
+// factor would make the node coarser than its reference.
 #include "pipeline/pipeline.h"
 
 #include <meshoptimizer.h>
@@ -72,16 +76,18 @@ MeshData compact(const MeshData& mesh, const std::vector<uint32_t>& indices, std
 // distances to the planes of the triangles merged into the vertex) on positions scaled to the
 // unit cube, so it is multiplied by meshopt_simplifyScale of the same positions (its header).
 std::vector<uint32_t> simplifyMeshopt(const MeshData& mesh, const std::vector<uint32_t>& indices, size_t targetTriangles,
-                                      const std::vector<uint8_t>& locked, double* error) {
+                                      const std::vector<uint8_t>& locked, double* error, double ceiling = HUGE_VAL) {
     std::vector<float> positions = mesh.positions;
     for (size_t i = 0; i < locked.size(); ++i)
         if (locked[i]) positions.insert(positions.end(), mesh.positions.begin() + 3 * i, mesh.positions.begin() + 3 * i + 3);
     std::vector<uint32_t> out(indices.size());
     float relative = 0;
+    const double scale = meshopt_simplifyScale(positions.data(), positions.size() / 3, 3 * sizeof(float));
+    const float targetError = std::isfinite(ceiling) && scale > 0 ? static_cast<float>(ceiling / scale) : FLT_MAX;
     const size_t n = meshopt_simplify(out.data(), indices.data(), indices.size(), positions.data(),
-                                      positions.size() / 3, 3 * sizeof(float), targetTriangles * 3, FLT_MAX, 0, &relative);
+                                      positions.size() / 3, 3 * sizeof(float), targetTriangles * 3, targetError, 0, &relative);
     out.resize(n);
-    if (error) *error = double(relative) * meshopt_simplifyScale(positions.data(), positions.size() / 3, 3 * sizeof(float));
+    if (error) *error = double(relative) * scale;
     return out;
 }
 
@@ -188,25 +194,45 @@ namespace {
 // Simplifies `indices` (into `mesh`) to about `target` triangles; when the result exceeds
 // kTargetSlack x target, the hole-filling fallback of the header comment. `error` (when given)
 // receives the sum of meshoptimizer's errors over the rounds (each round's is measured from the
-// previous round's result; 0 for OpenMesh, which reports none).
+// previous round's result; 0 for OpenMesh, which reports none). With a finite `ceiling` (given
+// `error`) the rounds share it: each stops at what the earlier ones left, and the rounds end when
+// none is left or a round no longer lowers the count (its patches then stay as they were).
 std::vector<uint32_t> simplifyToTarget(const MeshData& mesh, const std::vector<uint32_t>& indices, size_t target,
-                                       const std::vector<uint8_t>& lock, Simplifier simplifier, double* error = nullptr) {
+                                       const std::vector<uint8_t>& lock, Simplifier simplifier, double* error = nullptr,
+                                       double ceiling = HUGE_VAL) {
     if (error) *error = 0;
+    const bool capped = std::isfinite(ceiling) && error;
     auto simplify = [&](const std::vector<uint32_t>& in) {
         double roundError = 0;
-        std::vector<uint32_t> out = simplifier == Simplifier::Meshopt ? simplifyMeshopt(mesh, in, target, lock, &roundError)
-                                                                      : simplifyOpenMesh(mesh, in, target, lock);
+        std::vector<uint32_t> out = simplifier == Simplifier::Meshopt
+                                        ? simplifyMeshopt(mesh, in, target, lock, &roundError, capped ? ceiling - *error : HUGE_VAL)
+                                        : simplifyOpenMesh(mesh, in, target, lock);
         if (error) *error += roundError;
         return out;
     };
     std::vector<uint32_t> result = simplify(indices);
     for (int round = 0; round < kFillRounds && double(result.size() / 3) > kTargetSlack * double(target); ++round) {
-        const std::vector<uint32_t> patches = holePatches(mesh, result, lock);
+        if (capped && *error >= ceiling) break;
+        std::vector<uint32_t> patches = holePatches(mesh, result, lock);
         if (patches.empty()) break;
-        result.insert(result.end(), patches.begin(), patches.end());
-        result = simplify(result);
+        patches.insert(patches.begin(), result.begin(), result.end());
+        const double before = error ? *error : 0;
+        std::vector<uint32_t> next = simplify(patches);
+        if (capped && next.size() >= result.size()) {
+            *error = before;
+            break;
+        }
+        result = std::move(next);
     }
     return result;
+}
+
+// The kept pass again from `indices`, its rounds sharing `ceiling`, when its error (summed over
+// its rounds) exceeds it.
+void noCoarserThan(double ceiling, const MeshData& mesh, const std::vector<uint32_t>& indices, size_t target,
+                   const std::vector<uint8_t>& lock, Simplifier simplifier, std::vector<uint32_t>& result, double& error) {
+    if (simplifier == Simplifier::Meshopt && error > ceiling)
+        result = simplifyToTarget(mesh, indices, target, lock, simplifier, &error, ceiling);
 }
 
 size_t targetOf(size_t triangles, double factor) {
@@ -221,7 +247,7 @@ MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier
     return compact(mesh, simplifyToTarget(mesh, mesh.indices, targetOf(mesh.triangleCount(), factor), lock, simplifier));
 }
 
-SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier, Sides shared) {
+SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simplifier, Sides shared, double ceiling) {
     SimplifiedNode out;
     const MeshData& m = piece.mesh;
     if (factor <= 1 || m.triangleCount() < 2) {
@@ -243,6 +269,7 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
     }
     std::vector<uint32_t> result = simplifyToTarget(m, m.indices, target, seamLock, simplifier, &out.error);
     if (double(result.size() / 3) <= kTargetSlack * double(target)) {
+        noCoarserThan(ceiling, m, m.indices, target, seamLock, simplifier, result, out.error);
         std::vector<uint32_t> material(vc);  // weldPiece gives every vertex one material
         for (size_t t = 0; t < m.triangleCount(); ++t)
             for (int k = 0; k < 3; ++k) material[m.indices[3 * t + k]] = piece.materials[t];
@@ -263,7 +290,9 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
     for (size_t i = 0; i < vc; ++i) geometryLock[position[i]] |= lock[i];
     std::vector<uint32_t> indices(m.indices.size());
     meshopt_remapIndexBuffer(indices.data(), m.indices.data(), m.indices.size(), position.data());
-    out.piece.mesh = compact(geometry, simplifyToTarget(geometry, indices, target, geometryLock, simplifier, &out.error));
+    result = simplifyToTarget(geometry, indices, target, geometryLock, simplifier, &out.error);
+    noCoarserThan(ceiling, geometry, indices, target, geometryLock, simplifier, result, out.error);
+    out.piece.mesh = compact(geometry, result);
     out.piece.materials.assign(out.piece.mesh.triangleCount(), 0);
     out.geometryOnly = true;
     return out;

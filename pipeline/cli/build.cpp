@@ -32,6 +32,7 @@ struct BuildArgs {
     std::string leafRule = "below-one";
     std::string mode = "top-down";
     std::string bottomUpError;  // empty: not given (bound)
+    std::string errorCap;  // empty: not given (on)
     std::string planes = "balanced";
     std::string blocks;  // "A:B" shard selection
     ProgressOptions progress;
@@ -103,6 +104,11 @@ int runBuildCommand(BuildArgs& a) {
         throw std::invalid_argument("--bottom-up-error needs --mode bottom-up (top-down measures against the original)");
     if (!a.bottomUpError.empty() && !parseBottomUpError(a.bottomUpError, o.bottomUpError))  // CLI11 checked it already
         throw std::invalid_argument("--bottom-up-error: unknown value " + a.bottomUpError);
+    if (!a.errorCap.empty() && o.mode == BuildMode::BottomUp)
+        throw std::invalid_argument("--error-cap needs --mode top-down (bottom-up builds a parent from its children)");
+    if (a.errorCap == "on" && o.simplifier == Simplifier::OpenMesh)
+        throw std::invalid_argument("--error-cap on needs --simplifier meshopt (OpenMesh's decimater reports no error of its own)");
+    o.errorCap = a.errorCap != "off" && o.simplifier == Simplifier::Meshopt;  // recorded as it ran
     o.planes = a.planes == "even" ? Planes::Even : Planes::Balanced;
     if (!a.blocks.empty()) parseBlockRange(a.blocks, a.request);
     printConstants(std::cout, o.constants, kUsedByBuild);
@@ -180,6 +186,12 @@ void addBuild(CLI::App& app, int& status) {
                     "below the exact distance on 87-93 % of the nodes (Lucy, a terrain), as low as 1 % of it, and up to "
                     "9.6 x above it at the roots; needs --simplifier meshopt); pipeline/BUILD_SPEED.md")
         ->check(CLI::IsMember({"bound", "exact", "simplifier"}));
+    sub->add_option("--error-cap", a->errorCap,
+                    "top-down: on (default: locked borders cost triangles, not accuracy: a block's root stops at the "
+                    "error it reaches with no border locked, every other node at its parent's error; a node may keep "
+                    "more triangles than its factor; meshopt only: off by default with openmesh) or off (the factor "
+                    "alone, as before stop 41); pipeline/TREE.md")
+        ->check(CLI::IsMember({"on", "off"}));
     sub->add_option("--planes", a->planes,
                     "balanced (default: triangle-count quantiles avoiding dense surfaces) or even (evenly spaced, "
                     "empty pieces dropped)")

@@ -118,6 +118,7 @@ nlohmann::json toJson(const Stats& s) {
                                       {"max", s.checks.empty() ? 0 : s.checks[0].maxTriangles}}},
         {"leaf_rule", s.leafRule},
         {"planes", s.planes},
+        {"error_cap", s.errorCap},
     };
     if (s.build) {
         nlohmann::json stages = nlohmann::json::array();
@@ -178,7 +179,9 @@ void printStats(std::ostream& os, const Stats& s) {
                   h0->nodes ? double(levelTriangles(*h0)) / double(h0->nodes) : 0.0, (unsigned long long)most,
                   kTargetSlack, (unsigned long long)limit, s.checks[0].missing ? "MISSED" : "ok");
     }
-    if (!s.leafRule.empty()) os << fmt("%-34s --leaf-rule %s --planes %s\n", "tree", s.leafRule.c_str(), s.planes.c_str());
+    if (!s.leafRule.empty())
+        os << fmt("%-34s --leaf-rule %s --planes %s%s\n", "tree", s.leafRule.c_str(), s.planes.c_str(),
+                  s.errorCap.empty() ? "" : (" --error-cap " + s.errorCap).c_str());
     os << fmt("%5s %7s %12s %12s %14s %14s %9s %9s %8s %9s %9s\n", "level", "nodes", "triangles", "texels", "geometry",
               "textures", "tris/node", "max/node", "missed", "err mean", "err max");
     for (const LevelSummary& L : s.summary.levels) {

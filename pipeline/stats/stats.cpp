@@ -89,6 +89,7 @@ Stats computeStats(const Database& db, bool forceThesis) {
     if (const std::string* v = sk.findMeta("tree.leafRule")) s.leafRule = *v;
     if (const std::string* v = sk.findMeta("tree.planes")) s.planes = *v;
     if (const std::string* v = sk.findMeta("tree.error")) s.treeError = *v;
+    if (const std::string* v = sk.findMeta("tree.errorCap")) s.errorCap = *v;
     s.build = readBuildReport(buildReportPath(db.path()));
     s.city = findCityManifest(db.path(), sk);
     s.thesis = forceThesis || isThesisScale(s.city);

@@ -237,5 +237,28 @@ TEST(BottomUpError, OptionNeedsBottomUpMode) {
     }
 }
 
+// --error-cap belongs to --mode top-down (a bottom-up parent is made from its children) and to
+// meshoptimizer (OpenMesh's decimater reports no error): elsewhere it is a usage error, exit 2,
+// one line, no database.
+TEST(BottomUpError, ErrorCapIsRefusedWhereItCannotApply) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(8).mesh, true);
+    const std::vector<std::vector<std::string>> cases = {{"--mode", "bottom-up", "--error-cap", "on"},
+                                                         {"--mode", "bottom-up", "--error-cap", "off"},
+                                                         {"--simplifier", "openmesh", "--error-cap", "on"}};
+    for (const auto& extra : cases) {
+        std::vector<std::string> args = {"build", dir.file("t.ply"), "-o", dir.file("t.hlod")};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << extra[1];
+        EXPECT_NE(r.err.find("--error-cap"), std::string::npos) << r.err;
+        EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("t.hlod")));
+    }
+    const RunResult ok = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--simplifier", "openmesh"});
+    ASSERT_EQ(ok.exitCode, 0) << ok.outAndErr();
+    EXPECT_EQ(*Database::open(dir.file("t.hlod")).skeleton().findMeta("tree.errorCap"), "off") << "recorded as it ran";
+}
+
 }  // namespace
 }  // namespace hlod::test

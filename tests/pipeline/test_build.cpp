@@ -312,16 +312,20 @@ TEST(Build, TreeOptionsRoundTripIntoTheMetadata) {
     BuildOptions o = smallOptions(1);
     o.leafRule = LeafRule::StopBefore;
     o.planes = Planes::Even;
+    o.errorCap = false;
     build(dir.file("s.ply"), dir.file("s.hlod"), o);
     expectValid(dir.file("s.hlod"));
     const Database db = Database::open(dir.file("s.hlod"));
     EXPECT_EQ(*db.skeleton().findMeta("tree.leafRule"), "stop-before");
     EXPECT_EQ(*db.skeleton().findMeta("tree.planes"), "even");
+    EXPECT_EQ(*db.skeleton().findMeta("tree.errorCap"), "off");
     EXPECT_NE(db.skeleton().findMeta("command")->find("--leaf-rule stop-before --planes even"), std::string::npos);
+    EXPECT_NE(db.skeleton().findMeta("command")->find("--error-cap off"), std::string::npos);
     build(dir.file("s.ply"), dir.file("d.hlod"), smallOptions(1));
     const Database defaults = Database::open(dir.file("d.hlod"));
     EXPECT_EQ(*defaults.skeleton().findMeta("tree.leafRule"), "below-one");
     EXPECT_EQ(*defaults.skeleton().findMeta("tree.planes"), "balanced");
+    EXPECT_EQ(*defaults.skeleton().findMeta("tree.errorCap"), "on");
 }
 
 // Bottom-up keeps every finished node until its block's tree is done, then emits them

@@ -151,14 +151,23 @@ protected:
         return gap;
     }
 
-    static void checkShape() {
+    // Bottom-up, hlod0 reaches c_desiredTris (150). Top-down with --error-cap on (the default),
+    // a root keeps the accuracy of the same block with free borders and pays for its locked
+    // grid-line borders in triangles (pipeline/TREE.md): still far coarser than its children.
+    static void checkShape(BuildMode mode) {
         const Skeleton& s = db_->skeleton();
         ASSERT_EQ(s.blockCount, 9u);
         for (const Node& n : s.nodes) EXPECT_LE(n.level, 2u);
         EXPECT_EQ(front([](const Node&) { return true; }).size(), 9u * 16);
-        for (uint32_t root : s.roots()) {  // hlod0 reaches c_desiredTris (150) in both modes
+        for (uint32_t root : s.roots()) {
             const Node& n = s.nodes[root];
-            EXPECT_LE(n.texturedTriangles + n.untexturedTriangles, kTargetSlack * 150) << "hlod0 of block " << n.block;
+            if (mode == BuildMode::BottomUp) {
+                EXPECT_LE(n.triangles(), kTargetSlack * 150) << "hlod0 of block " << n.block;
+            } else {
+                uint64_t children = 0;
+                for (uint32_t c : s.children(root)) children += s.nodes[c].triangles();
+                EXPECT_LT(2 * n.triangles(), children) << "hlod0 of block " << n.block;
+            }
             EXPECT_GT(n.geometricError, 0.0f) << "hlod0 of block " << n.block;
         }
     }
@@ -196,14 +205,14 @@ std::filesystem::path* StoredCracks::dir_ = nullptr;
 Database* StoredCracks::db_ = nullptr;
 std::vector<NodeBorder> StoredCracks::borders_;
 
-TEST_F(StoredCracks, DatabaseHasNineBlocksOfThreeLevels) { checkShape(); }
+TEST_F(StoredCracks, DatabaseHasNineBlocksOfThreeLevels) { checkShape(BuildMode::TopDown); }
 TEST_F(StoredCracks, NoGapBetweenNodesOfAnyFront) { checkNoGap(); }
 
 class StoredCracksBottomUp : public StoredCracks {
 protected:
     static void SetUpTestSuite() { setUp(BuildMode::BottomUp); }
 };
-TEST_F(StoredCracksBottomUp, DatabaseHasNineBlocksOfThreeLevels) { checkShape(); }
+TEST_F(StoredCracksBottomUp, DatabaseHasNineBlocksOfThreeLevels) { checkShape(BuildMode::BottomUp); }
 TEST_F(StoredCracksBottomUp, NoGapBetweenNodesOfAnyFront) { checkNoGap(); }
 
 // One lattice per block: a leaf spans a quarter of its block's longest side (the block cut in

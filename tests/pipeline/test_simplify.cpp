@@ -73,6 +73,26 @@ TEST(Simplify, OnlyTheSharedSidesBordersAreLocked) {
     EXPECT_EQ(kept.size(), n + 1);
 }
 
+// Stop 41 (--error-cap on, pipeline/TREE.md "Locked borders cost triangles, not accuracy"): a
+// ceiling on the simplifier's error stops the simplification there, keeping more triangles than
+// the factor asks; a ceiling above the error the factor reaches changes nothing; the shared sides
+// (x = 0 and x = 100, as a §3.2 slab's) stay whole either way.
+TEST(Simplify, AnErrorCeilingStopsTheSimplificationThere) {
+    const uint32_t n = 60;
+    const Piece p = terrain(n);
+    const Sides slab = sideBit(0, false) | sideBit(0, true);
+    const SimplifiedNode uncapped = simplifyNode(p, 60, Simplifier::Meshopt, slab);
+    ASSERT_GT(uncapped.error, 0);
+    const SimplifiedNode capped = simplifyNode(p, 60, Simplifier::Meshopt, slab, uncapped.error / 4);
+    EXPECT_LE(capped.error, uncapped.error / 4 * (1 + 1e-6));
+    EXPECT_GT(capped.piece.mesh.triangleCount(), uncapped.piece.mesh.triangleCount());
+    EXPECT_EQ(capped.geometryOnly, uncapped.geometryOnly) << "the pass is chosen as without a ceiling";
+    for (float x : {0.0f, 100.0f}) EXPECT_EQ(pointsOnPlane(capped.piece.mesh, 0, x).mesh.vertexCount(), n + 1) << "x = " << x;
+    const SimplifiedNode loose = simplifyNode(p, 60, Simplifier::Meshopt, slab, 2 * uncapped.error);
+    EXPECT_EQ(loose.piece.mesh.indices, uncapped.piece.mesh.indices);
+    EXPECT_EQ(loose.piece.mesh.positions, uncapped.piece.mesh.positions);
+}
+
 // A scanned block riddled with small holes (2 x 2 quads missing every 4 quads: 784 holes, as
 // glass and occluders leave in a facade scan) whose outer edge lies on the cut planes (480
 // locked vertices). Without closing holes each keeps >= 3 border vertices: with V = B border
