@@ -320,10 +320,9 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     const bool offset = o.read.offset != Offset{};
     if (offset) command += " --offset " + offsetText(o.read.offset);
     if (o.mode == BuildMode::BottomUp) command += " --mode bottom-up";  // absent: top-down, as before the option
-    const bool errorCap = o.errorCap && o.simplifier == Simplifier::Meshopt;  // OpenMesh reports no error to cap
-    if (o.mode != BuildMode::BottomUp) command += std::string(" --error-cap ") + (errorCap ? "on" : "off");
     if (o.mode == BuildMode::BottomUp && o.bottomUpError != BottomUpError::Bound)  // absent: bound, as before the option
         command += std::string(" --bottom-up-error ") + bottomUpErrorName(o.bottomUpError);
+    command += std::string(" --error-cap ") + (errorCapped(o) ? "on" : "off");
     for (const auto& [name, value] : constantsAsPairs(o.constants, kUsedByBuild)) command += " --set " + name + "=" + value;
     meta.emplace_back("command", command);
     for (const auto& pair : constantsAsPairs(o.constants, kUsedByBuild)) meta.push_back(pair);
@@ -332,7 +331,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     meta.emplace_back("tree.planes", planesName(o.planes));
     if (o.mode == BuildMode::BottomUp) meta.emplace_back("tree.mode", buildModeName(o.mode));
     if (o.mode == BuildMode::BottomUp) meta.emplace_back("tree.error", bottomUpErrorName(o.bottomUpError));
-    else meta.emplace_back("tree.errorCap", errorCap ? "on" : "off");  // absent: off (before stop 41)
+    meta.emplace_back("tree.errorCap", errorCapped(o) ? "on" : "off");  // absent: off (before stop 41)
     meta.emplace_back("blocks.triangles", o.blockSize > 0 ? "" : std::to_string(blockTarget(o)));
     meta.emplace_back("blocks.size", o.blockSize > 0 ? std::to_string(o.blockSize) : "");
     meta.emplace_back("draco.positionBits", std::to_string(o.draco.positionBits));

@@ -22,6 +22,8 @@
 // children (bottomUp), without a pass over the original triangles; --bottom-up-error exact
 // measures against the original piece as top-down does; --bottom-up-error simplifier adds the
 // simplifier's own error estimate to the children's, measuring no distance at all.
+// --error-cap (errorCeiling below, pipeline/TREE.md): a node may stop short of its factor where
+// reaching it would make it far coarser than a reference error.
 #include "pipeline/blob_spill.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/tbb_sync.h"
@@ -53,26 +55,34 @@ struct Pending {
     uint32_t level;
     uint32_t parentLocal;
     Sides shared = kAllSides;  // the piece's sides another piece may share a border across
-    double ceiling = HUGE_VAL;  // top-down: the error this node's simplification may reach (errorCeiling)
+    double ceiling = HUGE_VAL;  // top-down: the error this node's simplification may reach (freeBorderCeiling, errorCeiling)
 };
 
-// --error-cap on (pipeline/TREE.md "Locked borders cost triangles, not accuracy"): the error a
-// node's simplification may reach (simplifyNode's ceiling). A child stops at its parent's
-// simplifier error; a block's root, whose borders on shared sides stay whole, at kFreeBorderSlack
-// x the error the same piece reaches at the same factor with no border locked. Never below the
-// position lattice step: stored positions cannot tell smaller errors apart, and a flat piece's
-// near-zero error would otherwise freeze it.
+// --error-cap on (pipeline/TREE.md "Locked borders cost triangles, not accuracy"; errorCapped:
+// the default top-down): the error a node's simplification may reach (simplifyNode's ceiling).
+// A node with shared sides, whose borders there stay whole, stops at kFreeBorderSlack x the error
+// its piece reaches at the same factor with no border locked (freeBorderCeiling): top-down the
+// block's root (one more simplification of the whole block), bottom-up every node (its input,
+// the children's simplified triangles, is small). A top-down child also stops at its parent's
+// simplifier error. Never below the position lattice step: stored positions cannot tell smaller
+// errors apart, and a flat piece's near-zero error would otherwise freeze it.
 // kFreeBorderSlack: 1 kept the 1.6 M Lucy's hlod0 at 12.7 units (618 uncapped) for 26 % more
 // triangles, but put 35 of the thesis city's 114 hlod0 nodes over 1.25 x c_desiredTris; 2 gives
 // 31.2 for 10 % more and leaves the city's hlod0 on target (measured, TREE.md).
 constexpr double kFreeBorderSlack = 2;
-double errorCeiling(double error, const BuildOptions& options) {
-    return options.errorCap ? std::max(error, options.draco.positionStep) : HUGE_VAL;
+}  // namespace
+
+bool errorCapped(const BuildOptions& o) {
+    return o.errorCap.value_or(o.mode == BuildMode::TopDown) && o.simplifier == Simplifier::Meshopt;
 }
-double rootCeiling(const Piece& root, double factor, Sides shared, const BuildOptions& options) {
-    if (!options.errorCap || options.simplifier != Simplifier::Meshopt || shared == 0 ||
-        isLeaf(factor, options.constants.levelFactor, options.leafRule)) return HUGE_VAL;
-    return errorCeiling(kFreeBorderSlack * simplifyNode(root, factor, options.simplifier, 0).error, options);
+
+namespace {
+double errorCeiling(double error, const BuildOptions& options) {
+    return errorCapped(options) ? std::max(error, options.draco.positionStep) : HUGE_VAL;
+}
+double freeBorderCeiling(const Piece& piece, double factor, Sides shared, const BuildOptions& options) {
+    if (!errorCapped(options) || shared == 0 || factor <= 1) return HUGE_VAL;
+    return errorCeiling(kFreeBorderSlack * simplifyNode(piece, factor, options.simplifier, 0).error, options);
 }
 
 // Source texels the triangles of `mesh` cover in `texture` (the area of their UV triangles).
@@ -318,7 +328,8 @@ uint32_t bottomUp(Piece piece, Sides shared, double factor, uint32_t level, cons
         const Piece input = joinPieces(simplifiedChildren, geometryOnly);
         simplifiedChildren.clear();
         const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
-        result = simplifyNode(input, std::max(1.0, double(input.mesh.triangleCount()) / target), options.simplifier, shared);
+        const double inputFactor = std::max(1.0, double(input.mesh.triangleCount()) / target);
+        result = simplifyNode(input, inputFactor, options.simplifier, shared, freeBorderCeiling(input, inputFactor, shared, options));
         result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
         if (options.bottomUpError == BottomUpError::Simplifier) {
             inherited = {inherited.oneSided + result.error, inherited.max + result.error, inherited.mean + result.error};
@@ -440,7 +451,8 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
         }
     } else {
         std::vector<Pending> pending;
-        const double ceiling = rootCeiling(welded, rootFactor, shared, options);
+        const double ceiling =
+            isLeaf(rootFactor, c.levelFactor, options.leafRule) ? HUGE_VAL : freeBorderCeiling(welded, rootFactor, shared, options);
         pending.push_back({std::move(welded), rootFactor, 0, kNone, shared, ceiling});
         while (!pending.empty()) {
             Level level;

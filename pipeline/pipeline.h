@@ -24,6 +24,7 @@
 #include <iosfwd>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -249,7 +250,7 @@ Piece weldPiece(const Piece& piece, double epsilon);
 // cut planes). When seams keep it above kTargetSlack x the target, it simplifies the geometry alone
 // (geometryOnly: no texture coordinates, all material 0). When a result exceeds kTargetSlack x the
 // target, closable scan holes are filled and it is simplified again. `ceiling` (input units,
-// meshoptimizer only): the kept pass is redone with each round stopping there when its error
+// meshoptimizer only): the kept pass is redone, its rounds sharing the ceiling, when its error
 // exceeds it, so it may keep more triangles (pipeline/TREE.md).
 enum class Simplifier { Meshopt, OpenMesh };
 // The chroma of node textures (--jpeg-chroma, pipeline/TEXTURE_SIZE.md "Stop 17"): each material's
@@ -280,11 +281,9 @@ MeshData simplifyMesh(const MeshData& mesh, double factor, Simplifier simplifier
 // fill_holes.cpp: triangles (indices into `mesh`'s vertices) closing the scan holes of the
 // triangles `indices`: border loops (on positions) through one UV chart with no `locked` vertex,
 // other than the outline of their connected surface, of at most 64 vertices; no vertex is added.
-std::vector<uint32_t> holePatches(const MeshData& mesh, const std::vector<uint32_t>& indices,
-                                  const std::vector<uint8_t>& locked);
+std::vector<uint32_t> holePatches(const MeshData& mesh, const std::vector<uint32_t>& indices, const std::vector<uint8_t>& locked);
 
-// error.cpp: largest distance from points sampled on `simplified` (edge midpoints and
-// centroids) to the surface of `original` (CGAL AABB tree). 0 when either is empty.
+// error.cpp: largest distance from points sampled on `simplified` (edge midpoints, centroids) to `original`; 0 if either is empty.
 double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original);
 // The node's geometric error: the two-sided (symmetric) Hausdorff distance between the node and
 // the original surface, both sampled with points at most `spacing` apart (a hole wider than
@@ -331,7 +330,7 @@ struct BuildOptions {
     BuildMode mode = BuildMode::TopDown;     // tree_rules.h, pipeline/BUILD_SPEED.md
     BottomUpError bottomUpError = BottomUpError::Bound;  // --mode bottom-up only
     Planes planes = Planes::Balanced;
-    bool errorCap = true;  // top-down: roots capped at their free-border error, children at their parent's (pipeline/TREE.md)
+    std::optional<bool> errorCap;  // --error-cap; unset: on top-down, off bottom-up (errorCapped, pipeline/TREE.md)
     DracoOptions draco{.texcoordBits = 0};  // texcoordBits 0: per node, a quarter texel of its texture (pack.cpp)
     int jpegQuality = 85;
     JpegChroma jpegChroma = JpegChroma::Source;  // 4:2:0 atlases hold 16 x 16 blocks, 4:4:4 ones 8 x 8
@@ -423,6 +422,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
 // simplifier can give.
 inline constexpr int kMaxJobs = 1024;
 void checkBuildOptions(const BuildOptions& options);
+bool errorCapped(const BuildOptions& o);  // --error-cap as the build runs it (build_tree.cpp): meshoptimizer only
 
 // pack.cpp: encodes a node's sub-meshes (Draco) and textures (JPEG) and fills §3.3 attributes.
 // gridPositionStep: the position lattice step for every block of `grid` over `bounds` (from

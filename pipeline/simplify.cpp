@@ -26,9 +26,9 @@
 // the result simplified again, up to kFillRounds times. Locked vertices never move, so borders
 // stay crack-free.
 // Error ceiling (simplifyNode's `ceiling`, --error-cap on, pipeline/TREE.md): when the pass
-// kept (chosen as without a ceiling) ends above it, that pass runs again from the piece, each of
-// its rounds with meshoptimizer's target_error set to it, stopping before the target where the
-// factor would make the node coarser than its reference.
+// kept (chosen as without a ceiling) ends above it, that pass runs again from the piece, its
+// rounds sharing the ceiling through meshoptimizer's target_error (each gets what the earlier
+// ones left), stopping before the target where the factor would make the node too coarse.
 #include "pipeline/pipeline.h"
 
 #include <meshoptimizer.h>

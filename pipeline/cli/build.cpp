@@ -32,7 +32,7 @@ struct BuildArgs {
     std::string leafRule = "below-one";
     std::string mode = "top-down";
     std::string bottomUpError;  // empty: not given (bound)
-    std::string errorCap;  // empty: not given (on)
+    std::string errorCap;  // empty: not given (on top-down, off bottom-up)
     std::string planes = "balanced";
     std::string blocks;  // "A:B" shard selection
     ProgressOptions progress;
@@ -104,11 +104,9 @@ int runBuildCommand(BuildArgs& a) {
         throw std::invalid_argument("--bottom-up-error needs --mode bottom-up (top-down measures against the original)");
     if (!a.bottomUpError.empty() && !parseBottomUpError(a.bottomUpError, o.bottomUpError))  // CLI11 checked it already
         throw std::invalid_argument("--bottom-up-error: unknown value " + a.bottomUpError);
-    if (!a.errorCap.empty() && o.mode == BuildMode::BottomUp)
-        throw std::invalid_argument("--error-cap needs --mode top-down (bottom-up builds a parent from its children)");
     if (a.errorCap == "on" && o.simplifier == Simplifier::OpenMesh)
         throw std::invalid_argument("--error-cap on needs --simplifier meshopt (OpenMesh's decimater reports no error of its own)");
-    o.errorCap = a.errorCap != "off" && o.simplifier == Simplifier::Meshopt;  // recorded as it ran
+    if (!a.errorCap.empty()) o.errorCap = a.errorCap == "on";
     o.planes = a.planes == "even" ? Planes::Even : Planes::Balanced;
     if (!a.blocks.empty()) parseBlockRange(a.blocks, a.request);
     printConstants(std::cout, o.constants, kUsedByBuild);
@@ -187,10 +185,11 @@ void addBuild(CLI::App& app, int& status) {
                     "9.6 x above it at the roots; needs --simplifier meshopt); pipeline/BUILD_SPEED.md")
         ->check(CLI::IsMember({"bound", "exact", "simplifier"}));
     sub->add_option("--error-cap", a->errorCap,
-                    "top-down: on (default: locked borders cost triangles, not accuracy: a block's root stops at the "
-                    "error it reaches with no border locked, every other node at its parent's error; a node may keep "
-                    "more triangles than its factor; meshopt only: off by default with openmesh) or off (the factor "
-                    "alone, as before stop 41); pipeline/TREE.md")
+                    "on (the default top-down: locked borders cost triangles, not accuracy: a block root with shared "
+                    "sides stops at twice the error it reaches with no border locked, every other node at its parent's "
+                    "error; bottom-up every node with shared sides at twice its input's; a node may keep more triangles "
+                    "than its factor) or off (the factor alone; the default bottom-up, whose cap costs 15-20 % of its "
+                    "speed); meshopt only; pipeline/TREE.md")
         ->check(CLI::IsMember({"on", "off"}));
     sub->add_option("--planes", a->planes,
                     "balanced (default: triangle-count quantiles avoiding dense surfaces) or even (evenly spaced, "

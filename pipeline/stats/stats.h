@@ -88,7 +88,7 @@ struct Stats {
     std::vector<LevelCheck> checks;  // per level
     double levelFactor = 0;          // c_levelFactor of the build
     std::string leafRule, planes;    // tree.leafRule / tree.planes metadata ("" before they existed)
-    std::string errorCap;            // tree.errorCap metadata: "on" or "off" (top-down builds since stop 41)
+    std::string errorCap;            // tree.errorCap metadata: "on" or "off" (every build since stop 41)
     std::string treeError;           // tree.error metadata: "bound", "exact" or "simplifier" (bottom-up builds only)
     uint64_t leafNodes = 0, leafTriangles = 0, leafTexels = 0;  // finest detail = the input
     uint64_t totalTriangles = 0;                                // over all nodes

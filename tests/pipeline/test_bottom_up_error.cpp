@@ -237,27 +237,29 @@ TEST(BottomUpError, OptionNeedsBottomUpMode) {
     }
 }
 
-// --error-cap belongs to --mode top-down (a bottom-up parent is made from its children) and to
-// meshoptimizer (OpenMesh's decimater reports no error): elsewhere it is a usage error, exit 2,
-// one line, no database.
-TEST(BottomUpError, ErrorCapIsRefusedWhereItCannotApply) {
+// --error-cap: on by default top-down, off bottom-up, recorded as the build ran (tree.errorCap,
+// command); `on` with OpenMesh's decimater (it reports no error) is a usage error, exit 2, one
+// line, no database, and OpenMesh builds record `off`.
+TEST(BottomUpError, ErrorCapDefaultsByModeAndIsRecorded) {
     TempDir dir;
     writePly(dir.file("t.ply"), terrain(8).mesh, true);
-    const std::vector<std::vector<std::string>> cases = {{"--mode", "bottom-up", "--error-cap", "on"},
-                                                         {"--mode", "bottom-up", "--error-cap", "off"},
-                                                         {"--simplifier", "openmesh", "--error-cap", "on"}};
-    for (const auto& extra : cases) {
-        std::vector<std::string> args = {"build", dir.file("t.ply"), "-o", dir.file("t.hlod")};
+    const RunResult r = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--simplifier", "openmesh", "--error-cap", "on"});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("--error-cap on needs --simplifier meshopt"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("t.hlod")));
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{}, "on"}, {{"--mode", "bottom-up"}, "off"}, {{"--mode", "bottom-up", "--error-cap", "on"}, "on"},
+        {{"--error-cap", "off"}, "off"}, {{"--simplifier", "openmesh"}, "off"}};
+    for (const auto& [extra, recorded] : cases) {
+        std::vector<std::string> args = {"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--set", "c_desiredTris=20"};
         args.insert(args.end(), extra.begin(), extra.end());
-        const RunResult r = runHlod(args);
-        EXPECT_EQ(r.exitCode, 2) << extra[1];
-        EXPECT_NE(r.err.find("--error-cap"), std::string::npos) << r.err;
-        EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
-        EXPECT_FALSE(std::filesystem::exists(dir.file("t.hlod")));
+        const RunResult ok = runHlod(args);
+        ASSERT_EQ(ok.exitCode, 0) << ok.outAndErr();
+        const Database db = Database::open(dir.file("t.hlod"));
+        EXPECT_EQ(*db.skeleton().findMeta("tree.errorCap"), recorded) << ok.out;
+        EXPECT_NE(db.skeleton().findMeta("command")->find("--error-cap " + recorded), std::string::npos);
     }
-    const RunResult ok = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--simplifier", "openmesh"});
-    ASSERT_EQ(ok.exitCode, 0) << ok.outAndErr();
-    EXPECT_EQ(*Database::open(dir.file("t.hlod")).skeleton().findMeta("tree.errorCap"), "off") << "recorded as it ran";
 }
 
 }  // namespace
