@@ -99,8 +99,7 @@ TEST(Simplify, AnErrorCeilingStopsTheSimplificationThere) {
 // vertices and H holes a surface has F = V + 2H - 2 >= 5H + 478 = 4,398 triangles. With the
 // fallback it reaches kTargetSlack x c_desiredTris (2,000 here: the locked outline alone needs
 // 478) while every cut-plane vertex stays where it was, and every vertex keeps its exact UV.
-TEST(Simplify, HoleRiddledBlockReachesTheTargetWithItsCutPlaneBordersLocked) {
-    const uint32_t n = 120;
+Piece holedTerrain(uint32_t n) {
     const Piece full = terrain(n);
     Piece holed;
     holed.mesh = full.mesh, holed.mesh.indices.clear();
@@ -111,6 +110,11 @@ TEST(Simplify, HoleRiddledBlockReachesTheTargetWithItsCutPlaneBordersLocked) {
             holed.mesh.indices.insert(holed.mesh.indices.end(), full.mesh.indices.begin() + 3 * t, full.mesh.indices.begin() + 3 * t + 6);
             holed.materials.insert(holed.materials.end(), {0, 0});
         }
+    return holed;
+}
+
+TEST(Simplify, HoleRiddledBlockReachesTheTargetWithItsCutPlaneBordersLocked) {
+    const Piece holed = holedTerrain(120);
     const std::vector<SubMesh> parts = splitByMaterial(holed);
     ASSERT_EQ(parts.size(), 1u);
     const double desiredTris = 2000;
@@ -120,6 +124,25 @@ TEST(Simplify, HoleRiddledBlockReachesTheTargetWithItsCutPlaneBordersLocked) {
     for (size_t i = 0; i < s.vertexCount(); ++i) {
         ASSERT_NEAR(s.texcoords[2 * i], s.positions[3 * i] / 100.0f, 1e-6f);
         ASSERT_NEAR(s.texcoords[2 * i + 1], s.positions[3 * i + 1] / 100.0f, 1e-6f);
+    }
+}
+
+// With a ceiling the hole-filling rounds share it (simplify.cpp): the holed block above, whose
+// uncapped simplification needs the fallback to reach its target, capped at half its error stays
+// within the ceiling over all its rounds, keeps more triangles, and its cut planes and UVs intact.
+TEST(Simplify, HoleFillingRoundsShareTheErrorCeiling) {
+    const Piece holed = holedTerrain(120);
+    const double factor = holed.mesh.triangleCount() / 2000.0;
+    const SimplifiedNode uncapped = simplifyNode(holed, factor, Simplifier::Meshopt);
+    ASSERT_LE(double(uncapped.piece.mesh.triangleCount()), kTargetSlack * 2000);
+    ASSERT_GT(uncapped.error, 0);
+    const SimplifiedNode capped = simplifyNode(holed, factor, Simplifier::Meshopt, kAllSides, uncapped.error / 2);
+    EXPECT_LE(capped.error, uncapped.error / 2 * (1 + 1e-6));
+    EXPECT_GT(capped.piece.mesh.triangleCount(), uncapped.piece.mesh.triangleCount());
+    EXPECT_EQ(borderPositions(capped.piece.mesh, 100), borderPositions(holed.mesh, 100));
+    const MeshData& m = capped.piece.mesh;
+    if (!capped.geometryOnly) {
+        for (size_t i = 0; i < m.vertexCount(); ++i) ASSERT_NEAR(m.texcoords[2 * i], m.positions[3 * i] / 100.0f, 1e-6f);
     }
 }
 
