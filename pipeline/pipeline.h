@@ -248,10 +248,10 @@ Piece weldPiece(const Piece& piece, double epsilon);
 // with quadric error metrics, material and UV changes being attribute seams; locked are the vertices
 // neighbours share: open-border vertices on the piece's bounding-box faces of its `shared` sides (the
 // cut planes). When seams keep it above kTargetSlack x the target, it simplifies the geometry alone
-// (geometryOnly: no texture coordinates, all material 0). When a result exceeds kTargetSlack x the
-// target, closable scan holes are filled and it is simplified again. `ceiling` (input units,
-// meshoptimizer only): the kept pass is redone, its rounds sharing the ceiling, when its error
-// exceeds it, so it may keep more triangles (pipeline/TREE.md).
+// (geometryOnly: no texture coordinates, all material 0; never for a piece without seams). When a
+// result exceeds kTargetSlack x the target, closable scan holes are filled and it is simplified
+// again. `ceiling` (input units, meshoptimizer only): the kept pass stops there, its rounds sharing
+// the ceiling, so it may keep more triangles (pipeline/TREE.md).
 enum class Simplifier { Meshopt, OpenMesh };
 // The chroma of node textures (--jpeg-chroma, pipeline/TEXTURE_SIZE.md "Stop 17"): each material's
 // JPEG source's own (4:2:0 for a 4:2:0 JPEG, else 4:4:4), or one for all.

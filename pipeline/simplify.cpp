@@ -17,7 +17,7 @@
 // Two passes (simplifyNode):
 //   1. seam-preserving: all vertices, seams kept (a seam vertex collapses only along its seam);
 //   2. when pass 1 ends above kTargetSlack x the target (fragmented photogrammetry UVs: every
-//      chart outline is a seam), geometry only: one vertex per position, no texture
+//      chart outline is a seam) and the piece has seams at all, geometry only: one vertex per position, no texture
 //      coordinates, cut-plane borders still locked; build_tree.cpp gives such a node a new
 //      texture (baked) instead of cropping the source atlases.
 // Neither simplifier closes a hole, so a mesh with many scan holes stops far above its target.
@@ -25,10 +25,10 @@
 // of the result (no locked vertex, not a surface's outline: fill_holes.cpp) are triangulated and
 // the result simplified again, up to kFillRounds times. Locked vertices never move, so borders
 // stay crack-free.
-// Error ceiling (simplifyNode's `ceiling`, --error-cap on, pipeline/TREE.md): when the pass
-// kept (chosen as without a ceiling) ends above it, that pass runs again from the piece, its
-// rounds sharing the ceiling through meshoptimizer's target_error (each gets what the earlier
-// ones left), stopping before the target where the factor would make the node too coarse.
+// Error ceiling (simplifyNode's `ceiling`, --error-cap on, pipeline/TREE.md): the pass kept
+// (chosen as without a ceiling) stops there, its rounds sharing the ceiling through
+// meshoptimizer's target_error (each gets what the earlier ones left), before the target where
+// the factor would make the node too coarse.
 #include "pipeline/pipeline.h"
 
 #include <meshoptimizer.h>
@@ -191,48 +191,45 @@ std::vector<SubMesh> splitByMaterial(const Piece& piece, bool withLocked) {
 
 namespace {
 
+bool withinSlack(const std::vector<uint32_t>& indices, size_t target) {
+    return double(indices.size() / 3) <= kTargetSlack * double(target);
+}
+
 // Simplifies `indices` (into `mesh`) to about `target` triangles; when the result exceeds
 // kTargetSlack x target, the hole-filling fallback of the header comment. `error` (when given)
 // receives the sum of meshoptimizer's errors over the rounds (each round's is measured from the
-// previous round's result; 0 for OpenMesh, which reports none). With a finite `ceiling` (given
-// `error`) the rounds share it: each stops at what the earlier ones left, and the rounds end when
-// none is left or a round no longer lowers the count (its patches then stay as they were).
+// previous round's result; 0 for OpenMesh, which reports none). With a finite `ceiling` the
+// rounds share it: each stops at what the earlier ones left, and the rounds end when none is left
+// or a round no longer lowers the count (its patches then stay as they were).
 std::vector<uint32_t> simplifyToTarget(const MeshData& mesh, const std::vector<uint32_t>& indices, size_t target,
                                        const std::vector<uint8_t>& lock, Simplifier simplifier, double* error = nullptr,
                                        double ceiling = HUGE_VAL) {
-    if (error) *error = 0;
-    const bool capped = std::isfinite(ceiling) && error;
+    const bool capped = std::isfinite(ceiling) && simplifier == Simplifier::Meshopt;
+    double sum = 0;  // the rounds' errors so far
     auto simplify = [&](const std::vector<uint32_t>& in) {
         double roundError = 0;
         std::vector<uint32_t> out = simplifier == Simplifier::Meshopt
-                                        ? simplifyMeshopt(mesh, in, target, lock, &roundError, capped ? ceiling - *error : HUGE_VAL)
+                                        ? simplifyMeshopt(mesh, in, target, lock, &roundError, capped ? ceiling - sum : HUGE_VAL)
                                         : simplifyOpenMesh(mesh, in, target, lock);
-        if (error) *error += roundError;
+        sum += roundError;
         return out;
     };
     std::vector<uint32_t> result = simplify(indices);
-    for (int round = 0; round < kFillRounds && double(result.size() / 3) > kTargetSlack * double(target); ++round) {
-        if (capped && *error >= ceiling) break;
+    for (int round = 0; round < kFillRounds && !withinSlack(result, target); ++round) {
+        if (capped && sum >= ceiling) break;
         std::vector<uint32_t> patches = holePatches(mesh, result, lock);
         if (patches.empty()) break;
         patches.insert(patches.begin(), result.begin(), result.end());
-        const double before = error ? *error : 0;
+        const double before = sum;
         std::vector<uint32_t> next = simplify(patches);
         if (capped && next.size() >= result.size()) {
-            *error = before;
+            sum = before;
             break;
         }
         result = std::move(next);
     }
+    if (error) *error = sum;
     return result;
-}
-
-// The kept pass again from `indices`, its rounds sharing `ceiling`, when its error (summed over
-// its rounds) exceeds it.
-void noCoarserThan(double ceiling, const MeshData& mesh, const std::vector<uint32_t>& indices, size_t target,
-                   const std::vector<uint8_t>& lock, Simplifier simplifier, std::vector<uint32_t>& result, double& error) {
-    if (simplifier == Simplifier::Meshopt && error > ceiling)
-        result = simplifyToTarget(mesh, indices, target, lock, simplifier, &error, ceiling);
 }
 
 size_t targetOf(size_t triangles, double factor) {
@@ -267,9 +264,13 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
         for (uint32_t p : position) ++wedges[p];
         for (size_t i = 0; i < vc; ++i) seamLock[i] = seamLock[i] || wedges[position[i]] > 1;
     }
-    std::vector<uint32_t> result = simplifyToTarget(m, m.indices, target, seamLock, simplifier, &out.error);
-    if (double(result.size() / 3) <= kTargetSlack * double(target)) {
-        noCoarserThan(ceiling, m, m.indices, target, seamLock, simplifier, result, out.error);
+    // With a ceiling, the capped pass runs first. Pass 2 applies when the uncapped pass 1 ends over
+    // the slack, so that pass runs too only when the capped one ends over it (the uncapped one
+    // stops no earlier) and the piece has seams: without any (one vertex per position), pass 2
+    // would repeat pass 1's collapses and only drop the materials.
+    std::vector<uint32_t> result = simplifyToTarget(m, m.indices, target, seamLock, simplifier, &out.error, ceiling);
+    const bool seams = positions < vc, capped = std::isfinite(ceiling) && simplifier == Simplifier::Meshopt;
+    if (withinSlack(result, target) || !seams || (capped && withinSlack(simplifyToTarget(m, m.indices, target, seamLock, simplifier), target))) {
         std::vector<uint32_t> material(vc);  // weldPiece gives every vertex one material
         for (size_t t = 0; t < m.triangleCount(); ++t)
             for (int k = 0; k < 3; ++k) material[m.indices[3 * t + k]] = piece.materials[t];
@@ -290,8 +291,7 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
     for (size_t i = 0; i < vc; ++i) geometryLock[position[i]] |= lock[i];
     std::vector<uint32_t> indices(m.indices.size());
     meshopt_remapIndexBuffer(indices.data(), m.indices.data(), m.indices.size(), position.data());
-    result = simplifyToTarget(geometry, indices, target, geometryLock, simplifier, &out.error);
-    noCoarserThan(ceiling, geometry, indices, target, geometryLock, simplifier, result, out.error);
+    result = simplifyToTarget(geometry, indices, target, geometryLock, simplifier, &out.error, ceiling);
     out.piece.mesh = compact(geometry, result);
     out.piece.materials.assign(out.piece.mesh.triangleCount(), 0);
     out.geometryOnly = true;

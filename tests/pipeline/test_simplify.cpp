@@ -146,6 +146,27 @@ TEST(Simplify, HoleFillingRoundsShareTheErrorCeiling) {
     }
 }
 
+// A piece without seams (one vertex per position) has nothing pass 2 could change: over the
+// slack (its locked outline, 240 vertices, exceeds a 40-triangle target) it keeps pass 1's result
+// and its exact texture coordinates, capped or not (pass 2 repeated the same collapses and dropped
+// the UVs, so such a node got a baked texture).
+TEST(Simplify, APieceWithoutSeamsKeepsItsTextureCoordinatesOverTheSlack) {
+    const Piece p = terrain(60);
+    const double factor = p.mesh.triangleCount() / 40.0;
+    const SimplifiedNode uncapped = simplifyNode(p, factor, Simplifier::Meshopt);
+    ASSERT_GT(uncapped.error, 0);
+    for (const double ceiling : {HUGE_VAL, uncapped.error / 2}) {
+        const SimplifiedNode s = simplifyNode(p, factor, Simplifier::Meshopt, kAllSides, ceiling);
+        ASSERT_GT(double(s.piece.mesh.triangleCount()), kTargetSlack * 40);
+        EXPECT_FALSE(s.geometryOnly);
+        EXPECT_LE(s.error, ceiling * (1 + 1e-6));
+        EXPECT_EQ(borderPositions(s.piece.mesh, 100), borderPositions(p.mesh, 100));
+        const MeshData& m = s.piece.mesh;
+        ASSERT_EQ(m.texcoords.size(), 2 * m.vertexCount());
+        for (size_t i = 0; i < m.vertexCount(); ++i) ASSERT_NEAR(m.texcoords[2 * i], m.positions[3 * i] / 100.0f, 1e-6f);
+    }
+}
+
 // The patches close every hole and only holes: the holed terrain's holes filled give a surface
 // whose only open border is its outline (on the cut planes), each edge used once per direction.
 TEST(Simplify, HolePatchesCloseHolesButNotTheOutline) {
