@@ -264,10 +264,11 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
         for (uint32_t p : position) ++wedges[p];
         for (size_t i = 0; i < vc; ++i) seamLock[i] = seamLock[i] || wedges[position[i]] > 1;
     }
-    // With a ceiling, the capped pass runs first. Pass 2 applies when the uncapped pass 1 ends over
-    // the slack, so that pass runs too only when the capped one ends over it (the uncapped one
-    // stops no earlier) and the piece has seams: without any (one vertex per position), pass 2
-    // would repeat pass 1's collapses and only drop the materials.
+    // Pass 2 applies when the uncapped pass 1 ends over the slack. With a ceiling the capped pass
+    // runs first: when it ends within the slack, so would the uncapped one (it collapses at least
+    // as far), so the uncapped one runs only to decide when the capped one ends over it. Without
+    // seams (one vertex per position) pass 2 would repeat pass 1's collapses and only drop the
+    // UVs and materials: pass 1 is kept.
     std::vector<uint32_t> result = simplifyToTarget(m, m.indices, target, seamLock, simplifier, &out.error, ceiling);
     const bool seams = positions < vc, capped = std::isfinite(ceiling) && simplifier == Simplifier::Meshopt;
     if (withinSlack(result, target) || !seams || (capped && withinSlack(simplifyToTarget(m, m.indices, target, seamLock, simplifier), target))) {
