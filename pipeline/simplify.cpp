@@ -26,9 +26,9 @@
 // the result simplified again, up to kFillRounds times. Locked vertices never move, so borders
 // stay crack-free.
 // Error ceiling (simplifyNode's `ceiling`, --error-cap on, pipeline/TREE.md): the pass kept
-// (chosen as without a ceiling) stops there, its rounds sharing the ceiling through
-// meshoptimizer's target_error (each gets what the earlier ones left), before the target where
-// the factor would make the node too coarse.
+// (pass 1 when its capped run ends within the slack, else chosen by its uncapped run) stops
+// there, its rounds sharing the ceiling through meshoptimizer's target_error (each gets what the
+// earlier ones left), before the target where the factor would make the node too coarse.
 #include "pipeline/pipeline.h"
 
 #include <meshoptimizer.h>
@@ -265,10 +265,12 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
         for (size_t i = 0; i < vc; ++i) seamLock[i] = seamLock[i] || wedges[position[i]] > 1;
     }
     // Pass 2 applies when the uncapped pass 1 ends over the slack. With a ceiling the capped pass
-    // runs first: when it ends within the slack, so would the uncapped one (it collapses at least
-    // as far), so the uncapped one runs only to decide when the capped one ends over it. Without
-    // seams (one vertex per position) pass 2 would repeat pass 1's collapses and only drop the
-    // UVs and materials: pass 1 is kept.
+    // runs first: when it ends within the slack the uncapped one almost always would too (it
+    // collapses as far or further but for meshoptimizer's coarse error buckets and the capped
+    // rounds' undo), and the capped result is kept either way (within the slack, the ceiling and
+    // the locks); the uncapped one runs only to decide when the capped one ends over the slack.
+    // Without seams (one vertex per position) pass 2 would repeat pass 1's collapses and only
+    // drop the UVs and materials: pass 1 is kept.
     std::vector<uint32_t> result = simplifyToTarget(m, m.indices, target, seamLock, simplifier, &out.error, ceiling);
     const bool seams = positions < vc, capped = std::isfinite(ceiling) && simplifier == Simplifier::Meshopt;
     if (withinSlack(result, target) || !seams || (capped && withinSlack(simplifyToTarget(m, m.indices, target, seamLock, simplifier), target))) {

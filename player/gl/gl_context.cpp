@@ -71,7 +71,7 @@ private:
 class GlfwContext final : public Context {
 public:
     GlfwContext(int width, int height, const std::string& title) {
-        if (!glfwInit()) throw NoGlContext("GLFW: cannot initialise (no display?)");
+        if (!glfwInit()) fail("cannot initialise (no display?)");
         glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
         glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
         glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -80,8 +80,7 @@ public:
         window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
         if (!window_) {
             glfwTerminate();
-            throw NoGlContext("GLFW: cannot create a " + std::to_string(width) + "x" +
-                                     std::to_string(height) + " OpenGL 3.3 core window");
+            fail("cannot create a " + std::to_string(width) + "x" + std::to_string(height) + " OpenGL 3.3 core window");
         }
         glfwMakeContextCurrent(window_);
         glfwSwapInterval(0);  // frame times are measured, not synchronised to the display
@@ -102,6 +101,12 @@ public:
     std::string description() const override { return glDescription() + " in a GLFW window"; }
 
 private:
+    // GLFW's own description of its last error (say, "X11: Failed to open display :99") after ours.
+    [[noreturn]] static void fail(const std::string& what) {
+        const char* description = nullptr;
+        glfwGetError(&description);
+        throw NoGlContext("GLFW: " + what + (description ? std::string(": ") + description : std::string()));
+    }
     GLFWwindow* window_ = nullptr;
 };
 

@@ -33,7 +33,8 @@ kill -0 \$pid 2>/dev/null && { echo "FAIL: Escape did not quit"; kill \$pid; exi
 wait \$pid
 EOS
 chmod +x "$dir/drive.sh"
-xvfb-run -a -s "-screen 0 640x400x24" "$dir/drive.sh" || { echo "FAIL: view exited non-zero"; cat "$dir/view.log"; exit 1; }
+xvfb-run -a -e "$dir/xvfb.log" -s "-screen 0 640x400x24" "$dir/drive.sh" ||
+  { echo "FAIL: view exited non-zero"; cat "$dir/view.log"; echo "Xvfb's log:"; cat "$dir/xvfb.log"; exit 1; }
 [ -s "$dir/rec.path" ] || { echo "FAIL: no recording"; exit 1; }
 first=$(grep -v '^#' "$dir/rec.path" | sed -n 2p | awk '{print $2, $3, $4}')
 last=$(tail -1 "$dir/rec.path" | awk '{print $2, $3, $4}')

@@ -75,7 +75,7 @@ TEST(Simplify, OnlyTheSharedSidesBordersAreLocked) {
 
 // Stop 41 (--error-cap on, pipeline/TREE.md "Locked borders cost triangles, not accuracy"): a
 // ceiling on the simplifier's error stops the simplification there, keeping more triangles than
-// the factor asks; a ceiling above the error the factor reaches changes nothing; the shared sides
+// the factor asks; a ceiling twice the error the factor reaches changes nothing; the shared sides
 // (x = 0 and x = 100, as a §3.2 slab's) stay whole either way.
 TEST(Simplify, AnErrorCeilingStopsTheSimplificationThere) {
     const uint32_t n = 60;
@@ -86,7 +86,6 @@ TEST(Simplify, AnErrorCeilingStopsTheSimplificationThere) {
     const SimplifiedNode capped = simplifyNode(p, 60, Simplifier::Meshopt, slab, uncapped.error / 4);
     EXPECT_LE(capped.error, uncapped.error / 4 * (1 + 1e-6));
     EXPECT_GT(capped.piece.mesh.triangleCount(), uncapped.piece.mesh.triangleCount());
-    EXPECT_EQ(capped.geometryOnly, uncapped.geometryOnly) << "the pass is chosen as without a ceiling";
     for (float x : {0.0f, 100.0f}) EXPECT_EQ(pointsOnPlane(capped.piece.mesh, 0, x).mesh.vertexCount(), n + 1) << "x = " << x;
     const SimplifiedNode loose = simplifyNode(p, 60, Simplifier::Meshopt, slab, 2 * uncapped.error);
     EXPECT_EQ(loose.piece.mesh.indices, uncapped.piece.mesh.indices);
@@ -141,12 +140,15 @@ TEST(Simplify, HoleFillingRoundsShareTheErrorCeiling) {
     EXPECT_GT(capped.piece.mesh.triangleCount(), uncapped.piece.mesh.triangleCount());
     EXPECT_EQ(borderPositions(capped.piece.mesh, 100), borderPositions(holed.mesh, 100));
     const MeshData& m = capped.piece.mesh;
-    if (!capped.geometryOnly) {
-        for (size_t i = 0; i < m.vertexCount(); ++i) ASSERT_NEAR(m.texcoords[2 * i], m.positions[3 * i] / 100.0f, 1e-6f);
+    ASSERT_FALSE(capped.geometryOnly);  // no seams: pass 1 is kept
+    for (size_t i = 0; i < m.vertexCount(); ++i) {
+        ASSERT_NEAR(m.texcoords[2 * i], m.positions[3 * i] / 100.0f, 1e-6f);
+        ASSERT_NEAR(m.texcoords[2 * i + 1], m.positions[3 * i + 1] / 100.0f, 1e-6f);
     }
 }
 
 // Open border loops of `m` (its open edges joined at their vertices): its outline and its holes.
+// Edges are joined by vertex index, so a seam would count as a border: for meshes without seams.
 size_t borderLoops(const MeshData& m) {
     std::map<std::pair<uint32_t, uint32_t>, int> uses;
     for (size_t c = 0; c < m.indices.size(); ++c) {
@@ -179,8 +181,8 @@ TEST(Simplify, ARoundThatNoLongerLowersTheCountIsUndone) {
     EXPECT_EQ(borderLoops(uncapped.piece.mesh), 1u);  // uncapped, the rounds close them all
     const SimplifiedNode capped = simplifyNode(holed, factor, Simplifier::Meshopt, kAllSides, uncapped.error / 20);
     ASSERT_GT(double(capped.piece.mesh.triangleCount()), kTargetSlack * 2000);
+    ASSERT_LT(capped.error, uncapped.error / 20);  // ceiling left after the first round: the rounds went on
     EXPECT_EQ(borderLoops(capped.piece.mesh), 785u);
-    EXPECT_LE(capped.error, uncapped.error / 20 * (1 + 1e-6));
 }
 
 // A piece without seams (one vertex per position) has nothing pass 2 could change: over the
@@ -200,8 +202,56 @@ TEST(Simplify, APieceWithoutSeamsKeepsItsTextureCoordinatesOverTheSlack) {
         EXPECT_EQ(borderPositions(s.piece.mesh, 100), borderPositions(p.mesh, 100));
         const MeshData& m = s.piece.mesh;
         ASSERT_EQ(m.texcoords.size(), 2 * m.vertexCount());
-        for (size_t i = 0; i < m.vertexCount(); ++i) ASSERT_NEAR(m.texcoords[2 * i], m.positions[3 * i] / 100.0f, 1e-6f);
+        for (size_t i = 0; i < m.vertexCount(); ++i) {
+            ASSERT_NEAR(m.texcoords[2 * i], m.positions[3 * i] / 100.0f, 1e-6f);
+            ASSERT_NEAR(m.texcoords[2 * i + 1], m.positions[3 * i + 1] / 100.0f, 1e-6f);
+        }
     }
+}
+
+// A terrain whose every quad is its own UV chart (four vertices per quad: every edge a seam), as
+// fragmented photogrammetry charts are.
+Piece quadCharts(uint32_t n) {
+    const Piece t = terrain(n);
+    Piece p;
+    for (size_t q = 0; q < t.mesh.triangleCount() / 2; ++q) {
+        const uint32_t* c = &t.mesh.indices[6 * q];  // a, b, d, a, d, c
+        const uint32_t base = static_cast<uint32_t>(p.mesh.vertexCount());
+        for (uint32_t v : {c[0], c[1], c[2], c[5]}) {
+            p.mesh.positions.insert(p.mesh.positions.end(), t.mesh.positions.begin() + 3 * v, t.mesh.positions.begin() + 3 * v + 3);
+            p.mesh.texcoords.insert(p.mesh.texcoords.end(), {float(q) + 0.25f * (v == c[1] || v == c[2]), 0.25f * (v == c[2] || v == c[5])});
+        }
+        p.mesh.indices.insert(p.mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+        p.materials.insert(p.materials.end(), {0, 0});
+    }
+    return p;
+}
+
+// A piece with seams chooses its pass as without a ceiling (simplify.cpp): one seam (two materials
+// welded apart along x = 50) lets the uncapped seam-preserving pass reach the target, so a capped
+// pass over the slack is kept and keeps its UVs; charts of one quad each keep the seam-preserving
+// pass over the slack, so the capped node is geometry only, within its ceiling, its cut planes whole.
+TEST(Simplify, APieceWithSeamsChoosesItsPassAsWithoutACeiling) {
+    const Piece seam = weldPiece(terrain(60, 100, true), 1e-6);
+    ASSERT_GT(seam.mesh.vertexCount(), 61u * 61u);  // the x = 50 column twice
+    const double factor = seam.mesh.triangleCount() / 100.0;
+    const SimplifiedNode uncapped = simplifyNode(seam, factor, Simplifier::Meshopt, 0);
+    ASSERT_FALSE(uncapped.geometryOnly);
+    const SimplifiedNode capped = simplifyNode(seam, factor, Simplifier::Meshopt, 0, uncapped.error / 8);
+    ASSERT_GT(double(capped.piece.mesh.triangleCount()), kTargetSlack * 100);
+    EXPECT_FALSE(capped.geometryOnly);
+    EXPECT_LE(capped.error, uncapped.error / 8 * (1 + 1e-6));
+    EXPECT_EQ(capped.piece.mesh.texcoords.size(), 2 * capped.piece.mesh.vertexCount());
+
+    const Piece charts = quadCharts(40);
+    const double chartsFactor = charts.mesh.triangleCount() / 100.0;
+    const SimplifiedNode chartsUncapped = simplifyNode(charts, chartsFactor, Simplifier::Meshopt);
+    ASSERT_TRUE(chartsUncapped.geometryOnly);
+    const SimplifiedNode chartsCapped = simplifyNode(charts, chartsFactor, Simplifier::Meshopt, kAllSides, chartsUncapped.error / 4);
+    EXPECT_TRUE(chartsCapped.geometryOnly);
+    EXPECT_LE(chartsCapped.error, chartsUncapped.error / 4 * (1 + 1e-6));
+    EXPECT_GT(chartsCapped.piece.mesh.triangleCount(), chartsUncapped.piece.mesh.triangleCount());
+    EXPECT_EQ(borderPositions(chartsCapped.piece.mesh, 100), borderPositions(terrain(40).mesh, 100));
 }
 
 // The patches close every hole and only holes: the holed terrain's holes filled give a surface
