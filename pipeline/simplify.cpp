@@ -191,6 +191,9 @@ std::vector<SubMesh> splitByMaterial(const Piece& piece, bool withLocked) {
 
 namespace {
 
+// A finite ceiling binds meshoptimizer only (OpenMesh's decimater reports no error).
+bool capping(double ceiling, Simplifier simplifier) { return std::isfinite(ceiling) && simplifier == Simplifier::Meshopt; }
+
 bool withinSlack(const std::vector<uint32_t>& indices, size_t target) {
     return double(indices.size() / 3) <= kTargetSlack * double(target);
 }
@@ -204,7 +207,7 @@ bool withinSlack(const std::vector<uint32_t>& indices, size_t target) {
 std::vector<uint32_t> simplifyToTarget(const MeshData& mesh, const std::vector<uint32_t>& indices, size_t target,
                                        const std::vector<uint8_t>& lock, Simplifier simplifier, double* error = nullptr,
                                        double ceiling = HUGE_VAL) {
-    const bool capped = std::isfinite(ceiling) && simplifier == Simplifier::Meshopt;
+    const bool capped = capping(ceiling, simplifier);
     double sum = 0;  // the rounds' errors so far
     auto simplify = [&](const std::vector<uint32_t>& in) {
         double roundError = 0;
@@ -272,8 +275,9 @@ SimplifiedNode simplifyNode(const Piece& piece, double factor, Simplifier simpli
     // Without seams (one vertex per position) pass 2 would repeat pass 1's collapses and only
     // drop the UVs and materials: pass 1 is kept.
     std::vector<uint32_t> result = simplifyToTarget(m, m.indices, target, seamLock, simplifier, &out.error, ceiling);
-    const bool seams = positions < vc, capped = std::isfinite(ceiling) && simplifier == Simplifier::Meshopt;
-    if (withinSlack(result, target) || !seams || (capped && withinSlack(simplifyToTarget(m, m.indices, target, seamLock, simplifier), target))) {
+    const bool seams = positions < vc;
+    const auto uncappedWithinSlack = [&] { return withinSlack(simplifyToTarget(m, m.indices, target, seamLock, simplifier), target); };
+    if (withinSlack(result, target) || !seams || (capping(ceiling, simplifier) && uncappedWithinSlack())) {
         std::vector<uint32_t> material(vc);  // weldPiece gives every vertex one material
         for (size_t t = 0; t < m.triangleCount(); ++t)
             for (int k = 0; k < 3; ++k) material[m.indices[3 * t + k]] = piece.materials[t];
