@@ -59,13 +59,16 @@ struct Pending {
 };
 
 // --error-cap on (pipeline/TREE.md "Locked borders cost triangles, not accuracy"; errorCapped:
-// the default top-down): the error a node's simplification may reach (simplifyNode's ceiling).
-// A node with shared sides, whose borders there stay whole, stops at kFreeBorderSlack x the error
-// its piece reaches at the same factor with no border locked (freeBorderCeiling): top-down the
-// block's root (one more simplification of the whole block), bottom-up every node (its input,
-// the children's simplified triangles, is small). A top-down child also stops at its parent's
-// simplifier error. Never below the position lattice step: stored positions cannot tell smaller
-// errors apart, and a flat piece's near-zero error would otherwise freeze it.
+// the default but with --bottom-up-error simplifier): the error a node's simplification may reach
+// (simplifyNode's ceiling). A node with shared sides, whose borders there stay whole, stops at
+// kFreeBorderSlack x the error its piece reaches at the same factor with no border locked
+// (freeBorderCeiling): top-down the block's root (one more simplification of the whole block),
+// bottom-up every node (its input, the children's simplified triangles, is small) but one whose
+// children are leaves: it simplifies the original triangles by at most c_levelFactor, its locked
+// border as fine as the rest, and the cap barely bound there (TREE.md "Stop 43"). A top-down
+// child also stops at its parent's simplifier error. Never below the position lattice step:
+// stored positions cannot tell smaller errors apart, and a flat piece's near-zero error would
+// otherwise freeze it.
 // kFreeBorderSlack: 1 kept the 1.6 M Lucy's hlod0 at 12.7 units (618 uncapped) for 26 % more
 // triangles, but put 35 of the thesis city's 114 hlod0 nodes over 1.25 x c_desiredTris; 2 gives
 // 31.2 for 10 % more and leaves the city's hlod0 on target (measured, TREE.md).
@@ -73,15 +76,16 @@ constexpr double kFreeBorderSlack = 2;
 }  // namespace
 
 bool errorCapped(const BuildOptions& o) {
-    return o.errorCap.value_or(o.mode == BuildMode::TopDown) && o.simplifier == Simplifier::Meshopt;
+    const bool speedMode = o.mode == BuildMode::BottomUp && o.bottomUpError == BottomUpError::Simplifier;
+    return o.errorCap.value_or(!speedMode) && o.simplifier == Simplifier::Meshopt;
 }
 
 namespace {
 double errorCeiling(double error, const BuildOptions& options) {
     return errorCapped(options) ? std::max(error, options.draco.positionStep) : HUGE_VAL;
 }
-double freeBorderCeiling(const Piece& piece, double factor, Sides shared, const BuildOptions& options) {
-    if (!errorCapped(options) || shared == 0 || factor <= 1) return HUGE_VAL;
+double freeBorderCeiling(const Piece& piece, double factor, Sides shared, bool leafChildren, const BuildOptions& options) {
+    if (!errorCapped(options) || shared == 0 || factor <= 1 || leafChildren) return HUGE_VAL;
     return errorCeiling(kFreeBorderSlack * simplifyNode(piece, factor, options.simplifier, 0).error, options);
 }
 
@@ -329,7 +333,8 @@ uint32_t bottomUp(Piece piece, Sides shared, double factor, uint32_t level, cons
         simplifiedChildren.clear();
         const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
         const double inputFactor = std::max(1.0, double(input.mesh.triangleCount()) / target);
-        result = simplifyNode(input, inputFactor, options.simplifier, shared, freeBorderCeiling(input, inputFactor, shared, options));
+        const bool leafChildren = isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
+        result = simplifyNode(input, inputFactor, options.simplifier, shared, freeBorderCeiling(input, inputFactor, shared, leafChildren, options));
         result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
         if (options.bottomUpError == BottomUpError::Simplifier) {
             inherited = {inherited.oneSided + result.error, inherited.max + result.error, inherited.mean + result.error};
@@ -337,7 +342,7 @@ uint32_t bottomUp(Piece piece, Sides shared, double factor, uint32_t level, cons
         } else {
             // Leaf children keep the original triangles: their union is the piece itself (cut), so
             // the node is measured against its uncut piece, exactly and on fewer triangles.
-            const bool bound = options.bottomUpError == BottomUpError::Bound && !isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
+            const bool bound = options.bottomUpError == BottomUpError::Bound && !leafChildren;
             node.out = finishNode(result, piece, bound ? &input.mesh : &piece.mesh, bound ? inherited : SurfaceError{}, factor, level,
                                   false, blockIndex, options, textures);
         }
@@ -452,7 +457,9 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     } else {
         std::vector<Pending> pending;
         const double ceiling =
-            isLeaf(rootFactor, c.levelFactor, options.leafRule) ? HUGE_VAL : freeBorderCeiling(welded, rootFactor, shared, options);
+            isLeaf(rootFactor, c.levelFactor, options.leafRule)
+                ? HUGE_VAL
+                : freeBorderCeiling(welded, rootFactor, shared, isLeaf(rootFactor / c.levelFactor, c.levelFactor, options.leafRule), options);
         pending.push_back({std::move(welded), rootFactor, 0, kNone, shared, ceiling});
         while (!pending.empty()) {
             Level level;

@@ -330,7 +330,7 @@ struct BuildOptions {
     BuildMode mode = BuildMode::TopDown;     // tree_rules.h, pipeline/BUILD_SPEED.md
     BottomUpError bottomUpError = BottomUpError::Bound;  // --mode bottom-up only
     Planes planes = Planes::Balanced;
-    std::optional<bool> errorCap;  // --error-cap; unset: on top-down, off bottom-up (errorCapped, pipeline/TREE.md)
+    std::optional<bool> errorCap;  // --error-cap; unset: on but with --bottom-up-error simplifier (errorCapped, pipeline/TREE.md)
     DracoOptions draco{.texcoordBits = 0};  // texcoordBits 0: per node, a quarter texel of its texture (pack.cpp)
     int jpegQuality = 85;
     JpegChroma jpegChroma = JpegChroma::Source;  // 4:2:0 atlases hold 16 x 16 blocks, 4:4:4 ones 8 x 8

@@ -32,7 +32,7 @@ struct BuildArgs {
     std::string leafRule = "below-one";
     std::string mode = "top-down";
     std::string bottomUpError;  // empty: not given (bound)
-    std::string errorCap;  // empty: not given (on top-down, off bottom-up)
+    std::string errorCap;  // empty: not given (on, but off with --bottom-up-error simplifier)
     std::string planes = "balanced";
     std::string blocks;  // "A:B" shard selection
     ProgressOptions progress;
@@ -185,11 +185,12 @@ void addBuild(CLI::App& app, int& status) {
                     "9.6 x above it at the roots; needs --simplifier meshopt); pipeline/BUILD_SPEED.md")
         ->check(CLI::IsMember({"bound", "exact", "simplifier"}));
     sub->add_option("--error-cap", a->errorCap,
-                    "on (the default top-down: locked borders cost triangles, not accuracy: a block root with shared "
-                    "sides stops at twice the error it reaches with no border locked, every other node at its parent's "
-                    "error; bottom-up every node with shared sides at twice its input's; a node may keep more triangles "
-                    "than its factor) or off (the factor alone; the default bottom-up, whose cap costs 15-20 % of its "
-                    "speed); meshopt only; pipeline/TREE.md")
+                    "on (the default: locked borders cost triangles, not accuracy: a block root with shared sides "
+                    "stops at twice the error it reaches with no border locked, every other node at its parent's "
+                    "error; bottom-up every node with shared sides above the leaves' parents at twice its input's; a "
+                    "node may keep more triangles than its factor) or off (the factor alone; the default with "
+                    "--bottom-up-error simplifier, the mode for speed, whose cap costs ~10 % of it); meshopt only; "
+                    "pipeline/TREE.md")
         ->check(CLI::IsMember({"on", "off"}));
     sub->add_option("--planes", a->planes,
                     "balanced (default: triangle-count quantiles avoiding dense surfaces) or even (evenly spaced, "

@@ -5,6 +5,7 @@
 
 #include "formats/validate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -69,6 +70,40 @@ INSTANTIATE_TEST_SUITE_P(Real, Scans,
                          ::testing::Values(Scan{"A1_stanford_bunny/bun_zipper.ply", 69451, false},
                                            Scan{"A3_stanford_lucy_100k/Lucy100k.ply", 100000, false},
                                            Scan{"A2_ycb_011_banana_textured_scan/textured_simple_reoriented.obj", 15728, true}));
+
+// Stop 43 (pipeline/TREE.md "Stop 43"): bottom-up, a node whose children are leaves gets no
+// free-border reference, so no cap. It simplifies the original triangles by at most c_levelFactor,
+// its locked border as fine as the rest. On the bunny each such node comes out as with the cap off
+// (19 of its 64 did not before), and the nodes above are still capped.
+TEST(ScanErrorCap, BottomUpLeavesParentsAreNotCapped) {
+    const std::string input = sharedDir() + "/datasets/A1_stanford_bunny/bun_zipper.ply";
+    if (!std::filesystem::exists(input)) GTEST_SKIP() << "no " << input;
+    const auto build = [&](bool errorCap) {
+        TempDir dir;
+        std::ostringstream log;
+        Progress progress(log, false);
+        BuildRequest r;
+        r.input = input, r.output = dir.file("b.hlod"), r.options.jobs = 1;
+        r.options.mode = BuildMode::BottomUp, r.options.errorCap = errorCap;
+        return runBuild(r, progress).nodes;
+    };
+    const std::vector<NodeQuality> capped = build(true), uncapped = build(false);
+    ASSERT_EQ(capped.size(), uncapped.size());
+    uint32_t leafLevel = 0;
+    for (const NodeQuality& n : capped) leafLevel = std::max(leafLevel, n.level);
+    size_t leavesParents = 0, cappedAbove = 0;
+    for (size_t i = 0; i < capped.size(); ++i) {
+        ASSERT_EQ(capped[i].level, uncapped[i].level);
+        if (capped[i].level + 1 == leafLevel) {
+            ++leavesParents;
+            EXPECT_EQ(capped[i].triangles, uncapped[i].triangles) << "node " << capped[i].node;
+        } else if (capped[i].level + 1 < leafLevel) {
+            cappedAbove += capped[i].triangles != uncapped[i].triangles;
+        }
+    }
+    EXPECT_EQ(leavesParents, 64u);
+    EXPECT_GT(cappedAbove, 0u);
+}
 
 }  // namespace
 }  // namespace hlod::test
