@@ -63,10 +63,10 @@ struct Pending {
 // (simplifyNode's ceiling). A node with shared sides, whose borders there stay whole, stops at
 // kFreeBorderSlack x the error its piece reaches at the same factor with no border locked
 // (freeBorderCeiling): top-down the block's root (one more simplification of the whole block),
-// bottom-up every node (its input, the children's simplified triangles, is small) but one whose
-// children are leaves: it simplifies the original triangles by at most c_levelFactor, its locked
-// border as fine as the rest, and the cap barely bound there (TREE.md "Stop 43"). A top-down
-// child also stops at its parent's simplifier error. Never below the position lattice step:
+// bottom-up every node (its input, the children's simplified triangles, is small) but one that
+// simplifies the original triangles (its children are leaves) by at most c_levelFactor: its
+// locked border is as fine as the rest, and the cap barely bound there (TREE.md "Stop 43"). A
+// top-down child also stops at its parent's simplifier error. Never below the position lattice step:
 // stored positions cannot tell smaller errors apart, and a flat piece's near-zero error would
 // otherwise freeze it.
 // kFreeBorderSlack: 1 kept the 1.6 M Lucy's hlod0 at 12.7 units (618 uncapped) for 26 % more
@@ -84,8 +84,8 @@ namespace {
 double errorCeiling(double error, const BuildOptions& options) {
     return errorCapped(options) ? std::max(error, options.draco.positionStep) : HUGE_VAL;
 }
-double freeBorderCeiling(const Piece& piece, double factor, Sides shared, bool leafChildren, const BuildOptions& options) {
-    if (!errorCapped(options) || shared == 0 || factor <= 1 || leafChildren) return HUGE_VAL;
+double freeBorderCeiling(const Piece& piece, double factor, Sides shared, bool nearOriginal, const BuildOptions& options) {
+    if (!errorCapped(options) || shared == 0 || factor <= 1 || nearOriginal) return HUGE_VAL;
     return errorCeiling(kFreeBorderSlack * simplifyNode(piece, factor, options.simplifier, 0).error, options);
 }
 
@@ -334,7 +334,8 @@ uint32_t bottomUp(Piece piece, Sides shared, double factor, uint32_t level, cons
         const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
         const double inputFactor = std::max(1.0, double(input.mesh.triangleCount()) / target);
         const bool leafChildren = isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
-        result = simplifyNode(input, inputFactor, options.simplifier, shared, freeBorderCeiling(input, inputFactor, shared, leafChildren, options));
+        const bool nearOriginal = leafChildren && factor <= c.levelFactor;  // never under --leaf-rule stop-before
+        result = simplifyNode(input, inputFactor, options.simplifier, shared, freeBorderCeiling(input, inputFactor, shared, nearOriginal, options));
         result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
         if (options.bottomUpError == BottomUpError::Simplifier) {
             inherited = {inherited.oneSided + result.error, inherited.max + result.error, inherited.mean + result.error};
@@ -457,9 +458,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     } else {
         std::vector<Pending> pending;
         const double ceiling =
-            isLeaf(rootFactor, c.levelFactor, options.leafRule)
-                ? HUGE_VAL
-                : freeBorderCeiling(welded, rootFactor, shared, isLeaf(rootFactor / c.levelFactor, c.levelFactor, options.leafRule), options);
+            isLeaf(rootFactor, c.levelFactor, options.leafRule) ? HUGE_VAL : freeBorderCeiling(welded, rootFactor, shared, false, options);
         pending.push_back({std::move(welded), rootFactor, 0, kNone, shared, ceiling});
         while (!pending.empty()) {
             Level level;

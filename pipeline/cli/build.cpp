@@ -187,7 +187,7 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_option("--error-cap", a->errorCap,
                     "on (the default: locked borders cost triangles, not accuracy: a block root with shared sides "
                     "stops at twice the error it reaches with no border locked, every other node at its parent's "
-                    "error; bottom-up every node with shared sides above the leaves' parents at twice its input's; a "
+                    "error; bottom-up every node with shared sides but the leaves' parents at twice its input's; a "
                     "node may keep more triangles than its factor) or off (the factor alone; the default with "
                     "--bottom-up-error simplifier, the mode for speed, whose cap costs ~10 % of it); meshopt only; "
                     "pipeline/TREE.md")

@@ -22,7 +22,7 @@ struct BlockBuild {
     std::vector<NodeRecord> records;  // emission order = the local index of stats
 };
 
-BlockBuild buildTerrainBlock(BuildMode mode, BottomUpError error, int positionBits = 14, float scale = 1) {
+BlockBuild buildTerrainBlock(BuildMode mode, BottomUpError error, int positionBits = 14, float scale = 1, bool errorCap = false) {
     Piece block = terrain(64);
     block.mesh.texcoords.clear();
     for (float& x : block.mesh.positions) x *= scale;
@@ -30,9 +30,10 @@ BlockBuild buildTerrainBlock(BuildMode mode, BottomUpError error, int positionBi
     o.constants.desiredTris = 100;
     o.mode = mode;
     o.bottomUpError = error;
-    // Bottom-up uncapped, every error kind alike (the cap, on by default but with the simplifier's
-    // error, would give that kind other nodes): these tests compare the same nodes across kinds.
-    if (mode == BuildMode::BottomUp) o.errorCap = false;
+    // Bottom-up capped or not, every error kind alike (the cap, on by default but with the
+    // simplifier's error, would give that kind other nodes): these tests compare the same nodes
+    // across kinds.
+    if (mode == BuildMode::BottomUp) o.errorCap = errorCap;
     o.draco.positionBits = positionBits;
     BlockBuild out;
     out.stats = buildBlock(block, {}, 0, o, nullptr, [&](NodeRecord&& r) { out.records.push_back(std::move(r)); });
@@ -57,27 +58,31 @@ void appendStored(const NodeRecord& r, MeshData& into) {
 // so the children's surface differs from the original by a few ulps of the coordinates (<= 128).
 constexpr double kRounding = 1e-4;
 
+// Uncapped and capped (the default since stop 43).
 TEST(BottomUpError, BoundIsAtLeastTheExactErrorOfEveryNode) {
-    const BlockBuild exact = buildTerrainBlock(BuildMode::BottomUp, BottomUpError::Exact);
-    const BlockBuild bound = buildTerrainBlock(BuildMode::BottomUp, BottomUpError::Bound);
-    ASSERT_EQ(exact.stats.measured.size(), 341u);
-    ASSERT_EQ(bound.stats.measured.size(), exact.stats.measured.size());
-    size_t measured = 0, larger = 0;
-    for (size_t i = 0; i < exact.stats.measured.size(); ++i) {
-        ASSERT_EQ(exact.stats.triangles[i], bound.stats.triangles[i]) << "node " << i;  // the same node
-        const SurfaceError& e = exact.stats.measured[i];
-        const SurfaceError& b = bound.stats.measured[i];
-        EXPECT_GE(b.max + kRounding, e.max) << "node " << i << " level " << exact.stats.levels[i];
-        EXPECT_GE(b.oneSided + kRounding, e.oneSided) << "node " << i << " level " << exact.stats.levels[i];
-        EXPECT_GE(b.max, b.oneSided) << "node " << i;
-        measured += e.max > 0;
-        larger += b.max > 1.01 * e.max;
+    for (const bool errorCap : {false, true}) {
+        SCOPED_TRACE(errorCap ? "--error-cap on" : "--error-cap off");
+        const BlockBuild exact = buildTerrainBlock(BuildMode::BottomUp, BottomUpError::Exact, 14, 1, errorCap);
+        const BlockBuild bound = buildTerrainBlock(BuildMode::BottomUp, BottomUpError::Bound, 14, 1, errorCap);
+        ASSERT_EQ(exact.stats.measured.size(), 341u);
+        ASSERT_EQ(bound.stats.measured.size(), exact.stats.measured.size());
+        size_t measured = 0, larger = 0;
+        for (size_t i = 0; i < exact.stats.measured.size(); ++i) {
+            ASSERT_EQ(exact.stats.triangles[i], bound.stats.triangles[i]) << "node " << i;  // the same node
+            const SurfaceError& e = exact.stats.measured[i];
+            const SurfaceError& b = bound.stats.measured[i];
+            EXPECT_GE(b.max + kRounding, e.max) << "node " << i << " level " << exact.stats.levels[i];
+            EXPECT_GE(b.oneSided + kRounding, e.oneSided) << "node " << i << " level " << exact.stats.levels[i];
+            EXPECT_GE(b.max, b.oneSided) << "node " << i;
+            measured += e.max > 0;
+            larger += b.max > 1.01 * e.max;
+        }
+        EXPECT_EQ(measured, 85u);  // every node above the leaves
+        EXPECT_GT(larger, 0u);     // the bound is not the exact measure
+        // The stored error is the bound, monotone by construction (at least every child's).
+        for (size_t i = 1; i < bound.records.size(); ++i)
+            EXPECT_LE(bound.records[i].node.geometricError, bound.records[bound.records[i].parentLocal].node.geometricError) << i;
     }
-    EXPECT_EQ(measured, 85u);  // every node above the leaves
-    EXPECT_GT(larger, 0u);     // the bound is not the exact measure
-    // The stored error is the bound, monotone by construction (at least every child's).
-    for (size_t i = 1; i < bound.records.size(); ++i)
-        EXPECT_LE(bound.records[i].node.geometricError, bound.records[bound.records[i].parentLocal].node.geometricError) << i;
 }
 
 // Each node's bound, recomputed from what the database stores (positions on a 22-bit lattice,

@@ -151,9 +151,10 @@ protected:
         return gap;
     }
 
-    // Bottom-up, hlod0 reaches c_desiredTris (150). Top-down with --error-cap on (the default),
-    // a root keeps the accuracy of the same block with free borders and pays for its locked
-    // grid-line borders in triangles (pipeline/TREE.md): still far coarser than its children.
+    // Bottom-up (capped, the default since stop 43), hlod0 reaches c_desiredTris (150). Top-down
+    // with --error-cap on (the default), a root keeps the accuracy of the same block with free
+    // borders and pays for its locked grid-line borders in triangles (pipeline/TREE.md): still far
+    // coarser than its children.
     static void checkShape(BuildMode mode) {
         const Skeleton& s = db_->skeleton();
         ASSERT_EQ(s.blockCount, 9u);

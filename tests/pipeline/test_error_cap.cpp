@@ -46,8 +46,9 @@ TEST(ErrorCap, NoChildFarCoarserThanItsParent) {
     EXPECT_LE(worstLevel1(capped), 1.5 * capped.measured[0].max);
 }
 
-// Bottom-up (--mode bottom-up --error-cap on) every node with shared sides is capped at twice its
-// input's free-border error, the root included.
+// Bottom-up (--mode bottom-up, capped by default since stop 43) every node with shared sides is
+// capped at twice its input's free-border error, the root included, but the leaves' parents
+// (ScanErrorCap.BottomUpLeavesParentsAreNotCapped).
 TEST(ErrorCap, BottomUpNodesKeepTheirFreeBordersAccuracy) {
     const BlockStats capped = buildTerrain(true, kAllSides, BuildMode::BottomUp);
     const BlockStats uncapped = buildTerrain(false, kAllSides, BuildMode::BottomUp);

@@ -72,9 +72,10 @@ INSTANTIATE_TEST_SUITE_P(Real, Scans,
                                            Scan{"A2_ycb_011_banana_textured_scan/textured_simple_reoriented.obj", 15728, true}));
 
 // Stop 43 (pipeline/TREE.md "Stop 43"): bottom-up, a node whose children are leaves gets no
-// free-border reference, so no cap. It simplifies the original triangles by at most c_levelFactor,
-// its locked border as fine as the rest. On the bunny each such node comes out as with the cap off
-// (19 of its 64 did not before), and the nodes above are still capped.
+// free-border reference, so no cap. It simplifies the original triangles by at most c_levelFactor
+// (the default leaf rule), its locked border as fine as the rest. On the bunny each such node
+// comes out as with the cap off (before, the cap bound 21 of its 64 and changed the triangle count
+// of 19), and the nodes above are still capped.
 TEST(ScanErrorCap, BottomUpLeavesParentsAreNotCapped) {
     const std::string input = sharedDir() + "/datasets/A1_stanford_bunny/bun_zipper.ply";
     if (!std::filesystem::exists(input)) GTEST_SKIP() << "no " << input;
