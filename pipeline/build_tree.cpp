@@ -334,7 +334,8 @@ uint32_t bottomUp(Piece piece, Sides shared, double factor, uint32_t level, cons
         const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
         const double inputFactor = std::max(1.0, double(input.mesh.triangleCount()) / target);
         const bool leafChildren = isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
-        const bool nearOriginal = leafChildren && factor <= c.levelFactor;  // never under --leaf-rule stop-before
+        // Under --leaf-rule stop-before a leaves' parent simplifies by c_levelFactor or more: capped.
+        const bool nearOriginal = leafChildren && factor <= c.levelFactor;
         result = simplifyNode(input, inputFactor, options.simplifier, shared, freeBorderCeiling(input, inputFactor, shared, nearOriginal, options));
         result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
         if (options.bottomUpError == BottomUpError::Simplifier) {
