@@ -94,38 +94,34 @@ Double2 boxDistance2(const TriangleBvh::Pair& pair, const double p[3]) {
 
 TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vector<uint32_t>& indices) {
     TriangleBvh bvh;
-    std::vector<float> corners;
-    corners.reserve(3 * indices.size());  // 9 per triangle: growing by doubling could hold twice that
-    std::vector<uint32_t> input;          // per kept triangle, its index in the input
-    for (size_t t = 0; t + 2 < indices.size(); t += 3) {
-        float f[9];  // the corners as given; their area in doubles
-        for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k) f[3 * j + k] = positions[3 * size_t(indices[t + j]) + k];
-        const double v[9] = {f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8]};
-        const double u[3] = {v[3] - v[0], v[4] - v[1], v[5] - v[2]}, w[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
-        const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-        if (n[0] == 0 && n[1] == 0 && n[2] == 0) continue;  // zero area
-        corners.insert(corners.end(), f, f + 9);
-        input.push_back(static_cast<uint32_t>(t / 3));
-    }
-    const uint32_t count = static_cast<uint32_t>(corners.size() / 9);
-    if (count == 0) return bvh;
-    // Per triangle its centroid (x 3), its box and its index, partitioned in place (the same order
-    // as partitioning indices into separate arrays, without the random reads).
+    // Per kept triangle its centroid (x 3), its box and its index in the input, partitioned in
+    // place (the same order as partitioning indices into separate arrays, without the random reads).
     struct Item {
         float centroid[3], lo[3], hi[3];
         uint32_t index;
     };
-    std::vector<Item> items(count);
-    for (uint32_t t = 0; t < count; ++t) {
-        Item& item = items[t];
-        item.index = t;
+    auto corners = [&](size_t t, float f[9]) {  // the corners as given
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) f[3 * j + k] = positions[3 * size_t(indices[3 * t + j]) + k];
+    };
+    std::vector<Item> items;
+    items.reserve(indices.size() / 3);
+    for (size_t t = 0; t < indices.size() / 3; ++t) {
+        float f[9];
+        corners(t, f);
+        const double v[9] = {f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8]};  // their area in doubles
+        const double u[3] = {v[3] - v[0], v[4] - v[1], v[5] - v[2]}, w[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
+        const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        if (n[0] == 0 && n[1] == 0 && n[2] == 0) continue;  // zero area
+        Item& item = items.emplace_back();
+        item.index = static_cast<uint32_t>(t);
         for (int k = 0; k < 3; ++k) {
-            const float* v = &corners[9 * size_t(t) + k];
-            item.centroid[k] = float(double(v[0]) + double(v[3]) + double(v[6]));
-            item.lo[k] = std::min({v[0], v[3], v[6]}), item.hi[k] = std::max({v[0], v[3], v[6]});
+            item.centroid[k] = float(double(f[k]) + double(f[3 + k]) + double(f[6 + k]));
+            item.lo[k] = std::min({f[k], f[3 + k], f[6 + k]}), item.hi[k] = std::max({f[k], f[3 + k], f[6 + k]});
         }
     }
+    const uint32_t count = static_cast<uint32_t>(items.size());
+    if (count == 0) return bvh;
     struct Task { uint32_t node, lo, hi; };
     std::vector<Task> stack{{0, 0, count}};
     bvh.pairs.push_back({});  // the root, lane 0 (lane 1 unused)
@@ -163,8 +159,8 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
     for (uint32_t i = 0; i < count; ++i) {
         TriangleBvh::Triangle& t = bvh.triangles[i];
         std::copy_n(items[i].lo, 3, t.lo), std::copy_n(items[i].hi, 3, t.hi);
-        std::copy_n(corners.begin() + 9 * size_t(items[i].index), 9, t.corners);
-        bvh.input[i] = input[items[i].index];
+        corners(items[i].index, t.corners);
+        bvh.input[i] = items[i].index;
     }
     return bvh;
 }

@@ -24,6 +24,7 @@ namespace {
 
 // All parts' triangles in one hierarchy (zero-area ones left out).
 TriangleBvh bvhOf(const std::vector<SubMesh>& parts) {
+    if (parts.size() == 1) return buildTriangleBvh(parts[0].mesh.positions, parts[0].mesh.indices);  // no copy
     std::vector<float> positions;
     std::vector<uint32_t> indices;
     for (const SubMesh& part : parts) {
