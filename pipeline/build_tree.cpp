@@ -84,8 +84,8 @@ namespace {
 double errorCeiling(double error, const BuildOptions& options) {
     return errorCapped(options) ? std::max(error, options.draco.positionStep) : HUGE_VAL;
 }
-double freeBorderCeiling(const Piece& piece, double factor, Sides shared, bool nearOriginal, const BuildOptions& options) {
-    if (!errorCapped(options) || shared == 0 || factor <= 1 || nearOriginal) return HUGE_VAL;
+double freeBorderCeiling(const Piece& piece, double factor, Sides shared, const BuildOptions& options) {
+    if (!errorCapped(options) || shared == 0 || factor <= 1) return HUGE_VAL;
     return errorCeiling(kFreeBorderSlack * simplifyNode(piece, factor, options.simplifier, 0).error, options);
 }
 
@@ -336,7 +336,8 @@ uint32_t bottomUp(Piece piece, Sides shared, double factor, uint32_t level, cons
         const bool leafChildren = isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
         // Under --leaf-rule stop-before a leaves' parent simplifies by c_levelFactor or more: capped.
         const bool nearOriginal = leafChildren && factor <= c.levelFactor;
-        result = simplifyNode(input, inputFactor, options.simplifier, shared, freeBorderCeiling(input, inputFactor, shared, nearOriginal, options));
+        const double ceiling = nearOriginal ? HUGE_VAL : freeBorderCeiling(input, inputFactor, shared, options);
+        result = simplifyNode(input, inputFactor, options.simplifier, shared, ceiling);
         result.geometryOnly = result.geometryOnly || (geometryOnly && !piece.mesh.texcoords.empty());
         if (options.bottomUpError == BottomUpError::Simplifier) {
             inherited = {inherited.oneSided + result.error, inherited.max + result.error, inherited.mean + result.error};
@@ -459,7 +460,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     } else {
         std::vector<Pending> pending;
         const double ceiling =
-            isLeaf(rootFactor, c.levelFactor, options.leafRule) ? HUGE_VAL : freeBorderCeiling(welded, rootFactor, shared, false, options);
+            isLeaf(rootFactor, c.levelFactor, options.leafRule) ? HUGE_VAL : freeBorderCeiling(welded, rootFactor, shared, options);
         pending.push_back({std::move(welded), rootFactor, 0, kNone, shared, ceiling});
         while (!pending.empty()) {
             Level level;
