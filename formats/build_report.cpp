@@ -2,6 +2,7 @@
 #include "formats/build_report.h"
 
 #include "formats/errors.h"
+#include "formats/temp_files.h"
 
 #include <nlohmann/json.hpp>
 
@@ -49,8 +50,7 @@ void writeBuildReport(const std::string& path, const BuildReport& r) {
                                         {"squared_error", n.fidelitySquaredError}};
         j["nodes"].push_back(node);
     }
-    std::ofstream out(path);
-    if (!(out << j.dump(2) << "\n")) throw std::runtime_error(path + ": cannot write build report");
+    writeTextFile(path, "build report", j.dump(2) + "\n");  // beside it, then renamed: never half-written
 }
 
 std::optional<BuildReport> readBuildReport(const std::string& path) {

@@ -27,13 +27,16 @@ struct MeshData {
 // blob's extent: neighbouring nodes keep their shared borders exactly. Each blob then uses the
 // fewest bits that cover its own extent on that lattice (recorded as its positionBits).
 inline constexpr int kMaxPositionBits = 22;  // the coarsest node needs one more, 23 = exact limit
+// Draco quantizes up to 30 bits, but its entropy coder sizes a histogram by the largest symbol
+// (4 B each): 30 bits took 4 GiB on a node whose UVs span 10^9 (a stray UV), 22 bits is 16 MiB.
+inline constexpr int kMaxTexcoordBits = 22;
 inline constexpr int kMaxDecodablePositionBits = 23;  // a blob record's positionBits (FORMAT.md), checked by validate
 
 struct DracoOptions {
     int positionBits = 14;     // 1..kMaxPositionBits; see README "Draco and JPEG defaults" for the measurements
     double positionStep = 0;   // lattice step, rounded down to a power of two; 0 = positionLatticeStep
                                // of the blob's own bounds (a blob encoded on its own)
-    int texcoordBits = 12;     // 1..30 (a build picks them per blob: texcoordBitsForTexture)
+    int texcoordBits = 12;     // 1..kMaxTexcoordBits (a build picks them per blob: texcoordBitsForTexture)
     int normalBits = 8;
     int colorBits = 8;
     int compressionLevel = 7;  // 0..10 (Draco's speed = 10 - level)
@@ -42,8 +45,8 @@ struct DracoOptions {
 // Texture coordinate bits for a blob textured by a width x height image: the fewest with 2^bits
 // >= 4 x the UVs' extent in texels along the image's longer side (Draco quantizes both components
 // over their largest extent), i.e. a step of a quarter texel (within 2^-bits of it) whatever the
-// image's size; 1..30. A fixed 12 is a quarter texel at 1024², a whole texel at 4096², a
-// sixteenth at 256² (README "Draco and JPEG defaults").
+// image's size; 1..kMaxTexcoordBits (coarser on a span beyond 2^20 texels). A fixed 12 is a
+// quarter texel at 1024², a whole texel at 4096², a sixteenth at 256² (README "Draco and JPEG defaults").
 int texcoordBitsForTexture(const std::vector<float>& texcoords, uint32_t width, uint32_t height);
 
 // 8-bit pixels, row-major, `channels` interleaved (1 grey, 3 RGB, 4 RGBA).

@@ -24,8 +24,6 @@ namespace hlod {
 
 namespace {
 
-constexpr int kMaxTexcoordBits = 30;  // Draco's limit for an attribute's quantization
-
 // Above 2^23 steps Draco's quantizer, floor(n + 0.5f) in float, is no longer exact.
 constexpr int kMaxLatticeBits = 23;
 
@@ -60,12 +58,12 @@ Lattice snapToLattice(const std::vector<float>& positions, double step) {
         if (i < 3 || x < l.origin[c]) l.origin[c] = x;
         if (i < 3 || x > top[c]) top[c] = x;
     }
-    uint64_t steps = 0;
-    for (int c = 0; c < 3; ++c) steps = std::max(steps, static_cast<uint64_t>((double(top[c]) - l.origin[c]) / step));
-    l.bits = std::max(1, static_cast<int>(std::bit_width(steps)));
-    if (l.bits > kMaxLatticeBits)
-        throw std::runtime_error("encodeGeometry: positions span " + std::to_string(steps) + " steps of 2^" +
+    double span = 0;  // in steps; compared as a double: a step too fine for the positions overflows any integer
+    for (int c = 0; c < 3; ++c) span = std::max(span, (double(top[c]) - l.origin[c]) / step);
+    if (!(span < std::ldexp(1.0, kMaxLatticeBits)))
+        throw std::runtime_error("encodeGeometry: positions span " + std::to_string(span) + " steps of 2^" +
                                  std::to_string(std::ilogb(step)) + ", more than 2^23 (position lattice too fine)");
+    l.bits = std::max(1, static_cast<int>(std::bit_width(static_cast<uint64_t>(span))));
     l.range = static_cast<float>(step * double((uint64_t(1) << l.bits) - 1));
     return l;
 }

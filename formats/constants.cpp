@@ -62,8 +62,8 @@ void validateConstants(const Constants& c, ConstantUse use) {
         if ((by & use) && !ok) throw std::invalid_argument(std::string(name) + " = " + formatConstant(value) + ": must be " + rule);
     };
     check(kUsedByBuild, "c_desiredTris", c.desiredTris, c.desiredTris >= 1, ">= 1");
-    check(kUsedByBuild, "c_levelFactor", c.levelFactor, c.levelFactor >= 2 && c.levelFactor <= 64,
-          "in [2, 64] (children per node)");
+    check(kUsedByBuild, "c_levelFactor", c.levelFactor, c.levelFactor >= 2 && c.levelFactor <= 64 && c.levelFactor == std::floor(c.levelFactor),
+          "a whole number in [2, 64] (children per node)");
     check(kUsedByBuild, "c_textured", c.textured, c.textured > 0 && c.textured <= 1, "in (0, 1]");
     check(kUsedByPlayer, "c_vis", c.vis, c.vis >= 0, ">= 0");
     check(kUsedByPlayer, "c_fore", c.fore, c.fore >= 0, ">= 0");

@@ -15,8 +15,8 @@ namespace hlod {
 using Offset = std::array<double, 3>;
 // "X,Y,Z", each the shortest decimal that reads back as the same double.
 std::string offsetText(const Offset& offset);
-// Three finite numbers separated by commas; anything else throws std::invalid_argument naming
-// `option` (--offset).
+// Three numbers within +-1e15 separated by commas; anything else throws std::invalid_argument
+// naming `option` (--offset).
 Offset parseOffset(const std::string& text, const std::string& option);
 // The database's offset, or none (nothing was subtracted); a malformed value throws FormatError "NAME: ...".
 std::optional<Offset> offsetOf(const Skeleton& skeleton, const std::string& name);

@@ -145,8 +145,10 @@ Offset parseOffset(const std::string& text, const std::string& option) {
     for (size_t k = 0; k < 3; ++k) {
         const auto [next, ec] = std::from_chars(p, end, offset[k]);
         const bool separated = k < 2 ? next < end && *next == ',' : next == end;
-        if (ec != std::errc() || !std::isfinite(offset[k]) || !separated)
-            throw std::invalid_argument(option + " '" + text + "': expected X,Y,Z (three finite numbers)");
+        // Within the coordinates' own limit (1e15, pipeline.h kMaxCoordinate): a larger offset moves
+        // every position past what a float holds, which the readers would blame on the input.
+        if (ec != std::errc() || !(std::abs(offset[k]) <= 1e15) || !separated)
+            throw std::invalid_argument(option + " '" + text + "': expected X,Y,Z (three numbers within +-1e15)");
         p = next + 1;
     }
     return offset;

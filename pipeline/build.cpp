@@ -9,6 +9,8 @@
 #include "pipeline/split_work.h"
 #include "pipeline/tbb_sync.h"
 
+#include "formats/build_report.h"
+#include "formats/constants.h"
 #include "formats/offset.h"
 #include "formats/temp_files.h"
 #include "formats/up_axis.h"
@@ -124,6 +126,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
         enforceTextures(raw.stats.textureProblems, options);
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
+        checkPositionStep(input, gridCell(raw.bounds, grid), options.draco.positionStep);  // before the split's work
         in.positionStep = gridPositionStep(raw.bounds, grid, options.draco.positionBits);
         const double step = options.draco.positionStep > 0 ? options.draco.positionStep : in.positionStep;
         if (std::string w = floatPrecisionWarning(input, raw.bounds, step); !w.empty()) raw.stats.warnings.push_back(std::move(w));
@@ -168,6 +171,7 @@ SplitInputs findBlocks(const std::string& input, const BuildOptions& options, co
     progress.beginStage("split", source.piece.mesh.triangleCount());
     const GridSpec grid = chooseGrid(pieceBounds(source.piece.mesh), source.piece.mesh.triangleCount(), blockTarget(options),
                                      options.blockSize);
+    checkPositionStep(input, gridCell(pieceBounds(source.piece.mesh), grid), options.draco.positionStep);
     in.positionStep = gridPositionStep(pieceBounds(source.piece.mesh), grid, options.draco.positionBits);
     in.grid = grid, in.bounds = pieceBounds(source.piece.mesh);
     const double step = options.draco.positionStep > 0 ? options.draco.positionStep : in.positionStep;
@@ -227,6 +231,7 @@ void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t ind
         mesh = readMesh(source.file, read);
         enforceTextures(mesh.stats.textureProblems, options);
         const Box3f bounds = pieceBounds(mesh.piece.mesh);  // the block's lattice, as buildBlock fixes it
+        checkPositionStep(source.file, bounds, options.draco.positionStep);
         const double step =
             options.draco.positionStep > 0 ? options.draco.positionStep : positionLatticeStep(bounds, options.draco.positionBits);
         if (std::string w = floatPrecisionWarning(source.file, bounds, step); !w.empty()) mesh.stats.warnings.push_back(std::move(w));
@@ -315,7 +320,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     command += " --draco-position-bits " + std::to_string(o.draco.positionBits) + " --draco-texcoord-bits " +
                std::to_string(o.draco.texcoordBits) + " --draco-level " + std::to_string(o.draco.compressionLevel) +
                " --jpeg-quality " + std::to_string(o.jpegQuality) + " --jpeg-chroma " + jpegChromaName(o.jpegChroma);
-    if (o.draco.positionStep > 0) command += " --draco-position-step " + std::to_string(o.draco.positionStep);
+    if (o.draco.positionStep > 0) command += " --draco-position-step " + formatConstant(o.draco.positionStep);  // exact
     if (!o.up.empty()) command += " --up " + o.up;
     const bool offset = o.read.offset != Offset{};
     if (offset) command += " --offset " + offsetText(o.read.offset);
@@ -338,7 +343,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     meta.emplace_back("draco.texcoordBits", std::to_string(o.draco.texcoordBits));
     meta.emplace_back("draco.colorBits", std::to_string(o.draco.colorBits));
     meta.emplace_back("draco.compressionLevel", std::to_string(o.draco.compressionLevel));
-    meta.emplace_back("draco.positionStep", o.draco.positionStep > 0 ? std::to_string(o.draco.positionStep) : "auto");
+    meta.emplace_back("draco.positionStep", o.draco.positionStep > 0 ? formatConstant(o.draco.positionStep) : "auto");
     meta.emplace_back("jpeg.quality", std::to_string(o.jpegQuality));
     meta.emplace_back("jpeg.chroma", jpegChromaName(o.jpegChroma));
     if (!o.up.empty()) meta.emplace_back("up", o.up);
@@ -360,6 +365,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     BuildOptions options = request.options;
     if (request.shard) refuseOutputOverInputs(request.output, {request.input});  // a folder: replaceableShard below
     else checkOutputFile(request.output, "database", {request.input});  // before hours of work, not at the end
+    checkOutputFile(buildReportPath(request.output), "build report", {request.input});  // written last, beside it
     options.read.output = request.output;  // nor any file the input refers to
     validateConstants(options.constants, kUsedByBuild);
     checkBuildOptions(options);
@@ -373,6 +379,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const fs::path outputParent = fs::absolute(request.output).parent_path();
     TempDir temp(options.tempDir.empty() ? outputParent.string() : options.tempDir);
     const SplitInputs inputs = work ? std::move(work->inputs) : findBlocks(input, options, temp.path, progress);
+    if (work && inputs.grid) checkPositionStep(request.input, gridCell(inputs.bounds, *inputs.grid), options.draco.positionStep);
     malloc_trim(0);  // the split's freed buffers go back to the system, not to the main thread's heap alone
     fixMmapThreshold();
     const uint32_t blockCount = static_cast<uint32_t>(inputs.blocks.size());

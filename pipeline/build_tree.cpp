@@ -170,7 +170,7 @@ NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, cons
     out.level = level;
     // Sample spacing: a hole of 1 / kMeasuredHole of the node's extent holds samples (error.cpp).
     if (!leaf) {
-        if (measuredFrom) out.error = surfaceError(parts, {SubMesh{0, *measuredFrom, {}}}, extent / (2 * kMeasuredHole));
+        if (measuredFrom) out.error = surfaceError(parts, *measuredFrom, extent / (2 * kMeasuredHole));
         out.error.oneSided += inherited.oneSided, out.error.max += inherited.max, out.error.mean += inherited.mean;
     }
     const double textureFactor = leaf ? 1.0 : factor;  // a leaf keeps the source's texels
@@ -334,7 +334,8 @@ uint32_t bottomUp(Piece piece, Sides shared, double factor, uint32_t level, cons
         const double target = std::max(1.0, double(piece.mesh.triangleCount()) / factor);
         const double inputFactor = std::max(1.0, double(input.mesh.triangleCount()) / target);
         const bool leafChildren = isLeaf(factor / c.levelFactor, c.levelFactor, options.leafRule);
-        // Under --leaf-rule stop-before a leaves' parent simplifies by c_levelFactor or more: capped.
+        // Under --leaf-rule stop-before a leaves' parent simplifies by c_levelFactor or more: capped,
+        // but for a factor of exactly c_levelFactor (as near the original as below-one's).
         const bool nearOriginal = leafChildren && factor <= c.levelFactor;
         const double ceiling = nearOriginal ? HUGE_VAL : freeBorderCeiling(input, inputFactor, shared, options);
         result = simplifyNode(input, inputFactor, options.simplifier, shared, ceiling);

@@ -43,11 +43,11 @@ bool degenerate(const double a[3], const double b[3], const double c[3]) {
 // The sample points of `from`: its vertices once each and, per non-degenerate triangle, a
 // barycentric grid of n x n cells other than the corners (n >= minCells; n >= 2 puts the edge
 // midpoints among them), n the longest edge / spacing, plus the centroid.
-std::vector<std::array<double, 3>> samples(const std::vector<SubMesh>& from, double spacing, int minCells) {
+std::vector<std::array<double, 3>> samples(const std::vector<const MeshData*>& from, double spacing, int minCells) {
     std::vector<std::array<double, 3>> points;
     auto add = [&](double x, double y, double z) { points.push_back({x, y, z}); };
-    for (const SubMesh& part : from) {
-        const MeshData& m = part.mesh;
+    for (const MeshData* mesh : from) {
+        const MeshData& m = *mesh;
         for (size_t i = 0; i + 2 < m.positions.size(); i += 3) add(m.positions[i], m.positions[i + 1], m.positions[i + 2]);
         for (size_t t = 0; t < m.triangleCount(); ++t) {
             double v[3][3];
@@ -92,15 +92,32 @@ double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector
     return largestDistance(bvh, points, sum);
 }
 
-SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original, double spacing) {
+// The diagonal of the meshes' bounding box: the error of a surface drawn where the other side has
+// none (every triangle degenerate), or of one missing altogether.
+double diagonal(const std::vector<const MeshData*>& meshes) {
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (const MeshData* m : meshes)
+        for (uint32_t i : m->indices)
+            for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], double(m->positions[3 * size_t(i) + k])), hi[k] = std::max(hi[k], double(m->positions[3 * size_t(i) + k]));
+    return lo[0] <= hi[0] ? std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) : 0;
+}
+
+SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const MeshData& original, double spacing) {
     SurfaceError e;
     if (!(spacing > 0)) return e;
-    const TriangleBvh a = bvhOf(simplified), b = bvhOf(original);
-    if (a.empty() || b.empty()) return e;
+    std::vector<const MeshData*> simplifiedMeshes;
+    for (const SubMesh& part : simplified) simplifiedMeshes.push_back(&part.mesh);
+    const TriangleBvh a = bvhOf(simplified), b = buildTriangleBvh(original.positions, original.indices);
+    if (a.empty() != b.empty()) {  // one side shows nothing of area: as far off as the other side is large
+        e.max = e.mean = diagonal(a.empty() ? std::vector<const MeshData*>{&original} : simplifiedMeshes);
+        e.oneSided = b.empty() ? e.max : 0;
+        return e;
+    }
+    if (a.empty()) return e;
     double sum = 0;
     // The simplified side's triangles are few and large (edge midpoints always); the original's
     // many and small, mostly sampled by their vertices and centroids alone.
-    std::vector<std::array<double, 3>> fromSimplified = samples(simplified, spacing, 2), fromOriginal = samples(original, spacing, 1);
+    std::vector<std::array<double, 3>> fromSimplified = samples(simplifiedMeshes, spacing, 2), fromOriginal = samples({&original}, spacing, 1);
     const double count = double(fromSimplified.size() + fromOriginal.size());
     e.oneSided = largestDistance(b, fromSimplified, sum);
     e.max = std::max(e.oneSided, largestDistance(a, fromOriginal, sum));

@@ -14,15 +14,31 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
+#include <stdexcept>
 
 namespace hlod {
 
-double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits) {
+Box3f gridCell(const Box3f& bounds, const GridSpec& grid) {
     const auto axis = [](Vec3f& v, int a) -> float& { return a == 0 ? v.x : a == 1 ? v.y : v.z; };
     Box3f cell = bounds;
     axis(cell.max, grid.axisU) = axis(cell.min, grid.axisU) + grid.sizeU;
     axis(cell.max, grid.axisV) = axis(cell.min, grid.axisV) + grid.sizeV;
-    return positionLatticeStep(cell, positionBits);
+    return cell;
+}
+
+double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits) {
+    return positionLatticeStep(gridCell(bounds, grid), positionBits);
+}
+
+void checkPositionStep(const std::string& input, const Box3f& block, double step) {
+    const double finest = positionLatticeStep(block, kMaxPositionBits);  // a power of two
+    if (step > 0 && step < finest) {
+        std::ostringstream what;
+        what << "--draco-position-step " << formatConstant(step) << " is too fine for " << input << ": a block spans more than 2^"
+             << kMaxPositionBits << " of its steps (at least " << formatConstant(finest) << ")";
+        throw std::invalid_argument(what.str());
+    }
 }
 
 std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds, double positionStep) {

@@ -103,9 +103,8 @@ struct RawMesh {
     void seal();  // parsing done
     size_t positionCount() const { return positions.size() / 3; }
 };
-// What readers may open besides the input itself (README "Reliability"): every file an input
-// refers to stays inside the input's folder unless allowOutsideInput (hlod build
-// --allow-outside-input) is set.
+// What readers may open besides the input itself (README "Reliability"): every file an input refers
+// to stays inside the input's folder unless allowOutsideInput (--allow-outside-input) is set.
 struct ReadOptions {
     bool allowOutsideInput = false;
     // glTF: embedded PNG/JPEG images are checked and written here, still encoded, and become the
@@ -137,9 +136,8 @@ bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& 
 // 1 MiB, so that small files (and the fuzzers' many small inputs) do not pay for a large one.
 size_t readBufferBytes(std::FILE* file);
 
-// Readers. Throw InputError("FILE: problem") on a missing, truncated or corrupt file.
-// References outside the folder of `path` are refused (resolveReference); unusable textures give
-// a TextureProblem (stats) and untextured triangles.
+// Readers. Throw InputError("FILE: problem") on a missing, truncated or corrupt file. References outside
+// the folder of `path` are refused (resolveReference); unusable textures: a TextureProblem, untextured.
 SourceMesh readPly(const std::string& path, const ReadOptions& options = {});
 SourceMesh readObj(const std::string& path, const ReadOptions& options = {});
 SourceMesh readGltf(const std::string& path, const ReadOptions& options = {});
@@ -156,9 +154,8 @@ inline constexpr uint64_t kMaxTextureTexels = 16384ull * 16384ull;
 // 36). 1e15 is the camera path's limit too; Earth-centred coordinates in mm are ~6.4e9.
 inline constexpr double kMaxCoordinate = 1e15;
 
-// input.cpp: rejects NaN/Inf attributes, out-of-range indices and empty meshes (InputError
-// naming `name`), drops degenerate triangles (counted in stats), turns unusable textures into
-// TextureProblems (untextured).
+// input.cpp: rejects NaN/Inf attributes, out-of-range indices and empty meshes (InputError naming
+// `name`), drops degenerate triangles (counted in stats), unusable textures: TextureProblems (untextured).
 void sanitize(SourceMesh& source, const std::string& name);
 // The cross product of the edges is exactly zero (the test sanitize() drops triangles by).
 bool zeroArea(const float* a, const float* b, const float* c);
@@ -240,8 +237,8 @@ void appendPiece(const std::string& file, const Piece& piece);
 Piece loadPiece(const std::string& file);
 
 // weld.cpp: before the recursion, vertices closer than `epsilon` move onto one position (a
-// vertex on the piece's bounding-box faces never moves), degenerate triangles are dropped,
-// normals dropped, and every vertex serves one material (identical vertices merged).
+// vertex on the piece's bounding-box faces never moves), degenerate triangles and coincident
+// copies are dropped, normals dropped, and every vertex serves one material (identical vertices merged).
 Piece weldPiece(const Piece& piece, double epsilon);
 
 // simplify.cpp. simplifyNode simplifies a (welded) piece as one mesh to about triangleCount / factor
@@ -286,14 +283,14 @@ std::vector<uint32_t> holePatches(const MeshData& mesh, const std::vector<uint32
 // error.cpp: largest distance from points sampled on `simplified` (edge midpoints, centroids) to `original`; 0 if either is empty.
 double surfaceDistance(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original);
 // The node's geometric error: the two-sided (symmetric) Hausdorff distance between the node and
-// the original surface, both sampled with points at most `spacing` apart (a hole wider than
-// 2 x spacing is measured), each side against an AABB tree of the other.
+// the original surface, both sampled at most `spacing` apart (a hole wider than 2 x spacing is measured),
+// each side against an AABB tree of the other; where only one side has triangles of area, its box diagonal.
 struct SurfaceError {
     double oneSided = 0;  // simplified -> original only (the measure before issue #16)
     double max = 0;       // two-sided Hausdorff distance
     double mean = 0;      // mean distance over the sample points of both sides
 };
-SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const std::vector<SubMesh>& original, double spacing);
+SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const MeshData& original, double spacing);
 
 // texture.cpp. A node's texture for one material: the source atlas downsampled by the node's
 // factor (sqrt(factor) per side, box filter), of which only the JPEG blocks its triangles reach
@@ -417,18 +414,21 @@ struct BlockStats {
 BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials, uint32_t blockIndex,
                       const BuildOptions& options, Progress* progress,
                       const std::function<void(NodeRecord&&)>& emit, Sides shared = kAllSides);
-// The checks of buildBlock, for runBuild and writeSplitWork to refuse early (std::invalid_argument):
-// jobs in 0..kMaxJobs, a finite blockSize and position step >= 0, a bottom-up error the
-// simplifier can give.
+// The checks of buildBlock, for runBuild and writeSplitWork to refuse early (std::invalid_argument): jobs
+// in 0..kMaxJobs, a finite blockSize and position step >= 0, a bottom-up error the simplifier can give.
 inline constexpr int kMaxJobs = 1024;
 void checkBuildOptions(const BuildOptions& options);
 bool errorCapped(const BuildOptions& o);  // --error-cap as the build runs it (build_tree.cpp): meshoptimizer only
 
 // pack.cpp: encodes a node's sub-meshes (Draco) and textures (JPEG) and fills §3.3 attributes.
-// gridPositionStep: the position lattice step for every block of `grid` over `bounds` (from
-// one cell, sizeU x sizeV x the third axis), for BuildOptions::draco.positionStep: one lattice
-// for the whole database, so that neighbouring blocks share their borders exactly.
+// gridCell: one cell of `grid` over `bounds` (sizeU x sizeV x the third axis); gridPositionStep: the
+// lattice step for every block of the grid (BuildOptions::draco.positionStep: one lattice for the
+// whole database, so that neighbouring blocks share their borders exactly).
+Box3f gridCell(const Box3f& bounds, const GridSpec& grid);
 double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits);
+// checkPositionStep: std::invalid_argument naming `input` when a given step (> 0) puts more than
+// 2^kMaxPositionBits steps across `block`, more than a blob's integer positions hold.
+void checkPositionStep(const std::string& input, const Box3f& block, double step);
 // floatPrecisionWarning: "" unless 32-bit float positions (MeshData, as every reader stores them)
 // step more coarsely at the largest coordinate of `bounds` than the position lattice `positionStep`
 // (far from the origin, e.g. a scan in UTM metres), in which case the warning names `input`, the

@@ -325,10 +325,14 @@ void addPrimitive(Context& cx, const tinygltf::Primitive& prim, const Matrix& m,
 
 // Every TRIANGLES-or-not primitive of the default scene's node tree (every root node when there
 // is no scene) with its node's world transform and the node visit's number, in document order.
+constexpr int kMaxNodeDepth = 1000;
+
 template <class Visit>
 void visitNode(const Context& cx, int index, const Matrix& parent, int depth, Visit& visit, int& visits) {
-    if (index < 0 || index >= static_cast<int>(cx.model.nodes.size()) || depth > 64)
-        throw InputError(cx.path + ": corrupt node tree");
+    if (index < 0 || index >= static_cast<int>(cx.model.nodes.size()))
+        throw InputError(cx.path + ": corrupt node tree (node " + std::to_string(index) + " does not exist)");
+    if (depth > kMaxNodeDepth)  // each level a stack frame
+        throw InputError(cx.path + ": node tree deeper than " + std::to_string(kMaxNodeDepth) + " levels (not supported)");
     const tinygltf::Node& node = cx.model.nodes[static_cast<size_t>(index)];
     const Matrix m = multiply(parent, localMatrix(node));
     const int instance = visits++;
@@ -337,11 +341,28 @@ void visitNode(const Context& cx, int index, const Matrix& parent, int depth, Vi
     for (int child : node.children) visitNode(cx, child, m, depth + 1, visit, visits);
 }
 
+// glTF 2.0 §3.5.3 "the node hierarchy MUST be a set of disjoint strict trees": a node reached
+// twice (two parents, a root listed twice or also a child) is refused, as its subtree would be
+// visited once per path to it, 2^depth times for a chain of shared pairs.
+void checkStrictTrees(const Context& cx, int scene) {
+    const tinygltf::Model& model = cx.model;
+    std::vector<uint8_t> reached(model.nodes.size());
+    auto reach = [&](int n) {
+        if (n >= 0 && static_cast<size_t>(n) < reached.size() && reached[static_cast<size_t>(n)]++)
+            throw InputError(cx.path + ": node " + std::to_string(n) + " is reached twice (glTF node trees are strict trees)");
+    };
+    for (const auto& node : model.nodes)
+        for (int c : node.children) reach(c);
+    if (scene < static_cast<int>(model.scenes.size()))
+        for (int n : model.scenes[static_cast<size_t>(scene)].nodes) reach(n);
+}
+
 template <class Visit>
 void visitScene(const Context& cx, Visit visit) {
     const tinygltf::Model& model = cx.model;
     const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    checkStrictTrees(cx, scene);
     int visits = 0;
     if (scene < static_cast<int>(model.scenes.size())) {
         for (int node : model.scenes[static_cast<size_t>(scene)].nodes) visitNode(cx, node, identity, 0, visit, visits);

@@ -11,7 +11,8 @@
 // bounding box (where the block grid cut it, and where the neighbouring block has the same
 // vertex) never moves, so blocks keep sharing their borders exactly; an interior vertex moves
 // onto the first vertex within epsilon in index order (face vertices first), searched over the
-// 27 hash cells of side epsilon around it. Triangles that become degenerate are dropped.
+// 27 hash cells of side epsilon around it. Triangles that become degenerate are dropped, and so
+// are coincident copies of a triangle (firstOfCoincident).
 // Vertices are then split per material (a vertex serves one material), the normals dropped
 // (packNode never stores them, and a normal seam would constrain the simplifier as a UV seam
 // does), and identical vertices (position, UV, colour, material) merged.
@@ -19,11 +20,41 @@
 
 #include <meshoptimizer.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
 namespace hlod {
 namespace {
+
+// Per triangle: 1 unless it has no area or repeats an earlier one's three positions in the same
+// winding (whatever its UVs or material). Coincident copies add nothing to draw, and each pile
+// of them is a knot no bounding volume can split: 16,384 copies of one face took 24 s to build.
+// Opposite windings (a two-sided wall) are kept.
+std::vector<uint8_t> firstOfCoincident(const std::vector<float>& positions, const std::vector<uint32_t>& indices) {
+    const size_t count = indices.size() / 3;
+    std::vector<uint8_t> keep(count, 0);
+    std::vector<std::array<float, 9>> keys;  // corners from the least (x, y, z) on, the winding kept
+    std::vector<size_t> kept;
+    keys.reserve(count), kept.reserve(count);
+    for (size_t t = 0; t < count; ++t) {
+        const float* c[3] = {&positions[3 * indices[3 * t]], &positions[3 * indices[3 * t + 1]], &positions[3 * indices[3 * t + 2]]};
+        if (zeroArea(c[0], c[1], c[2])) continue;
+        int first = 0;
+        for (int k = 1; k < 3; ++k)
+            if (std::lexicographical_compare(c[k], c[k] + 3, c[first], c[first] + 3)) first = k;
+        std::array<float, 9>& key = keys.emplace_back();
+        for (int k = 0; k < 3; ++k) std::copy_n(c[(first + k) % 3], 3, &key[3 * size_t(k)]);
+        for (float& x : key) x += 0.0f;  // -0 as +0: the same position
+        kept.push_back(t);
+    }
+    std::vector<uint32_t> remap(keys.size());  // first-use order: a new number marks the first of its kind
+    meshopt_generateVertexRemap(remap.data(), nullptr, keys.size(), keys.data(), keys.size(), sizeof(keys[0]));
+    for (uint32_t i = 0, next = 0; i < remap.size(); ++i)
+        if (remap[i] == next) keep[kept[i]] = 1, ++next;
+    return keep;
+}
 
 struct CellKey {
     int64_t x, y, z;
@@ -103,9 +134,9 @@ Piece weldPiece(const Piece& piece, double epsilon) {
                 if (p[a] == lo[a] || p[a] == hi[a]) return true;
             return false;
         };
-        auto cell = [&](const float* p) {
-            return CellKey{int64_t(std::floor(p[0] / epsilon)), int64_t(std::floor(p[1] / epsilon)),
-                           int64_t(std::floor(p[2] / epsilon))};
+        auto cell = [&](const float* p) {  // clamped: far from the origin a tiny epsilon would overflow int64
+            auto index = [&](float x) { return int64_t(std::clamp(std::floor(x / epsilon), -0x1p62, 0x1p62)); };
+            return CellKey{index(p[0]), index(p[1]), index(p[2])};
         };
         CellGrid grid(vc);  // representatives per cell
         const double eps2 = epsilon * epsilon;
@@ -139,12 +170,13 @@ Piece weldPiece(const Piece& piece, double epsilon) {
     };
     static_assert(sizeof(Key) == 28, "compared as bytes: no padding");
     const bool uv = !m.texcoords.empty(), colors = !m.colors.empty();
+    const std::vector<uint8_t> keep = firstOfCoincident(positions, m.indices);
     std::vector<Key> corners;
     corners.reserve(m.indices.size());
     Piece out;
     for (size_t t = 0; t < m.triangleCount(); ++t) {
         const uint32_t* tri = &m.indices[3 * t];
-        if (zeroArea(&positions[3 * tri[0]], &positions[3 * tri[1]], &positions[3 * tri[2]])) continue;
+        if (!keep[t]) continue;
         for (int k = 0; k < 3; ++k) {
             const uint32_t v = tri[k];
             Key key;

@@ -48,6 +48,7 @@ CameraKey parseKey(const std::vector<std::string>& f, const std::string& name, s
     CameraKey k;
     k.time = v[0];
     if (std::abs(k.time) > kMaxCameraTime) fail(name, line, "time " + f[0] + " s is beyond one day (limit 86400 s)");
+    if (k.time < 0) fail(name, line, "time " + f[0] + " s is negative (times are seconds from the start of the path)");
     std::copy(v + 1, v + 4, k.position);
     for (int i = 1; i < 4; ++i)
         if (std::abs(v[i]) > kMaxCameraCoordinate) fail(name, line, std::string(names[i]) + " " + f[i] + " is beyond 1e15");

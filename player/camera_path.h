@@ -32,7 +32,7 @@ struct CameraPath {
 // hostile file fails at the first line past a limit instead of allocating what it claims.
 inline constexpr size_t kMaxCameraKeys = 1'000'000;  // 4.6 hours of keys at 60 Hz
 inline constexpr size_t kMaxCameraLine = 1024;       // bytes, comments included
-inline constexpr double kMaxCameraTime = 86400;      // |time| in seconds: one day of replay
+inline constexpr double kMaxCameraTime = 86400;      // time in seconds, 0..this: one day of replay
 inline constexpr double kMaxCameraCoordinate = 1e15; // |px|, |py|, |pz|
 
 // Throws InputError "NAME:LINE: problem" (bad header, field count, number, time order,

@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace hlod {
 
@@ -25,7 +27,10 @@ double integratedPriority(double errorO, double tolerance, double angPr) {
 }
 
 VmBins::VmBins(double tolerance, double delta, double width) : width_(width) {
-    int count = int(std::floor(delta / width)) + 1;
+    const double bins = std::floor(delta / width) + 1;
+    if (!(bins >= 1 && bins <= kMaxVmBins))
+        throw std::invalid_argument("vm bins: delta / width must give 1.." + std::to_string(kMaxVmBins) + " bins");
+    const int count = int(bins);
     bins_.resize(size_t(count));
     int center = std::clamp(int(std::floor(tolerance / width)), 0, count - 1);
     order_.push_back(center);

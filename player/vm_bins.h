@@ -23,9 +23,12 @@ double angularPriority(double theta, double theta0, double theta1);
 // Priority(O) = eps_O x AngPr if eps_O < eps, eps_O / AngPr if eps_O > eps   (§4.2.3)
 double integratedPriority(double errorO, double tolerance, double angPr);
 
+inline constexpr int kMaxVmBins = 100 * 100 + 1;
+
 class VmBins {
 public:
-    // Bins of width `width` over [0, delta]: bin i holds [i w, (i + 1) w), i = 0 .. floor(delta / w).
+    // Bins of width `width` over [0, delta]: bin i holds [i w, (i + 1) w), i = 0 .. floor(delta / w);
+    // std::invalid_argument beyond kMaxVmBins (hlod play's --vm-delta and --vm-bins: at most 100 each).
     VmBins(double tolerance, double delta, double width);
     int binOf(double priority) const;   // -1 beyond the last bin (not prefetched)
     bool push(uint32_t id, double priority);  // appended to its bin's queue; false when beyond

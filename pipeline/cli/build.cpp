@@ -208,7 +208,7 @@ void addBuild(CLI::App& app, int& status) {
         ->check(CLI::Range(8, kMaxPositionBits));
     sub->add_option("--draco-texcoord-bits", o.draco.texcoordBits,
                     "Draco texture coordinate bits for every node; 0 (default): per node, a quarter texel of its own texture")
-        ->check(CLI::Range(0, 30));
+        ->check(CLI::Range(0, kMaxTexcoordBits));
     sub->add_option("--draco-position-step", o.draco.positionStep,
                     "position lattice step in input units, rounded down to a power of two (default: from the block grid; "
                     "a folder input gets one per block unless this is given)")

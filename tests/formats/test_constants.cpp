@@ -52,9 +52,10 @@ TEST(Constants, AbsurdValuesAreRefusedForTheirUse) {
     };
     EXPECT_EQ(error("c_targetTime=-5", kUsedByPlayer), "c_targetTime = -5: must be > 0 (milliseconds)");
     EXPECT_EQ(error("c_targetTime=0", kUsedByPlayer), "c_targetTime = 0: must be > 0 (milliseconds)");
-    EXPECT_EQ(error("c_levelFactor=1", kUsedByBuild), "c_levelFactor = 1: must be in [2, 64] (children per node)");
-    EXPECT_EQ(error("c_levelFactor=0", kUsedByBuild), "c_levelFactor = 0: must be in [2, 64] (children per node)");
-    EXPECT_EQ(error("c_levelFactor=1e300", kUsedByBuild), "c_levelFactor = 1e+300: must be in [2, 64] (children per node)");
+    EXPECT_EQ(error("c_levelFactor=1", kUsedByBuild), "c_levelFactor = 1: must be a whole number in [2, 64] (children per node)");
+    EXPECT_EQ(error("c_levelFactor=0", kUsedByBuild), "c_levelFactor = 0: must be a whole number in [2, 64] (children per node)");
+    EXPECT_EQ(error("c_levelFactor=1e300", kUsedByBuild), "c_levelFactor = 1e+300: must be a whole number in [2, 64] (children per node)");
+    EXPECT_EQ(error("c_levelFactor=2.5", kUsedByBuild), "c_levelFactor = 2.5: must be a whole number in [2, 64] (children per node)");
     EXPECT_EQ(error("c_desiredTris=0.5", kUsedByBuild), "c_desiredTris = 0.5: must be >= 1");
     EXPECT_EQ(error("c_textured=-1", kUsedByBuild), "c_textured = -1: must be in (0, 1]");
     EXPECT_EQ(error("c_hystSwitch=5000", kUsedByPlayer),

@@ -192,10 +192,10 @@ TEST_F(Conventions, AbsurdConstantsAreStatusTwoWithOneLine) {
     writeFile(dir.file("t.ply"), {});
     r = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--set", "c_levelFactor=1"});
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_EQ(r.err, "hlod build: c_levelFactor = 1: must be in [2, 64] (children per node)\n");
+    EXPECT_EQ(r.err, "hlod build: c_levelFactor = 1: must be a whole number in [2, 64] (children per node)\n");
     r = runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--config", conf});  // c_hyst* are play's
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_EQ(r.err, "hlod build: c_levelFactor = 1: must be in [2, 64] (children per node)\n");
+    EXPECT_EQ(r.err, "hlod build: c_levelFactor = 1: must be a whole number in [2, 64] (children per node)\n");
     EXPECT_FALSE(std::filesystem::exists(dir.file("t.hlod")));
 }
 

@@ -38,7 +38,8 @@ TEST(TexcoordBits, AQuarterTexelOfTheLongerSide) {
     EXPECT_EQ(texcoordBitsForTexture(whole, 1000, 600), 12);  // 4,000 quarters: 2^12 = 4,096
     EXPECT_EQ(texcoordBitsForTexture({0.25f, 0.5f, 0.75f, 0.5f}, 1024, 1024), 11);  // half the texture wide
     EXPECT_EQ(texcoordBitsForTexture({0.5f, 0.5f, 0.5f, 0.5f}, 1024, 1024), 1);     // one UV
-    EXPECT_EQ(texcoordBitsForTexture(whole, 1u << 30, 1u << 30), 30);               // Draco's limit
+    EXPECT_EQ(texcoordBitsForTexture(whole, 1u << 20, 1u << 20), 22);               // 2^22 quarters
+    EXPECT_EQ(texcoordBitsForTexture({0, 0, 1e9f, 1}, 64, 64), kMaxTexcoordBits);    // a stray UV: capped
 }
 
 TEST(TexcoordBits, DecodedUvsStayWithinAnEighthTexel) {
@@ -59,7 +60,7 @@ TEST(TexcoordBits, EncodeRefusesBitsOutsideDracosRange) {
     DracoOptions o;
     o.texcoordBits = 0;
     EXPECT_THROW(encodeGeometry(gridMesh(2), o), std::runtime_error);
-    o.texcoordBits = 31;
+    o.texcoordBits = kMaxTexcoordBits + 1;  // 23: Draco would take 31, at up to 4 B per possible symbol
     EXPECT_THROW(encodeGeometry(gridMesh(2), o), std::runtime_error);
     MeshData untextured = gridMesh(2);
     untextured.texcoords.clear();

@@ -194,8 +194,8 @@ TEST_F(Validate, UpAndOffsetMetadata) {
              {"up", "y", ""},
              {"up", "x", "META up 'x' is neither y nor z"},
              {"offset", "512360,4123471.5,-250", ""},
-             {"offset", "1,2", "META offset '1,2': expected X,Y,Z (three finite numbers)"},
-             {"offset", "1,nan,2", "META offset '1,nan,2': expected X,Y,Z (three finite numbers)"}}) {
+             {"offset", "1,2", "META offset '1,2': expected X,Y,Z (three numbers within +-1e15)"},
+             {"offset", "1,nan,2", "META offset '1,nan,2': expected X,Y,Z (three numbers within +-1e15)"}}) {
         {
             Writer w(path, 0.127);
             w.setMeta(key, value);

@@ -116,7 +116,7 @@ TEST(BottomUpError, IsTheDistanceToTheChildrenPlusTheirLargestError) {
         }
         const Box3f& box = b.records[i].node.bounds;
         const double extent = std::max({box.max.x - box.min.x, box.max.y - box.min.y, box.max.z - box.min.z});
-        const SurfaceError d = surfaceError({SubMesh{0, node, {}}}, {SubMesh{0, below, {}}}, extent / (2 * kMeasuredHole));
+        const SurfaceError d = surfaceError({SubMesh{0, node, {}}}, below, extent / (2 * kMeasuredHole));
         EXPECT_NEAR(b.stats.measured[i].max, d.max + childMax, tolerance) << "node " << i << " level " << b.stats.levels[i];
         EXPECT_NEAR(b.stats.measured[i].oneSided, d.oneSided + childOneSided, tolerance) << "node " << i;
         ++checked, inheriting += childMax > 10 * tolerance;

@@ -203,7 +203,7 @@ TEST(Chunked, BuildReportAndStatsGiveEveryNodesMeasuredQuality) {
 }
 
 // Welding: positions within epsilon become one, a vertex on a bounding-box face never moves,
-// degenerate triangles are dropped, and a vertex shared by two materials is split.
+// degenerate triangles and coincident copies are dropped, and a vertex shared by two materials is split.
 TEST(Weld, MergesNearDuplicatesAndSplitsMaterials) {
     Piece p;
     p.mesh.positions = {-1, -1, -1, 3, -1, -1, -1, 3, 3,             // the bounds: [-1, 3]^3
@@ -215,7 +215,10 @@ TEST(Weld, MergesNearDuplicatesAndSplitsMaterials) {
     p.mesh.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8, 4, 9, 5, 3, 10, 4};
     p.materials = {0, 0, 1, 1, 0};
     const Piece w = weldPiece(p, 0.001);
-    EXPECT_EQ(w.mesh.triangleCount(), 4u);  // the sliver is degenerate once welded
+    // The sliver is degenerate once welded, and B, welded onto (1, 0), (3, 0), (1, 1), is a coincident
+    // copy of the fourth triangle: dropped. At epsilon 0 nothing moves: all five stay.
+    EXPECT_EQ(w.mesh.triangleCount(), 3u);
+    EXPECT_EQ(weldPiece(p, 0).mesh.triangleCount(), 5u);
     std::set<std::array<float, 3>> positions;
     for (size_t i = 0; i < w.mesh.vertexCount(); ++i)
         positions.insert({w.mesh.positions[3 * i], w.mesh.positions[3 * i + 1], w.mesh.positions[3 * i + 2]});
@@ -238,10 +241,27 @@ TEST(GeometricError, TwoSidedErrorSeesAHole) {
         if (std::hypot(a[0] - 50, a[1] - 50) > 5)  // a hole of a tenth of the extent (100)
             holed.mesh.indices.insert(holed.mesh.indices.end(), p.mesh.indices.begin() + 3 * t, p.mesh.indices.begin() + 3 * t + 3);
     }
-    const SurfaceError e = surfaceError({holed}, {SubMesh{0, p.mesh, {}}}, 100.0 / 20);
+    const SurfaceError e = surfaceError({holed}, p.mesh, 100.0 / 20);
     EXPECT_LT(e.oneSided, 1e-4);
     EXPECT_GT(e.max, 3.0);  // the hole's centre lies ~5 from its rim
     EXPECT_GT(e.mean, 0.0);
+}
+
+// A side with no triangle of area (every one degenerate) is as far off as the other side is large,
+// not 0: a node that shows nothing of its original must not claim to be exact.
+TEST(GeometricError, ASideOfNoAreaIsAsFarOffAsTheOtherIsLarge) {
+    const Piece p = terrain(100);
+    const Box3f box = pieceBounds(p.mesh);
+    const double diagonal = std::hypot(double(box.max.x) - box.min.x, double(box.max.y) - box.min.y, double(box.max.z) - box.min.z);
+    SubMesh nothing{0, p.mesh, {}};
+    nothing.mesh.indices = {0, 0, 1};  // one triangle, of no area
+    const SurfaceError missing = surfaceError({nothing}, p.mesh, 100.0 / 20);
+    EXPECT_EQ(missing.oneSided, 0.0);
+    EXPECT_NEAR(missing.max, diagonal, 1e-3 * diagonal);
+    const SurfaceError extra = surfaceError({SubMesh{0, p.mesh, {}}}, nothing.mesh, 100.0 / 20);
+    EXPECT_NEAR(extra.oneSided, diagonal, 1e-3 * diagonal);
+    EXPECT_EQ(extra.max, extra.oneSided);
+    EXPECT_EQ(surfaceError({nothing}, nothing.mesh, 100.0 / 20).max, 0.0);
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include "formats/codec.h"
 #include "tests/support/run_hlod.h"
 
+#include <sys/stat.h>
+
 namespace hlod::test {
 namespace {
 
@@ -214,6 +216,35 @@ TEST(Confine, BuildNeverWritesOverItsInputOrItsTexture) {
     EXPECT_EQ(r.exitCode, 1) << r.outAndErr();
     EXPECT_EQ(r.err, "hlod build: " + l.dir.file("taken.hlod") + ": cannot write database (exists and is not a regular file)\n");
     EXPECT_EQ(r.out.find("split"), std::string::npos) << r.out;
+}
+
+// The build report DB.build.json is an output like the database: a link to the input, a FIFO or a
+// folder in its place is refused before any work, and no database is written (before, the report
+// was written in place at the end: through the link over the input, blocking on the FIFO, or
+// failing after a complete database).
+TEST(Confine, TheBuildReportIsCheckedBeforeAnyWorkAndNeverWrittenOverAnInput) {
+    Layout l;
+    writeObj(l.in("m.obj"), terrain(4), "");
+    const std::string mesh = readText(l.in("m.obj"));
+    fs::create_symlink(l.in("m.obj"), l.dir.file("link.hlod.build.json"));
+    RunResult r = runHlod({"build", l.in("m.obj"), "-o", l.dir.file("link.hlod")});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_EQ(r.err, "hlod build: " + l.dir.file("link.hlod.build.json") + ": is also an input (" + l.in("m.obj") +
+                         "); write the output elsewhere\n");
+    EXPECT_EQ(readText(l.in("m.obj")), mesh);
+    ASSERT_EQ(::mkfifo(l.dir.file("fifo.hlod.build.json").c_str(), 0644), 0);
+    fs::create_directories(l.dir.file("folder.hlod.build.json"));
+    for (const char* db : {"fifo.hlod", "folder.hlod"}) {
+        r = runHlod({"build", l.in("m.obj"), "-o", l.dir.file(db)});
+        EXPECT_EQ(r.exitCode, 1) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod build: " + l.dir.file(db) + ".build.json: cannot write build report (exists and is not a regular file)\n");
+        EXPECT_FALSE(fs::exists(l.dir.file(db)));
+    }
+    // A report that is a regular file is replaced as a whole.
+    writeFile(l.dir.file("ok.hlod.build.json"), {'x'});
+    r = runHlod({"build", l.in("m.obj"), "-o", l.dir.file("ok.hlod")});
+    EXPECT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_EQ(readText(l.dir.file("ok.hlod.build.json")).front(), '{');
 }
 
 }  // namespace

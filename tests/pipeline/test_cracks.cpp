@@ -8,6 +8,10 @@
 // simplified from its children's simplified triangles).
 #include "helpers.h"
 
+#include "formats/codec.h"
+#include "formats/db.h"
+#include "tests/support/run_hlod.h"
+
 #include <array>
 #include <map>
 #include <sstream>
@@ -241,6 +245,39 @@ TEST(PositionLattice, GridStepComesFromOneCell) {
     EXPECT_EQ(gridPositionStep(flat, grid, 14), std::ldexp(1.0, -9));
     const Box3f tall{{0, 0, 0}, {100, 100, 80}};  // the third axis, longer than a cell, decides
     EXPECT_EQ(gridPositionStep(tall, chooseGrid(tall, 18432, 2100, 0), 14), std::ldexp(1.0, -8));
+}
+
+// A given --draco-position-step must leave a block at most 2^kMaxPositionBits steps across: finer
+// ones are refused before any work (before, 1e-20 crashed in Draco and 1e-45 stored every position
+// as one point, both through integer overflow).
+TEST(PositionLattice, AStepTooFineForABlockIsAUsageErrorBeforeAnyWork) {
+    const Box3f unit{{0, 0, 0}, {1, 0.5f, 0}};
+    EXPECT_NO_THROW(checkPositionStep("m.obj", unit, std::ldexp(1.0, -kMaxPositionBits)));
+    EXPECT_NO_THROW(checkPositionStep("m.obj", unit, 0));  // automatic
+    EXPECT_THROW(checkPositionStep("m.obj", unit, std::ldexp(1.0, -kMaxPositionBits - 1)), std::invalid_argument);
+    TempDir dir;
+    writeObj(dir.file("m.obj"), terrain(4), "");
+    for (const char* step : {"1e-20", "1e-45"}) {
+        const RunResult r = runHlod({"build", dir.file("m.obj"), "-o", dir.file("m.hlod"), "--draco-position-step", step});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_EQ(r.err.rfind("hlod build: --draco-position-step " + std::string(step) + " is too fine for " + dir.file("m.obj"), 0), 0u)
+            << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_EQ(r.out.find("split"), std::string::npos) << r.out;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("m.hlod")));
+    }
+    // A step that fits (here 2^-16, the finest for this block) is recorded exactly: std::to_string's
+    // 6 decimals wrote it as 0.000015, and 2^-30 as 0.000000, "automatic" when run again.
+    const RunResult ok = runHlod({"build", dir.file("m.obj"), "-o", dir.file("m.hlod"), "--draco-position-step", "1.52587890625e-05"});
+    ASSERT_EQ(ok.exitCode, 0) << ok.outAndErr();
+    const Database db = Database::open(dir.file("m.hlod"));
+    EXPECT_EQ(*db.skeleton().findMeta("draco.positionStep"), "1.52587890625e-05");
+    EXPECT_NE(db.skeleton().findMeta("command")->find("--draco-position-step 1.52587890625e-05"), std::string::npos);
+    // The encoder itself refuses a lattice too fine for its positions instead of overflowing.
+    Piece one = terrain(2);
+    DracoOptions fine;
+    fine.positionStep = 1e-40;
+    EXPECT_THROW(encodeGeometry(one.mesh, fine), std::runtime_error);
 }
 
 }  // namespace

@@ -352,7 +352,7 @@ TEST(Inputs, OffsetKeepsDetailFarFromTheOriginAndIsRecorded) {
     const RunResult other = runHlod({"build", dir.file("work"), "-o", dir.file("other.hlod"), "--offset", "1,2,3"});
     EXPECT_EQ(other.exitCode, 2);
     EXPECT_NE(other.outAndErr().find("--offset differs from the split of"), std::string::npos) << other.outAndErr();
-    for (const char* bad : {"1,2", "1,2,3,4", "1,x,3", "1,inf,3", ""}) {
+    for (const char* bad : {"1,2", "1,2,3,4", "1,x,3", "1,inf,3", "", "1e300,0,0"}) {  // 1e300: beyond a float once subtracted
         const RunResult r = runHlod({"build", dir.file("far.obj"), "-o", dir.file("bad.hlod"), "--offset", bad});
         EXPECT_EQ(r.exitCode, 2) << bad;
         EXPECT_NE(r.outAndErr().find("expected X,Y,Z"), std::string::npos) << r.outAndErr();

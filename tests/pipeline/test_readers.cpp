@@ -189,8 +189,9 @@ TEST(ReadObj, NamesWithSpaces) {
 }
 
 // One mesh (positions, TEXCOORD_0, uint32 indices in a data-URI buffer) instanced by a node
-// translated by (10, 0, 0) whose child is scaled by 2.
-void writeGltf(const std::string& path, const MeshData& m) {
+// translated by (10, 0, 0) whose child is scaled by 2 (or by the node tree `nodes`, root node 0).
+const nlohmann::json kTwoNodes = {{{"translation", {10, 0, 0}}, {"children", {1}}}, {{"scale", {2, 2, 2}}, {"mesh", 0}}};
+void writeGltf(const std::string& path, const MeshData& m, const nlohmann::json& nodes = kTwoNodes) {
     std::vector<uint8_t> buffer;
     auto append = [&](const void* p, size_t n) { buffer.insert(buffer.end(), (const uint8_t*)p, (const uint8_t*)p + n); };
     append(m.positions.data(), m.positions.size() * 4);
@@ -202,7 +203,7 @@ void writeGltf(const std::string& path, const MeshData& m) {
         {"asset", {{"version", "2.0"}}},
         {"scene", 0},
         {"scenes", {{{"nodes", {0}}}}},
-        {"nodes", {{{"translation", {10, 0, 0}}, {"children", {1}}}, {{"scale", {2, 2, 2}}, {"mesh", 0}}}},
+        {"nodes", nodes},
         {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"TEXCOORD_0", 1}}}, {"indices", 2}}}}}}},
         {"buffers", {{{"byteLength", buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(buffer)}}}},
         {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", p}},
@@ -226,6 +227,29 @@ TEST(ReadGltf, NodeTransformsAreApplied) {
         EXPECT_FLOAT_EQ(s.piece.mesh.positions[3 * i + 1], 2 * p.mesh.positions[3 * i + 1]);
     }
     EXPECT_TRUE(s.piece.mesh.texcoords.empty());  // no textured material: UVs dropped
+}
+
+// Node trees: a chain deeper than the 64 levels once allowed is read; a node reached twice (here
+// 40 levels of a node whose two children are the same node: 2^40 visits before) and a chain
+// deeper than 1,000 levels are refused, each in one line.
+TEST(ReadGltf, NodeTreesMustBeStrictTreesOfAtMostAThousandLevels) {
+    TempDir dir;
+    const Piece p = terrain(2);
+    const auto chain = [](int length, bool shared) {
+        nlohmann::json nodes = nlohmann::json::array();
+        for (int i = 0; i < length; ++i)
+            nodes.push_back({{"children", shared ? nlohmann::json{i + 1, i + 1} : nlohmann::json{i + 1}}});
+        nodes.push_back({{"mesh", 0}});
+        return nodes;
+    };
+    writeGltf(dir.file("deep.gltf"), p.mesh, chain(100, false));
+    EXPECT_EQ(readMesh(dir.file("deep.gltf")).piece.mesh.triangleCount(), p.mesh.triangleCount());
+    writeGltf(dir.file("shared.gltf"), p.mesh, chain(40, true));
+    EXPECT_EQ(errorOf([&] { readMesh(dir.file("shared.gltf")); }),
+              dir.file("shared.gltf") + ": node 1 is reached twice (glTF node trees are strict trees)");
+    writeGltf(dir.file("deeper.gltf"), p.mesh, chain(1001, false));
+    EXPECT_EQ(errorOf([&] { readMesh(dir.file("deeper.gltf")); }),
+              dir.file("deeper.gltf") + ": node tree deeper than 1000 levels (not supported)");
 }
 
 TEST(BadInput, MissingFile) {

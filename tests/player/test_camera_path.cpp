@@ -80,6 +80,8 @@ TEST(CameraPath, HostileInputFailsFastWithOneLine) {
               "walk.path:2: orientation quaternion is not unit length (|q| = inf)");
     EXPECT_EQ(parseError(h + "2 0 0 0 0 0 0 1 60\n1 0 0 0 0 0 0 1 60\n"), "walk.path:3: times must increase strictly");
     EXPECT_EQ(parseError(h + "1e9 0 0 0 0 0 0 1 60\n"), "walk.path:2: time 1e9 s is beyond one day (limit 86400 s)");
+    EXPECT_EQ(parseError(h + "-10 0 0 0 0 0 0 1 60\n-5 0 0 0 0 0 0 1 60\n"),  // before: 0 frames replayed, status 0
+              "walk.path:2: time -10 s is negative (times are seconds from the start of the path)");
     EXPECT_EQ(parseError(h + "0 0 -1e300 0 0 0 0 1 60\n"), "walk.path:2: py -1e300 is beyond 1e15");
     EXPECT_EQ(parseError(h + std::string(5000, ' ') + "\n"), "walk.path:2: line longer than 1024 bytes");
     EXPECT_EQ(parseError(h + std::string(5u << 20, '#')), "walk.path:2: line longer than 1024 bytes");

@@ -223,6 +223,21 @@ TEST_F(Cli, FramesDirNeedsGlAndBadConstantIsRejected) {
     EXPECT_EQ(lines(r.err), 1) << r.err;
 }
 
+// The vm loader's bins are rebuilt whenever the view moves: an absurd count is a usage error
+// (before: 10^6 bins ran for minutes and 1.6 GB, 10^10 ended in a C++ library's message).
+TEST_F(Cli, AbsurdVmBinCountsAreUsageErrors) {
+    const std::string path = walk();
+    for (const char* option : {"--vm-bins", "--vm-delta"})
+        for (const char* value : {"1e6", "1e10", "101"}) {
+            RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--loader", "vm", option, value});
+            EXPECT_EQ(r.exitCode, 2) << option << " " << value;
+            EXPECT_EQ(lines(r.err), 1) << r.err;
+            EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
+        }
+    RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--loader", "vm", "--vm-bins", "100", "--vm-delta", "100"});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+}
+
 TEST_F(Cli, PathKindsAndBadDatabase) {
     for (const char* kind : {"walk", "drive", "fly", "erratic"}) {
         std::string out = (dir / (std::string(kind) + ".path")).string();
