@@ -2,6 +2,7 @@
 #include "formats/build_report.h"
 
 #include "formats/errors.h"
+#include "formats/json_text.h"
 #include "formats/temp_files.h"
 
 #include <nlohmann/json.hpp>
@@ -50,7 +51,7 @@ void writeBuildReport(const std::string& path, const BuildReport& r) {
                                         {"squared_error", n.fidelitySquaredError}};
         j["nodes"].push_back(node);
     }
-    writeTextFile(path, "build report", j.dump(2) + "\n");  // beside it, then renamed: never half-written
+    writeTextFile(path, "build report", jsonText(j, 2) + "\n");  // beside it, then renamed: never half-written
 }
 
 std::optional<BuildReport> readBuildReport(const std::string& path) {

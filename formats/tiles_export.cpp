@@ -3,6 +3,7 @@
 // in one renameat2(RENAME_EXCHANGE)), like the database writer's atomic rename (FORMAT.md §Atomic
 // writing): a failed or killed export never leaves at OUT a tileset that looks complete, and the
 // next export to OUT removes a killed one's temporary (formats/temp_files.h).
+#include "formats/json_text.h"
 #include "formats/temp_files.h"
 #include "formats/tiles_detail.h"
 
@@ -56,6 +57,7 @@ fs::path makeTemporaryFolder(const fs::path& out) {
     removeStaleTemporaries(out.string() + ".tmp");  // of exports killed before they renamed theirs
     std::string pattern = temporaryPattern(out.string() + ".tmp");
     if (!mkdtemp(pattern.data())) throw std::runtime_error(out.string() + ": cannot create a temporary folder beside it");
+    ::chmod(pattern.c_str(), 0755);  // mkdtemp's 0700 would hide the output from other readers (a web server)
     return pattern;
 }
 
@@ -98,7 +100,7 @@ TilesReport exportTiles(const Database& db, const std::string& outPath, const Ti
         report.triangles += glb->triangles;
         report.contentBytes += glb->bytes.size();
     }
-    const std::string json = tiles::tilesetJson(s, content, options, db.path()).dump();
+    const std::string json = jsonText(tiles::tilesetJson(s, content, options, db.path()));
     writeFile(folder.path / "tileset.json", json.data(), json.size());  // last: the folder is complete
     report.tiles = s.nodes.size() + 1;
     report.tilesetBytes = json.size();

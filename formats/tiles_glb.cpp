@@ -9,6 +9,7 @@
 // turns them y-up, which 3D Tiles turns back to z-up (3D Tiles 1.1 §glTF up-axis).
 #include "formats/codec.h"
 #include "formats/draco_attribute.h"
+#include "formats/json_text.h"
 #include "formats/tiles_detail.h"
 
 #include <draco/compression/decode.h>
@@ -95,7 +96,7 @@ void appendChunk(std::vector<uint8_t>& out, uint32_t type, const std::vector<uin
 }
 
 std::vector<uint8_t> glbBytes(const nlohmann::json& gltf, const std::vector<uint8_t>& bin) {
-    const std::string text = gltf.dump();
+    const std::string text = jsonText(gltf);
     std::vector<uint8_t> json(text.begin(), text.end());
     std::vector<uint8_t> out(12);
     appendChunk(out, kChunkJson, json, ' ');

@@ -5,6 +5,7 @@
 // build is a single shard merged, so shard + merge gives the same bytes as one build.
 #include "pipeline/pipeline.h"
 
+#include "formats/json_text.h"
 #include "formats/layout.h"
 
 #include <nlohmann/json.hpp>
@@ -180,7 +181,7 @@ void writeShardInfo(const std::string& dir, const ShardInfo& info) {
     j["blocks"] = info.blocks;
     j["meta"] = info.meta;
     std::ofstream out(std::filesystem::path(dir) / "shard.json");
-    out << j.dump(1) << "\n";
+    out << jsonText(j, 1) << "\n";
     if (!out) throw std::runtime_error(dir + "/shard.json: write failed");
 }
 

@@ -9,6 +9,8 @@
 // summary and the build report (formats/build_report.h).
 #include "pipeline/pipeline.h"
 
+#include "formats/json_text.h"
+
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -49,19 +51,8 @@ std::string formatBytes(uint64_t bytes) {
 
 namespace {
 
-// A JSON string literal (stage names, units and messages: file names may hold anything).
-std::string quoted(const std::string& text) {
-    std::string out = "\"";
-    for (const char c : text) {
-        if (c == '"' || c == '\\') out += '\\', out += c;
-        else if (static_cast<unsigned char>(c) < 0x20) {
-            char escape[8];
-            std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
-            out += escape;
-        } else out += c;
-    }
-    return out + "\"";
-}
+// A JSON string literal (stage names, units and messages: file names may hold any bytes).
+std::string jsonQuoted(const std::string& text) { return jsonText(nlohmann::json(text)); }
 
 }  // namespace
 
@@ -100,8 +91,8 @@ struct Progress::Impl {
             std::snprintf(text, sizeof text,
                           "{\"stage\": %s, \"done\": %llu, \"total\": %llu, \"unit\": %s, \"textures\": %llu, \"texels\": %llu, "
                           "\"elapsed_s\": %.1f, \"eta_s\": %s}",
-                          quoted(stage).c_str(), static_cast<unsigned long long>(d), static_cast<unsigned long long>(total),
-                          quoted(unit).c_str(), static_cast<unsigned long long>(n), static_cast<unsigned long long>(t), elapsed,
+                          jsonQuoted(stage).c_str(), static_cast<unsigned long long>(d), static_cast<unsigned long long>(total),
+                          jsonQuoted(unit).c_str(), static_cast<unsigned long long>(n), static_cast<unsigned long long>(t), elapsed,
                           left < 0 ? "null" : std::to_string(static_cast<long long>(std::lround(left))).c_str());
             return text;
         }
@@ -195,8 +186,8 @@ void Progress::endStage() {
     char text[384];
     if (impl_->options.json)
         std::snprintf(text, sizeof text, "{\"stage\": %s, \"done\": %llu, \"total\": %llu, \"unit\": %s, \"seconds\": %.2f, \"end\": true}",
-                      quoted(impl_->stage).c_str(), static_cast<unsigned long long>(done),
-                      static_cast<unsigned long long>(impl_->total), quoted(impl_->unit).c_str(), seconds);
+                      jsonQuoted(impl_->stage).c_str(), static_cast<unsigned long long>(done),
+                      static_cast<unsigned long long>(impl_->total), jsonQuoted(impl_->unit).c_str(), seconds);
     else
         std::snprintf(text, sizeof text, "%-8s %8.2f s  %12llu %s  %8.0f k%s/s  peak RSS %s", impl_->stage.c_str(), seconds,
                       static_cast<unsigned long long>(done), impl_->unit.c_str(), seconds > 0 ? done / seconds / 1000 : 0.0,
@@ -206,7 +197,7 @@ void Progress::endStage() {
 
 void Progress::message(const std::string& line) {
     std::lock_guard lock(impl_->mutex);
-    if (impl_->options.json) impl_->out << "{\"message\": " << quoted(line) << "}\n" << std::flush;
+    if (impl_->options.json) impl_->out << "{\"message\": " << jsonQuoted(line) << "}\n" << std::flush;
     else impl_->out << (impl_->options.live ? "\r\x1b[K" : "") << line << "\n" << std::flush;
 }
 

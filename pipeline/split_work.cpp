@@ -3,10 +3,12 @@
 // materials and lattice a build from the input would, and writes the same bytes.
 #include "pipeline/split_work.h"
 
+#include "formats/json_text.h"
 #include "formats/offset.h"
 #include "formats/temp_files.h"
 
 #include <nlohmann/json.hpp>
+#include <sys/stat.h>
 #include <xxhash.h>
 
 #include <cstdio>
@@ -106,6 +108,7 @@ StagingFolder::StagingFolder(const std::string& target) {
     removeStaleTemporaries(prefix);  // of runs killed before they removed theirs
     std::string pattern = temporaryPattern(prefix);
     if (!mkdtemp(pattern.data())) throw std::runtime_error(target + ": cannot create a temporary folder next to it");
+    ::chmod(pattern.c_str(), 0755);  // mkdtemp's 0700 would hide the output from other readers (a web server)
     path = pattern;
 }
 
@@ -176,7 +179,7 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
     manifest["texture_problems"] = std::move(problems);
     {
         std::ofstream out(fs::path(staging.path) / kManifest);
-        out << manifest.dump(1) << "\n";
+        out << jsonText(manifest, 1) << "\n";
         if (!out.flush()) throw std::runtime_error(work + "/" + kManifest + ": write failed");
     }
     if (isSplitWork(work)) fs::remove_all(target);  // an earlier split of this folder

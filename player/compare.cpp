@@ -3,6 +3,8 @@
 // in the text table and null in JSON.
 #include "player/compare.h"
 
+#include "formats/json_text.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -127,7 +129,7 @@ std::string compareJson(std::span<const CompareRow> rows, const std::vector<std:
                                  {"optimisation_ms_mean", r.optimisationMsMean},
                                  {"tris_mean", r.trianglesMean},
                                  {"invalid_cuts", r.invalidCuts}});
-    return j.dump(2);
+    return jsonText(j, 2);
 }
 
 }  // namespace hlod

@@ -130,6 +130,7 @@ uint32_t VmLoader::pickLocked(bool& demand) {
             if (s.nodes[o].parent != kNone) expand_.push_back({s.nodes[o].parent, error});
             for (uint32_t c = s.nodes[o].firstChild; c != kNone && s.nodes[c].parent == o; c = s.nodes[c].nextSibling)
                 expand_.push_back({c, error});
+            if (expand_.empty()) continue;  // a resident hlod0 leaf: nothing around it to fetch
         }
         auto [id, error] = expand_.front();
         expand_.pop_front();

@@ -4,6 +4,7 @@
 // window (§6.5), time the hlod0 share spends at its bounds (§4.2 second loop), peak memory (§6.1).
 #include "player/stats.h"
 
+#include "formats/json_text.h"
 #include "player/feedback.h"
 
 #include <nlohmann/json.hpp>
@@ -183,7 +184,7 @@ std::string summaryJson(const StatsSummary& s, const Constants& c) {
                         {"misses", s.misses},
                         {"longest_stall_ms", s.longestStallMs},
                         {"constants", constants}};
-    return j.dump(2);
+    return jsonText(j, 2);
 }
 
 }  // namespace hlod

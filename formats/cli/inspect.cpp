@@ -4,6 +4,7 @@
 #include "formats/cli/subcommands.h"
 
 #include "formats/inspect.h"
+#include "formats/json_text.h"
 
 #include <CLI/CLI.hpp>
 
@@ -61,9 +62,9 @@ void printTree(const nlohmann::json& nodes, int indent) {
 void printNode(const nlohmann::json& n) {
     for (const auto& [key, value] : n.items()) {
         if (key == "blobs") continue;
-        std::printf("%-20s %s\n", key.c_str(), value.dump().c_str());
+        std::printf("%-20s %s\n", key.c_str(), jsonText(value).c_str());
     }
-    for (const auto& b : n["blobs"]) std::printf("blob %s\n", b.dump().c_str());
+    for (const auto& b : n["blobs"]) std::printf("blob %s\n", jsonText(b).c_str());
 }
 
 int runInspect(const InspectArgs& a) {
@@ -72,7 +73,7 @@ int runInspect(const InspectArgs& a) {
     if (a.node) out = nodeJson(db.skeleton(), *a.node);
     else if (a.tree) out = treeJson(db.skeleton(), a.depth);
     else out = toJson(summarize(db));
-    if (a.json) std::cout << out.dump(2) << '\n';
+    if (a.json) std::cout << jsonText(out, 2) << '\n';
     else if (a.node) printNode(out);
     else if (a.tree) printTree(out, 0);
     else printSummary(summarize(db));

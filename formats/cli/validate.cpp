@@ -3,6 +3,7 @@
 // file cannot be opened as a database at all (formats/cli/command.h).
 #include "formats/cli/subcommands.h"
 
+#include "formats/json_text.h"
 #include "formats/validate.h"
 
 #include <CLI/CLI.hpp>
@@ -32,9 +33,7 @@ int runValidate(const ValidateArgs& a) {
         for (const Violation& v : violations)
             list.push_back({{"node", v.node == kNone ? nlohmann::json(nullptr) : nlohmann::json(v.node)},
                             {"message", v.message}});
-        std::cout << nlohmann::json{{"path", a.path}, {"valid", violations.empty()}, {"quick", a.quick},
-                                    {"violations", list}}
-                         .dump(2)
+        std::cout << jsonText({{"path", a.path}, {"valid", violations.empty()}, {"quick", a.quick}, {"violations", list}}, 2)
                   << '\n';
     } else {
         for (const Violation& v : violations) std::cout << a.path << ": " << v.message << '\n';

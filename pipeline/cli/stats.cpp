@@ -3,6 +3,7 @@
 // the thesis-scale city.
 #include "pipeline/cli/subcommands.h"
 
+#include "formats/json_text.h"
 #include "pipeline/stats/stats.h"
 
 #include <CLI/CLI.hpp>
@@ -30,7 +31,7 @@ void addStats(CLI::App& app, int& status) {
         status = runGuarded("stats", [&] {
             Database db = Database::open(args->path);
             stats::Stats s = stats::computeStats(db, args->thesis);
-            if (args->json) std::cout << stats::toJson(s).dump(2) << "\n";
+            if (args->json) std::cout << jsonText(stats::toJson(s), 2) << "\n";
             else stats::printStats(std::cout, s);
             return kExitOk;
         });

@@ -4,6 +4,7 @@
 // is written last, so its presence marks a complete city that stats and tests can check.
 #include "pipeline/synth/synth.h"
 
+#include "formats/json_text.h"
 #include "formats/temp_files.h"
 
 #include <nlohmann/json.hpp>
@@ -95,7 +96,7 @@ CityResult writeCity(const CityOptions& options, const CityPlan& plan, const std
         result.texels += r.texels;
         for (const std::string& name : {r.obj, r.mtl, r.jpg}) result.bytes += fs::file_size(fs::path(dir) / name);
     }
-    writeTextFile((fs::path(dir) / "city.json").string(), "the city manifest", manifest(plan, result).dump(1) + "\n");
+    writeTextFile((fs::path(dir) / "city.json").string(), "the city manifest", jsonText(manifest(plan, result), 1) + "\n");
     return result;
 }
 

@@ -119,8 +119,9 @@ void addPath(CLI::App& app, int& status) {
                     "metres per second (default: city-like 1.5 walk, 15 drive; object: one lap in 60 s, drive 6 s)")
         ->check(finiteAtLeast(0));
     sub->add_option("--eye-height", a->options.eyeHeight,
-                    "metres above the ground estimate (city-like) or the model's bottom (object; default: half its height)")
-        ->check(finiteNumber());
+                    "metres above the ground estimate (city-like) or the model's bottom (object; default: half its height), "
+                    "0 to 1e15 (a camera path's coordinates)")
+        ->check(finiteIn(0, kMaxCameraCoordinate));
     sub->add_option("--units", a->units, "what one database unit is: m (default), cm, mm, km or a number of metres");
     sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys")
         ->check(finitePositive());

@@ -81,6 +81,9 @@ TEST_F(ExportTiles, SyntheticDatabaseGivesAValidTileset) {
     const std::vector<std::string> problems = checkTileset(out);
     for (const std::string& p : problems) ADD_FAILURE() << p;
     expectContentMatchesDatabase(db, out);
+    // Readable by others (a web server serving it): not mkdtemp's 0700 (before stop 44).
+    const std::filesystem::perms others = std::filesystem::perms::others_read | std::filesystem::perms::others_exec;
+    EXPECT_EQ(std::filesystem::status(out).permissions() & others, others);
 
     const nlohmann::json t = readJson(out + "/tileset.json");
     const Skeleton s = Database::open(db).skeleton();

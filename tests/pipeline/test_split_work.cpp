@@ -11,7 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 namespace hlod::test {
 namespace {
@@ -61,6 +63,31 @@ TEST(SplitWork, SingleMeshShardsFromTheWorkFolderEqualOneBuild) {
         triangles += b.at("triangles").get<uint64_t>();
     }
     EXPECT_GE(triangles, 7200u);  // 2 x 60 x 60, plus the triangles the grid cuts
+}
+
+// A file name that is not UTF-8 (Latin-1 "café") travels through the build report, the work
+// folder's manifest, the shard description and --progress-json as U+FFFD (before stop 44 each of
+// these JSON writers threw nlohmann's type_error 316 once the work was done: exit 1, no output).
+// The work and shard folders are readable by others (mkdtemp's 0700 before).
+TEST(SplitWork, NamesThatAreNotUtf8AndFoldersOthersCanRead) {
+    TempDir dir;
+    const std::string input = dir.file("caf\xe9.ply");
+    writePly(input, terrain(20).mesh, true);
+    expectSplitShardsMergeEqualOneBuild(dir, input, {"--block-triangles", "300"}, "");
+    const fs::perms others = fs::perms::others_read | fs::perms::others_exec;
+    for (const char* folder : {"work", "s1"}) EXPECT_EQ(fs::status(dir.file(folder)).permissions() & others, others) << folder;
+    std::ifstream report(dir.file("one.hlod.build.json"));
+    EXPECT_FALSE(nlohmann::json::parse(report, nullptr, false).is_discarded());
+    const RunResult r = runHlod({"build", input, "-o", dir.file("p.hlod"), "--progress-json"});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    std::istringstream lines(r.err + r.out);
+    size_t parsed = 0;
+    for (std::string line; std::getline(lines, line);)
+        if (!line.empty() && line[0] == '{') {
+            EXPECT_FALSE(nlohmann::json::parse(line, nullptr, false).is_discarded()) << line;
+            ++parsed;
+        }
+    EXPECT_GT(parsed, 0u);
 }
 
 TEST(SplitWork, TexturedObjAndFolderInputsEqualOneBuild) {

@@ -238,6 +238,34 @@ TEST_F(Cli, AbsurdVmBinCountsAreUsageErrors) {
     EXPECT_EQ(r.exitCode, 0) << r.err;
 }
 
+// `hlod path` refuses an eye height its own reader would refuse (2e15: a path `hlod play` then
+// rejected) or that meant "by scale" (a negative one was silently replaced by the default).
+TEST_F(Cli, PathEyeHeightWithinWhatPathsHold) {
+    for (const char* height : {"2e15", "-5"}) {
+        RunResult r = runHlod({"path", db, "--kind", "walk", "--eye-height", height, "-o", (dir / "e.path").string()});
+        EXPECT_EQ(r.exitCode, 2) << height;
+        EXPECT_EQ(lines(r.err), 1) << r.err;
+        EXPECT_NE(r.err.find("--eye-height"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "e.path"));
+    }
+    EXPECT_EQ(runHlod({"path", db, "--kind", "walk", "--eye-height", "0", "-o", (dir / "e.path").string()}).exitCode, 0);
+}
+
+// Blocks of one node (an input smaller than c_desiredTris): the vm loader's prefetch pops a
+// resident hlod0 with nothing around it (before stop 44 it then read an empty queue: SIGSEGV).
+TEST_F(Cli, VmLoaderPlaysBlocksOfOneNode) {
+    SyntheticOptions o;
+    o.levels = 1;
+    const std::string flat = (dir / "flat.hlod").string();
+    writeSyntheticDatabase(flat, o);
+    const std::string path = (dir / "flat.path").string();
+    ASSERT_EQ(runHlod({"path", flat, "--kind", "fly", "--duration", "5", "-o", path}).exitCode, 0);
+    for (const char* sync : {"--sync-loader", "--uploads=4"}) {
+        RunResult r = runHlod({"play", flat, "--path", path, "--loader", "vm", sync});
+        EXPECT_EQ(r.exitCode, 0) << sync << ": " << r.err;
+    }
+}
+
 TEST_F(Cli, PathKindsAndBadDatabase) {
     for (const char* kind : {"walk", "drive", "fly", "erratic"}) {
         std::string out = (dir / (std::string(kind) + ".path")).string();
