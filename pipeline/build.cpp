@@ -129,12 +129,18 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         checkPositionStep(input, gridCell(raw.bounds, grid), options.draco.positionStep);  // before the split's work
         in.positionStep = gridPositionStep(raw.bounds, grid, options.draco.positionBits);
         const double step = options.draco.positionStep > 0 ? options.draco.positionStep : in.positionStep;
-        if (std::string w = floatPrecisionWarning(input, raw.bounds, step); !w.empty()) raw.stats.warnings.push_back(std::move(w));
+        const std::string precision = floatPrecisionWarning(input, raw.bounds, step);
+        if (!precision.empty()) raw.stats.warnings.push_back(precision);
         in.grid = grid, in.bounds = raw.bounds;
         if (raw.positions.spilled()) fixMmapThreshold();  // arrays held, then freed: the threshold rose
         progress.beginStage("split", raw.triangles.size());
-        for (const CellFile& cell : streamSplit(raw, grid, tempDir, options.memoryLimit / 4, input, raw.stats, &progress))
-            in.blocks.push_back({cell.file, true, cell.triangles});
+        try {
+            for (const CellFile& cell : streamSplit(raw, grid, tempDir, options.memoryLimit / 4, input, raw.stats, &progress))
+                in.blocks.push_back({cell.file, true, cell.triangles});
+        } catch (const InputError& e) {  // every triangle collapsed in float: say why, as the warning would have
+            if (precision.empty()) throw;
+            throw InputError(std::string(e.what()) + "; " + precision.substr(input.size() + 2));
+        }
         progress.endStage();
         reportRead(input, raw.stats, progress);
         in.textureProblems = raw.stats.textureProblems;

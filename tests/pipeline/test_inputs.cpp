@@ -313,8 +313,8 @@ TEST(Inputs, FloatPrecisionWarningThresholdIsTheLatticeStep) {
 
 // An OBJ written with full double precision: 8 x 8 quads 0.1 apart, moved to (4194304, 1048576),
 // where 32-bit floats step by 0.5 and 0.125.
-void writeFarObj(const std::string& path) {
-    const Piece p = terrain(8, 0.8f);
+void writeFarObj(const std::string& path, float spacing = 0.8f) {
+    const Piece p = terrain(8, spacing);
     std::ofstream out(path);
     out.precision(17);
     for (size_t v = 0; v < p.mesh.vertexCount(); ++v)
@@ -322,6 +322,18 @@ void writeFarObj(const std::string& path) {
             << p.mesh.positions[3 * v + 2] << '\n';
     for (size_t t = 0; t < p.mesh.triangleCount(); ++t)
         out << "f " << p.mesh.indices[3 * t] + 1 << ' ' << p.mesh.indices[3 * t + 1] + 1 << ' ' << p.mesh.indices[3 * t + 2] + 1 << '\n';
+}
+
+// A far model whose every triangle collapses in float: the "empty mesh" error says why and gives the
+// --offset (before stop 44 the warning was printed only once the split had succeeded: never).
+TEST(Inputs, AFarModelWhoseTrianglesAllCollapseSaysWhy) {
+    TempDir dir;
+    writeFarObj(dir.file("far.obj"), 0.001f);
+    const RunResult r = runHlod({"build", dir.file("far.obj"), "-o", dir.file("far.hlod")});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_EQ(r.err.rfind("hlod build: " + dir.file("far.obj") + ": empty mesh (no valid triangles); coordinates reach ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("build with --offset 4194304,1048576,0 "), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
 // --offset subtracts in double before the floats: the far model keeps every triangle (without it,
