@@ -29,9 +29,9 @@ Geodetic parseGeodetic(const std::string& text) {
     Geodetic g;
     char comma1 = 0, comma2 = 0;
     if (!(in >> g.latitude >> comma1 >> g.longitude >> comma2 >> g.height) || comma1 != ',' || comma2 != ',' ||
-        !(in >> std::ws).eof() || !std::isfinite(g.height) || std::abs(g.latitude) > 90 || std::abs(g.longitude) > 180)
+        !(in >> std::ws).eof() || !(std::abs(g.height) <= 1e7) || std::abs(g.latitude) > 90 || std::abs(g.longitude) > 180)
         throw std::invalid_argument("--origin " + text +
-                                    ": expected LAT,LON,HEIGHT (degrees in [-90, 90], [-180, 180], metres)");
+                                    ": expected LAT,LON,HEIGHT (degrees in [-90, 90], [-180, 180], metres within +-1e7)");
     return g;
 }
 
