@@ -21,11 +21,17 @@ nlohmann::json treeNode(const Skeleton& s, uint32_t id, uint32_t depth, uint32_t
     nlohmann::json j = {{"id", id},          {"level", n.level},        {"block", n.block},
                         {"triangles", n.triangles()}, {"texels", n.texelCount}, {"bytes", n.dataSize},
                         {"error", n.geometricError}};
-    nlohmann::json kids = nlohmann::json::array();
+    const std::vector<uint32_t> children = s.children(id);
     if (depth >= kMaxTreeDepth) j["truncated"] = true;  // only corrupt links nest this deep
-    else if (maxDepth == 0 || depth + 1 < maxDepth)
-        for (uint32_t c : s.children(id))
-            if (!shown[c]) kids.push_back(treeNode(s, c, depth + 1, maxDepth, shown));
+    if (depth >= kMaxTreeDepth || (maxDepth != 0 && depth + 1 >= maxDepth)) {
+        // Below the cut: no "children" key (an empty list would read as a leaf), only their count.
+        if (!children.empty()) j["children_not_shown"] = children.size();
+        else j["children"] = nlohmann::json::array();
+        return j;
+    }
+    nlohmann::json kids = nlohmann::json::array();
+    for (uint32_t c : children)
+        if (!shown[c]) kids.push_back(treeNode(s, c, depth + 1, maxDepth, shown));
     j["children"] = kids;
     return j;
 }

@@ -42,7 +42,8 @@ nlohmann::json toJson(const DatabaseSummary& s);
 // One node in full, with its blob records; throws std::invalid_argument for a bad id.
 nlohmann::json nodeJson(const Skeleton& s, uint32_t id);
 // The tree from the hlod0 list down to `maxDepth` levels (0 = unlimited): nested
-// {"id", "level", "block", "triangles", "texels", "bytes", "error", "children"}.
+// {"id", "level", "block", "triangles", "texels", "bytes", "error", "children"}; a node below the cut
+// with children has "children_not_shown": N instead of "children".
 nlohmann::json treeJson(const Skeleton& s, uint32_t maxDepth);
 
 }  // namespace hlod

@@ -76,6 +76,11 @@ CLI::Validator finiteIn(double lo, double hi) {
                        [lo, hi](double v) { return v >= lo && v <= hi; });
 }
 
+CLI::Validator finiteAboveAtMost(double lo, double hi) {
+    return finiteWhere("a finite number in (" + number(lo) + ", " + number(hi) + "]",
+                       [lo, hi](double v) { return v > lo && v <= hi; });
+}
+
 CLI::Validator wholeNumber() {
     return CLI::Validator(
         [](std::string& input) {

@@ -41,6 +41,7 @@ CLI::Validator finiteNumber();                  // any finite number (a negative
 CLI::Validator finiteAtLeast(double lo);        // a finite number >= lo
 CLI::Validator finitePositive();                // a finite number > 0
 CLI::Validator finiteIn(double lo, double hi);  // a finite number in [lo, hi]
+CLI::Validator finiteAboveAtMost(double lo, double hi);  // a finite number in (lo, hi]
 CLI::Validator wholeNumber();                   // written without a sign
 CLI::Validator nonEmptyPath();                  // every -o: "" is a usage error, not a filesystem error
 

@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <iostream>
 #include <optional>
+#include <stdexcept>
+#include <string>
 
 namespace hlod::cli {
 
@@ -55,7 +57,9 @@ void printTree(const nlohmann::json& nodes, int indent) {
                     n["id"].get<uint32_t>(), n["level"].get<uint32_t>(), n["block"].get<uint32_t>(),
                     n["triangles"].get<uint32_t>(), (unsigned long long)n["texels"].get<uint64_t>(),
                     bytesText(n["bytes"].get<uint64_t>()).c_str(), n["error"].get<double>());
-        printTree(n["children"], indent + 1);
+        if (n.contains("children_not_shown"))
+            std::printf("%*s(%u children not shown)\n", indent * 2 + 2, "", n["children_not_shown"].get<uint32_t>());
+        else printTree(n["children"], indent + 1);
     }
 }
 
@@ -70,6 +74,9 @@ void printNode(const nlohmann::json& n) {
 int runInspect(const InspectArgs& a) {
     Database db = Database::open(a.path);
     nlohmann::json out;
+    if (a.node && *a.node >= db.skeleton().nodes.size())  // names the database, unlike nodeJson's message
+        throw std::invalid_argument(a.path + ": node " + std::to_string(*a.node) + " does not exist (the database has " +
+                                    std::to_string(db.skeleton().nodes.size()) + " nodes)");
     if (a.node) out = nodeJson(db.skeleton(), *a.node);
     else if (a.tree) out = treeJson(db.skeleton(), a.depth);
     else out = toJson(summarize(db));

@@ -22,7 +22,7 @@ void addSynth(CLI::App& app, int& status) {
     city->add_option("-o,--output", *dir, "output folder")->required()->check(nonEmptyPath());
     city->add_option("--scale", options->scale,
                      "fraction of the thesis model (1 = 114 blocks, 8.95 M triangles, 937 M texels)")
-        ->check(finiteIn(0, 4));
+        ->check(finiteAboveAtMost(0, 4));
     city->add_option("--seed", options->seed, "random seed (same seed and scale = same bytes)")
         ->check(wholeNumber());
     city->add_option("--jpeg-quality", options->jpegQuality, "JPEG quality 1..100")

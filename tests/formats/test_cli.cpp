@@ -45,7 +45,13 @@ TEST_F(Cli, InspectJsonViews) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j.size(), 4u);
-    EXPECT_TRUE(j[0]["children"].empty());
+    EXPECT_FALSE(j[0].contains("children")) << j[0];  // cut by --depth: not a leaf
+    EXPECT_EQ(j[0]["children_not_shown"], 4);
+    r = runHlod({"inspect", "--tree", "--depth", "2", "--json", db});
+    j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j[0]["children"].size(), 4u);
+    EXPECT_TRUE(j[0]["children"][0]["children"].empty()) << j[0];  // a leaf at the cut is still a leaf
+    EXPECT_FALSE(j[0]["children"][0].contains("children_not_shown"));
     r = runHlod({"inspect", "--tree", "--json", db});
     EXPECT_EQ(nlohmann::json::parse(r.out)[0]["children"].size(), 4u);
 
@@ -68,7 +74,10 @@ TEST_F(Cli, InspectTextTreeAndNode) {
     EXPECT_NE(r.out.find("static_benefit"), std::string::npos) << r.out;
     r = runHlod({"inspect", "--node", "999", db});
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_EQ(r.err, "hlod inspect: node 999 does not exist (the database has 20 nodes)\n");
+    EXPECT_EQ(r.err, "hlod inspect: " + db + ": node 999 does not exist (the database has 20 nodes)\n");
+    r = runHlod({"inspect", "--tree", "--depth", "1", db});
+    EXPECT_EQ(r.exitCode, 0);
+    EXPECT_NE(r.out.find("  (4 children not shown)"), std::string::npos) << r.out;
 }
 
 TEST_F(Cli, ValidateExitCodes) {
