@@ -22,14 +22,28 @@ std::vector<double> benefitGaps(const PolicyRun& run, const PolicyRun& oracle) {
     return gaps;
 }
 
-std::vector<CompareRow> compareRows(std::span<const PolicyRun> runs, const PolicyRun* oracle, uint64_t warmup) {
+PolicyRun policyRun(std::string policy, std::span<const FrameStats> frames, uint64_t warmup) {
+    PolicyRun run;
+    run.policy = std::move(policy);
+    run.summary = summarize(frames, warmup);
+    run.frames.reserve(frames.size());
+    for (const FrameStats& f : frames) {
+        uint64_t triangles = 0;
+        for (uint64_t t : f.trianglesPerLevel) triangles += t;
+        run.frames.push_back({f.frame, f.timeSeconds, f.targetMs, f.actualMs, f.benefit, f.selectionMs, f.optimisationMs,
+                              triangles, f.visibleTriangles});
+    }
+    return run;
+}
+
+std::vector<CompareRow> compareRows(std::span<const PolicyRun> runs, const PolicyRun* oracle) {
     std::vector<CompareRow> rows;
     for (const PolicyRun& run : runs) {
         CompareRow r;
         r.policy = run.policy;
         r.frames = run.frames.size();
         r.invalidCuts = run.invalidCuts;
-        StatsSummary s = summarize(run.frames, warmup);
+        const StatsSummary& s = run.summary;
         r.counted = s.frames - s.warmupFrames;
         r.frameMs = s.frameMs;
         r.togglesPerFrame = s.togglesPerFrame;
@@ -40,12 +54,12 @@ std::vector<CompareRow> compareRows(std::span<const PolicyRun> runs, const Polic
         uint64_t gaps = 0;
         std::vector<double> frameGaps = oracle ? benefitGaps(run, *oracle) : std::vector<double>();
         for (size_t i = s.warmupFrames; i < run.frames.size(); ++i) {
-            const FrameStats& f = run.frames[i];
+            const CompareFrame& f = run.frames[i];
             relError.push_back(std::abs(f.actualMs - f.targetMs) / f.targetMs);
             selection.push_back(f.selectionMs);
             benefit += f.benefit;
             optimisation += f.optimisationMs;
-            for (uint64_t t : f.trianglesPerLevel) triangles += double(t);
+            triangles += double(f.triangles);
             if (oracle && !std::isnan(frameGaps[i])) gap += frameGaps[i], ++gaps;
         }
         Distribution rel = distributionOf(relError);

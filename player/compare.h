@@ -16,12 +16,26 @@
 
 namespace hlod {
 
+// One frame as the table, the frames CSV and the plots read it: ~80 bytes, where a FrameStats holds
+// ~0.5 KB with its per-level arrays (16 policies at the 1,000,000-frame cap took ~8 GB until stop 44).
+struct CompareFrame {
+    uint64_t frame = 0;
+    double timeSeconds = 0, targetMs = 0, actualMs = 0, benefit = 0, selectionMs = 0, optimisationMs = 0;
+    uint64_t triangles = 0;         // drawn, all levels
+    uint64_t visibleTriangles = 0;  // FrameStats::visibleTriangles
+};
+
 struct PolicyRun {
     std::string policy;
-    std::vector<FrameStats> frames;
-    uint64_t invalidCuts = 0;   // frames whose front failed checkCut (player/front.h)
-    std::string firstInvalid;   // the first such failure, in words
+    StatsSummary summary;           // summarize() of the full frames, before they were reduced
+    std::vector<CompareFrame> frames;
+    uint64_t invalidCuts = 0;       // frames whose front failed checkCut (player/front.h)
+    std::string firstInvalid;       // the first such failure, in words
 };
+
+// `policy`'s run as `hlod compare` keeps it: the summary of `frames` counted from `warmup` on
+// (summarize's rule: at most half the frames) and each frame reduced to a CompareFrame.
+PolicyRun policyRun(std::string policy, std::span<const FrameStats> frames, uint64_t warmup);
 
 struct CompareRow {
     std::string policy;
@@ -43,10 +57,9 @@ struct CompareRow {
 // where the oracle's benefit is 0 or the oracle has no frame i).
 std::vector<double> benefitGaps(const PolicyRun& run, const PolicyRun& oracle);
 
-// One row per run, counting frames from `warmup` on (summarize's rule: at most half the frames).
-// `oracle` (may be null) gives the gap column; frames must be aligned (fixed step) for it to mean
-// anything, which the caller decides.
-std::vector<CompareRow> compareRows(std::span<const PolicyRun> runs, const PolicyRun* oracle, uint64_t warmup);
+// One row per run, counting the frames after its summary's warm-up. `oracle` (may be null) gives
+// the gap column; frames must be aligned (fixed step) for it to mean anything, which the caller decides.
+std::vector<CompareRow> compareRows(std::span<const PolicyRun> runs, const PolicyRun* oracle);
 
 void writeCompareText(std::ostream& os, std::span<const CompareRow> rows);
 void writeCompareCsv(std::ostream& os, std::span<const CompareRow> rows);

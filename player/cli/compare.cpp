@@ -62,8 +62,8 @@ PolicyRun runPolicy(const CompareArgs& a, const Database& db, const Constants& c
     po.policy = policy;
     po.onLoadFailure = [&db](const LoadFailure& f) { warnLoadFailure("compare", db, f); };
     Player player(db, c, *renderer, po);
-    PolicyRun run;
-    run.policy = policy;
+    uint64_t invalidCuts = 0;
+    std::string firstInvalid;
     ReplayOptions ro;
     ro.maxFrames = a.maxFrames;
     ro.aspect = double(a.width) / a.height;
@@ -72,15 +72,18 @@ PolicyRun runPolicy(const CompareArgs& a, const Database& db, const Constants& c
     std::vector<uint8_t> resident(s.nodes.size());
     std::vector<DrawnNode> drawn;
     const double still[3] = {0, 0, 0};
-    run.frames = replayPath(player, path, ro, [&](const FrameStats& f) {
+    const std::vector<FrameStats> frames = replayPath(player, path, ro, [&](const FrameStats& f) {
         View view = makeView(sampleCameraPath(path, f.timeSeconds, ro.aspect), still, 0);
         for (uint32_t id = 0; id < s.nodes.size(); ++id) resident[id] = player.resident(id);
         drawn.clear();
         for (const DrawItem& d : player.front()) drawn.push_back({d.node});
         std::string problem = checkCut(s, drawn, resident, [&](uint32_t id) { return frustumVis(view, s.nodes[id].bounds) >= 1; },
                                        player.frontSkipsBlocks());
-        if (!problem.empty() && run.invalidCuts++ == 0) run.firstInvalid = "frame " + std::to_string(f.frame) + ": " + problem;
+        if (!problem.empty() && invalidCuts++ == 0) firstInvalid = "frame " + std::to_string(f.frame) + ": " + problem;
     });
+    PolicyRun run = policyRun(policy, frames, a.warmup);  // the full frames go when this returns
+    run.invalidCuts = invalidCuts;
+    run.firstInvalid = std::move(firstInvalid);
     if (a.maxFrames == 0 && run.frames.size() == ro.frameCap)
         std::cerr << "hlod compare: warning: " << policy << " stopped after " << ro.frameCap
                   << " frames, before the path's end (--frames N replays more)\n";
@@ -94,13 +97,11 @@ std::string framesCsv(const std::vector<PolicyRun>& runs, const PolicyRun* oracl
     for (const PolicyRun& r : runs) {
         std::vector<double> gaps = oracle ? benefitGaps(r, *oracle) : std::vector<double>(r.frames.size(), NAN);
         for (size_t i = 0; i < r.frames.size(); ++i) {
-            const FrameStats& f = r.frames[i];
-            uint64_t tris = 0;
-            for (uint64_t t : f.trianglesPerLevel) tris += t;
+            const CompareFrame& f = r.frames[i];
             std::string gap = std::isnan(gaps[i]) ? "" : std::to_string(gaps[i]);
             std::snprintf(buf, sizeof buf, "%s,%llu,%.6f,%.3f,%.4f,%.6g,%s,%llu,%llu,%.4f\n", r.policy.c_str(),
                           (unsigned long long)f.frame, f.timeSeconds, f.targetMs, f.actualMs, f.benefit, gap.c_str(),
-                          (unsigned long long)tris, (unsigned long long)f.visibleTriangles, f.selectionMs);
+                          (unsigned long long)f.triangles, (unsigned long long)f.visibleTriangles, f.selectionMs);
             os << buf;
         }
     }
@@ -116,11 +117,9 @@ bool plot(const std::string& prefix, const std::vector<PolicyRun>& runs, const P
         std::vector<double> gaps = oracle ? benefitGaps(runs[k], *oracle) : std::vector<double>();
         gp << "$d" << k << " << EOD\n";
         for (size_t i = 0; i < runs[k].frames.size(); ++i) {
-            const FrameStats& f = runs[k].frames[i];
-            uint64_t tris = 0;
-            for (uint64_t t : f.trianglesPerLevel) tris += t;
+            const CompareFrame& f = runs[k].frames[i];
             gp << i << ' ' << f.actualMs << ' ' << f.targetMs << ' '
-               << (oracle && !std::isnan(gaps[i]) ? std::to_string(gaps[i]) : "NaN") << ' ' << tris << ' '
+               << (oracle && !std::isnan(gaps[i]) ? std::to_string(gaps[i]) : "NaN") << ' ' << f.triangles << ' '
                << f.visibleTriangles << '\n';
         }
         gp << "EOD\n";
@@ -196,7 +195,7 @@ int runCompare(CompareArgs& a) {
     const PolicyRun* oracle = nullptr;
     for (const PolicyRun& r : runs)
         if (r.policy == "oracle" && a.stepMs > 0) oracle = &r;
-    std::vector<CompareRow> rows = compareRows(runs, oracle, a.warmup);
+    std::vector<CompareRow> rows = compareRows(runs, oracle);
     std::ostringstream text;
     writeCompareText(text, rows);
     std::cout << text.str();

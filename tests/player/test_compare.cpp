@@ -109,9 +109,9 @@ TEST(Benefit, RefiningNeverLowersTheBenefitOnAFixtureDatabase) {
 
 namespace {
 
+// Frame 0 is warm-up.
 PolicyRun run(const std::string& name, std::vector<double> actual, std::vector<double> benefit) {
-    PolicyRun r;
-    r.policy = name;
+    std::vector<FrameStats> frames;
     for (size_t i = 0; i < actual.size(); ++i) {
         FrameStats f;
         f.frame = i;
@@ -122,9 +122,9 @@ PolicyRun run(const std::string& name, std::vector<double> actual, std::vector<d
         f.trianglesPerLevel = {100, uint64_t(i)};
         f.distance = 2.0 * i;
         f.upToggles = i == 3;
-        r.frames.push_back(f);
+        frames.push_back(f);
     }
-    return r;
+    return policyRun(name, frames, 1);
 }
 
 }  // namespace
@@ -135,7 +135,7 @@ TEST(Compare, RowsAndGapsToTheOracle) {
     EXPECT_NEAR(gaps[1], 0.5, 1e-12);
     EXPECT_TRUE(std::isnan(gaps[2]));  // the oracle's benefit is 0: no gap
     EXPECT_NEAR(gaps[3], 0, 1e-12);
-    std::vector<CompareRow> rows = compareRows(runs, &runs[1], 1);  // frame 0 is warm-up
+    std::vector<CompareRow> rows = compareRows(runs, &runs[1]);
     ASSERT_EQ(rows.size(), 2u);
     const CompareRow& a = rows[0];
     EXPECT_EQ(a.counted, 3u);
@@ -150,7 +150,7 @@ TEST(Compare, RowsAndGapsToTheOracle) {
     EXPECT_NEAR(a.selectionMs.max, 1.5, 1e-12);
     EXPECT_NEAR(a.trianglesMean, 102, 1e-12);
     EXPECT_NEAR(rows[1].gapMean, 0, 1e-12);
-    std::vector<CompareRow> noOracle = compareRows(runs, nullptr, 1);
+    std::vector<CompareRow> noOracle = compareRows(runs, nullptr);
     EXPECT_TRUE(std::isnan(noOracle[0].gapMean));
     std::ostringstream csv, text;
     writeCompareCsv(csv, noOracle);
