@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 namespace hlod {
 
@@ -57,6 +58,8 @@ void writeBuildReport(const std::string& path, const BuildReport& r) {
 std::optional<BuildReport> readBuildReport(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return std::nullopt;
+    refuseSpecialFile(path);  // a FIFO blocked the open for good (until stop 44)
+    if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": a folder, not a build report");
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot read");
     nlohmann::json j;
@@ -96,6 +99,12 @@ std::optional<BuildReport> readBuildReport(const std::string& path) {
             r.nodes.back().fidelitySamples = field<uint64_t>(f, "samples", path);
             r.nodes.back().fidelitySquaredError = field<double>(f, "squared_error", path);
         }
+        // A node of level L has L ancestors in the report: a larger level (-1 read as 2^32 - 1)
+        // sized the per-level table by it (a crash or std::bad_alloc until stop 44).
+        for (const NodeQuality& n : r.nodes)
+            if (n.level >= r.nodes.size())
+                throw InputError(path + ": node " + std::to_string(n.node) + " has level " + std::to_string(n.level) +
+                                 ", impossible among " + std::to_string(r.nodes.size()) + " nodes (corrupt build report)");
     }
     return r;
 }

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -50,6 +51,16 @@ void refuseOutputOverInputs(const std::string& output, std::initializer_list<std
         if (!output.empty() && !input.empty() && std::filesystem::equivalent(output, input, ec))
             throw std::invalid_argument(output + ": is also an input (" + input + "); write the output elsewhere");
     }
+}
+
+void refuseOutputInsideFolder(const std::string& output, const std::string& folder) {
+    std::error_code outError, dirError;
+    const std::filesystem::path out = std::filesystem::weakly_canonical(std::filesystem::absolute(output), outError);
+    const std::filesystem::path dir = std::filesystem::weakly_canonical(std::filesystem::absolute(folder), dirError);
+    if (outError || dirError) return;  // the writer of OUTPUT, the reader of FOLDER say what is wrong
+    const auto [d, o] = std::mismatch(dir.begin(), dir.end(), out.begin(), out.end());
+    if (d == dir.end() && o != out.end())
+        throw std::invalid_argument(output + ": is inside an input folder (" + folder + "); write the output elsewhere");
 }
 
 void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs) {

@@ -25,6 +25,10 @@ void checkReplaceable(const std::string& path, const std::string& what);
 // OUTPUT and one of INPUTS name the same existing file (after symbolic links; hard links too), so
 // an output never destroys what the run reads. Empty names are skipped.
 void refuseOutputOverInputs(const std::string& output, std::initializer_list<std::string> inputs);
+// Throws std::invalid_argument "OUTPUT: is inside an input folder (FOLDER); write the output
+// elsewhere" when OUTPUT lies in FOLDER or below it (after symbolic links): a folder the run reads
+// as a whole (a split's work folder, a shard), whose files it would replace.
+void refuseOutputInsideFolder(const std::string& output, const std::string& folder);
 // Both checks of a file output, before a run's work: refuseOutputOverInputs, then checkReplaceable.
 // An empty OUTPUT (an option not given) passes.
 void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs);

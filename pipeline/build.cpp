@@ -378,7 +378,10 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     if (request.shard && !replaceableShard(request.output))
         throw std::invalid_argument(request.output + ": exists and is not a shard folder (refusing to replace it)");
     std::optional<SplitWork> work;  // an `hlod split` work folder: its blocks, options and input
-    if (isSplitWork(request.input)) work = openSplitWork(request.input, options, request.firstBlock, request.lastBlock);
+    if (isSplitWork(request.input)) {
+        refuseOutputInsideFolder(request.output, request.input);  // -o WORK/manifest.json ruined it (until stop 44)
+        work = openSplitWork(request.input, options, request.firstBlock, request.lastBlock);
+    }
     const std::string input = work ? work->input : request.input;
     const UpChoice up = work ? work->up : chooseUpAxis(input, options.up);
     progress.message("up axis: " + up.axis + " (" + up.reason + ")");

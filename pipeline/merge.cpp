@@ -7,6 +7,7 @@
 
 #include "formats/json_text.h"
 #include "formats/layout.h"
+#include "formats/temp_files.h"
 
 #include <nlohmann/json.hpp>
 
@@ -209,22 +210,31 @@ ShardInfo readShardInfo(const std::string& dir) {
 
 void mergeShards(const std::vector<std::string>& shardDirs, const std::string& output, double cTextured) {
     if (shardDirs.empty()) throw InputError("merge: no shards given");
+    for (const std::string& dir : shardDirs) refuseOutputInsideFolder(output, dir);
     const ShardInfo first = readShardInfo(shardDirs[0]);
-    std::vector<std::string> owner(first.blockCount);
+    if (first.blockCount == 0) throw InputError(shardDirs[0] + "/shard.json: corrupt shard description (0 blocks)");
+    // Each listed block with its shard, sorted: the block count (unchecksummed) sizes nothing until
+    // the shards are seen to list every block (2^32 ended in std::bad_alloc until stop 44).
+    std::vector<std::pair<uint32_t, std::string>> listed;
     for (const std::string& dir : shardDirs) {
         const ShardInfo info = readShardInfo(dir);
         if (info.meta != first.meta || info.blockCount != first.blockCount)
             throw InputError(dir + ": shard built from a different input or options than " + shardDirs[0]);
         for (uint32_t b : info.blocks) {
-            if (b >= owner.size()) throw InputError(dir + ": block " + std::to_string(b) + " out of range");
-            if (!owner[b].empty()) throw InputError(dir + ": block " + std::to_string(b) + " also in " + owner[b]);
-            owner[b] = dir;
+            if (b >= first.blockCount) throw InputError(dir + ": block " + std::to_string(b) + " out of range");
+            listed.emplace_back(b, dir);
         }
     }
-    for (uint32_t b = 0; b < owner.size(); ++b)
-        if (owner[b].empty())
-            throw InputError(shardDirs.front() + ": block " + std::to_string(b) + " of " + std::to_string(owner.size()) +
-                             " is in none of the " + std::to_string(shardDirs.size()) + " shard(s) given");
+    std::stable_sort(listed.begin(), listed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::vector<std::string> owner;
+    for (const auto& [b, dir] : listed) {
+        if (b < owner.size()) throw InputError(dir + ": block " + std::to_string(b) + " also in " + owner[b]);
+        if (b > owner.size()) break;  // block owner.size() is missing
+        owner.push_back(dir);
+    }
+    if (owner.size() < first.blockCount)
+        throw InputError(shardDirs.front() + ": block " + std::to_string(owner.size()) + " of " + std::to_string(first.blockCount) +
+                         " is in none of the " + std::to_string(shardDirs.size()) + " shard(s) given");
     Writer writer(output, cTextured);
     std::vector<uint32_t> roots(owner.size());
     for (uint32_t b = 0; b < owner.size(); ++b) {

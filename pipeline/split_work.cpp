@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <xxhash.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -83,12 +84,20 @@ GridSpec gridFrom(const json& j) {
     if (g.axisU < 0 || g.axisU > 2 || g.axisV < 0 || g.axisV > 2 || g.cellsU < 1 || g.cellsV < 1 ||
         uint64_t(g.cellsU) * g.cellsV > kMaxGridBlocks)
         throw std::runtime_error("grid out of range");
+    for (double v : {g.minU, g.minV, g.sizeU, g.sizeV})
+        if (!(std::abs(v) <= kMaxCoordinate)) throw std::runtime_error("grid out of range");
+    if (!(g.sizeU > 0 && g.sizeV > 0)) throw std::runtime_error("grid out of range");
     return g;
 }
 
 Ordered boxJson(const Box3f& b) { return {{b.min.x, b.min.y, b.min.z}, {b.max.x, b.max.y, b.max.z}}; }
 Box3f boxFrom(const json& j) {
-    return {{j.at(0).at(0), j.at(0).at(1), j.at(0).at(2)}, {j.at(1).at(0), j.at(1).at(1), j.at(1).at(2)}};
+    const Box3f b{{j.at(0).at(0), j.at(0).at(1), j.at(0).at(2)}, {j.at(1).at(0), j.at(1).at(1), j.at(1).at(2)}};
+    const float lo[3] = {b.min.x, b.min.y, b.min.z}, hi[3] = {b.max.x, b.max.y, b.max.z};
+    for (int k = 0; k < 3; ++k)
+        if (!(lo[k] <= hi[k] && std::abs(lo[k]) <= kMaxCoordinate && std::abs(hi[k]) <= kMaxCoordinate))
+            throw std::runtime_error("bounds out of range");
+    return b;
 }
 
 std::string absolute(const std::string& path) { return path.empty() ? path : fs::absolute(path).lexically_normal().string(); }
@@ -218,9 +227,19 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
         adopt(options.up, o.at("up").get<std::string>(), "--up");
         adopt(options.read.offset, o.value("offset", Offset{}), "--offset");  // absent: a split before the option
         options.read.allowOutsideInput = options.read.allowOutsideInput || o.at("allow_outside_input").get<bool>();
+        if (w.up.axis != "y" && w.up.axis != "z") throw std::runtime_error("up axis '" + w.up.axis + "' is neither y nor z");
+        if (!options.up.empty() && options.up != "y" && options.up != "z")  // "": chosen by the input's kind
+            throw std::runtime_error("--up '" + options.up + "' is neither y nor z");
+        for (double v : options.read.offset)
+            if (!(std::abs(v) <= kMaxCoordinate)) throw std::runtime_error("offset beyond +-1e15");
         if (!j.at("grid").is_null()) w.inputs.grid = gridFrom(j["grid"]), w.inputs.bounds = boxFrom(j.at("bounds"));
         splitBits = j.at("lattice").at("position_bits");
+        if (splitBits < 1 || splitBits > kMaxPositionBits) throw std::runtime_error("position_bits out of range");
+        // The lattice follows from the grid (one step for every block; none for a folder's blocks): a
+        // step of 1e300 collapsed every position, 1e-300 failed in the codec (until stop 44).
         w.inputs.positionStep = j.at("lattice").at("position_step");
+        if (w.inputs.positionStep != (w.inputs.grid ? gridPositionStep(w.inputs.bounds, *w.inputs.grid, splitBits) : 0.0))
+            throw std::runtime_error("lattice position_step is not its grid's");
         for (const json& m : j.at("materials")) {
             const std::string texture = m.at("texture").get<std::string>();
             Material material{m.at("name").get<std::string>(),

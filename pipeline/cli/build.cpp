@@ -228,8 +228,9 @@ void addBuild(CLI::App& app, int& status) {
     sub->add_flag("--leaf-psnr", o.leafPsnr,
                   "measure each leaf's stored textures against the source texels they copy (PSNR per level in the "
                   "build report; `hlod stats` shows it)");
-    sub->add_option("--blocks", a->blocks, "build only blocks FIRST:LAST (LAST excluded), for sharding");
-    sub->add_flag("--shard", a->request.shard, "write a shard folder (merge shards with `hlod merge`)");
+    CLI::Option* shard = sub->add_flag("--shard", a->request.shard, "write a shard folder (merge shards with `hlod merge`)");
+    sub->add_option("--blocks", a->blocks, "with --shard: build only blocks FIRST:LAST (LAST excluded)")
+        ->needs(shard);  // a database of some blocks failed after the whole build (until stop 44)
     sub->add_option("--temp-dir", o.tempDir, "folder for temporary files (default: next to the output)");
     sub->add_flag("--allow-outside-input", o.read.allowOutsideInput,
                   "let an input refer to files outside its folder (absolute paths, '..', symbolic links): MTL "

@@ -27,11 +27,9 @@ void addLoaderOptions(CLI::App& sub, PlayerOptions& o, std::string& loader, std:
         ->check(finitePositive());
     // At most 100 x 100 bins (Fig. 5 has 12): the bins are rebuilt whenever the view moves.
     sub.add_option("--vm-delta", o.vm.deltaRatio, "vm: delta / epsilon, the last bin (Fig. 5: 1.2; at most 100)")
-        ->check(finitePositive())
-        ->check(CLI::Range(0.0, 100.0));
+        ->check(finiteAboveAtMost(0, 100));
     sub.add_option("--vm-bins", o.vm.binsPerTolerance, "vm: bins per epsilon (Fig. 5: 10; at most 100)")
-        ->check(finitePositive())
-        ->check(CLI::Range(0.0, 100.0));
+        ->check(finiteAboveAtMost(0, 100));
     sub.add_option("--vm-margin-deg", o.vm.marginDegrees,
                    "vm: prefetch frustum half-angle = render's + this + angular speed x --lookahead")
         ->check(finiteAtLeast(0));

@@ -5,6 +5,7 @@
 #include "player/cli/subcommands.h"
 
 #include "formats/constants.h"
+#include "formats/temp_files.h"
 #include "formats/up_axis.h"
 #include "player/camera_path.h"
 #include "player/gl/gl_renderer.h"
@@ -18,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace hlod::cli {
@@ -130,6 +132,13 @@ void showStatus(GLFWwindow* w, const FrameStats& s, double speed) {
 }
 
 int runView(const ViewArgs& args) {
+    // The flight is written when the window closes: what would refuse it then is refused now, so no
+    // flight is lost (until stop 44 `--record DB` wrote the path over the database, exit 0).
+    std::optional<TextFileWriter> recordFile;
+    if (!args.record.empty()) {
+        refuseOutputOverInputs(args.record, {args.database, args.constants.configFile});
+        recordFile.emplace(args.record, "camera path");
+    }
     Constants constants;
     applyConstantOptions(args.constants, constants, std::cout);
     printConstants(std::cout, constants, kUsedByPlayer);
@@ -175,7 +184,8 @@ int runView(const ViewArgs& args) {
     }
     if (!args.record.empty()) {
         if (recorded.keys.size() < 2) throw std::runtime_error(args.record + ": fewer than two frames to record");
-        writeCameraPathFile(args.record, recorded);
+        writeCameraPath(recordFile->stream(), recorded);
+        recordFile->commit();
         std::cout << "recorded " << recorded.keys.size() << " keys, " << recorded.duration() << " s to " << args.record << "\n";
     }
     return kExitOk;

@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -122,6 +124,27 @@ TEST(Stats, CorruptSidecarIsOneLineNamingIt) {
         EXPECT_NE(r.err.find(f.db.string() + ".build.json"), std::string::npos) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
+    // A level the report's nodes cannot reach (-1 read as 2^32 - 1: SIGSEGV; 2^31 - 1: std::bad_alloc).
+    const std::string head = R"({"stages":[],"peak_rss_bytes":1,"input_triangles":1,"wall_seconds":1,"cpu_seconds":1,"output_bytes":1,)";
+    for (const char* level : {"-1", "2147483647", "1"}) {
+        writeSidecar(f.db, head + R"("nodes":[{"block":0,"node":0,"level":)" + level +
+                               R"(,"triangles":1,"texels":0,"error_one_sided":0,"error_mean":0,"error_max":0,"baked":false,"bake_psnr_db":0}]})");
+        RunResult r = runHlod({"stats", f.db.string()});
+        EXPECT_EQ(r.exitCode, 2) << level << ": " << r.err;
+        EXPECT_NE(r.err.find(".build.json: node 0 has level "), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+    // A FIFO (blocked the open for good) or a folder in the report's place.
+    fs::remove(f.db.string() + ".build.json");
+    ASSERT_EQ(mkfifo((f.db.string() + ".build.json").c_str(), 0600), 0);
+    RunResult fifo = runHlod({"stats", f.db.string()});
+    EXPECT_EQ(fifo.exitCode, 2);
+    EXPECT_NE(fifo.err.find(".build.json: not a regular file"), std::string::npos) << fifo.err;
+    fs::remove(f.db.string() + ".build.json");
+    fs::create_directory(f.db.string() + ".build.json");
+    RunResult folder = runHlod({"stats", f.db.string()});
+    EXPECT_EQ(folder.exitCode, 2);
+    EXPECT_NE(folder.err.find(".build.json: a folder, not a build report"), std::string::npos) << folder.err;
 }
 
 TEST(Stats, MissingOrTruncatedDatabaseFailsCleanly) {

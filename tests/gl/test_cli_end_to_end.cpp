@@ -111,6 +111,25 @@ TEST_F(HlodTool, ViewWithoutADisplayFailsWithOneLine) {
     EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
 }
 
+// The flight is written at exit: an output it could not be written to is refused before the window
+// opens (until stop 44 `--record DB` replaced the database with the camera path).
+TEST_F(HlodTool, ViewRefusesARecordFileItCouldNotWriteBeforeTheFlight) {
+    const fs::path db = dir_ / "record.hlod";
+    writeSyntheticDatabase(db.string(), SyntheticOptions{});
+    const auto size = fs::file_size(db);
+    RunResult r = runHlod({"view", db.string(), "--record", db.string()});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, "hlod view: " + db.string() + ": is also an input (" + db.string() + "); write the output elsewhere\n");
+    EXPECT_EQ(fs::file_size(db), size);
+    const std::string missing = (dir_ / "missing-dir" / "f.path").string();
+    r = runHlod({"view", db.string(), "--record", missing});
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.err, "hlod view: " + missing + ": cannot write camera path (No such file or directory)\n");
+    r = runHlod({"view", db.string(), "--record", dir_.string()});
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("(exists and is not a regular file)"), std::string::npos) << r.err;
+}
+
 TEST_F(HlodTool, ViewOfACorruptDatabaseFailsWithOneLine) {
     const fs::path db = dir_ / "corrupt.hlod";
     std::ofstream(db) << std::string(4096, 'x');

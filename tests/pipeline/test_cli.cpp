@@ -125,6 +125,47 @@ TEST(Cli, ShardsAndMerge) {
     const RunResult old = runHlod({"merge", dir.file("s1"), dir.file("s2"), "-o", dir.file("bad.hlod")});
     EXPECT_EQ(old.exitCode, 2);
     EXPECT_EQ(old.err, "hlod merge: " + info + ": a shard of an older hlod (hlod-shard-1): build it again\n");
+
+    // shard.json has no checksum: a block count the shards do not list sizes nothing (2^32 - 1 ended in
+    // std::bad_alloc, 10^8 took 3 GB first), and 0 blocks is no database (a 0-node one was written).
+    text.replace(text.find("hlod-shard-1"), 12, "hlod-shard-2");
+    const std::string current = text, second = readText(dir.file("s2/shard.json"));
+    const std::string blocks = std::to_string(nlohmann::json::parse(current)["blockCount"].get<uint32_t>());
+    const std::string count = "\"blockCount\": " + blocks;
+    ASSERT_NE(current.find(count), std::string::npos) << current;
+    for (const auto& [blockCount, problem] : std::vector<std::pair<std::string, std::string>>{
+             {"4294967295", dir.file("s1") + ": block " + blocks + " of 4294967295 is in none of the 2 shard(s) given"},
+             {"0", info + ": corrupt shard description (0 blocks)"}}) {
+        for (const auto& [file, original] : {std::pair{info, current}, std::pair{dir.file("s2/shard.json"), second}}) {
+            std::string changed = original;
+            changed.replace(changed.find(count), count.size(), "\"blockCount\": " + blockCount);
+            std::ofstream(file) << changed;
+        }
+        const RunResult r = runHlod({"merge", dir.file("s1"), dir.file("s2"), "-o", dir.file("bad.hlod")});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod merge: " + problem + "\n");
+        EXPECT_FALSE(std::filesystem::exists(dir.file("bad.hlod")));
+    }
+}
+
+// An output inside a shard folder replaced the merge's own input, exit 0 (until stop 44); --blocks
+// without --shard built everything, then failed naming a temporary folder.
+TEST(Cli, MergeNeverWritesIntoItsShardsAndBlocksNeedShard) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(20).mesh, true);
+    ASSERT_EQ(runHlod({"build", dir.file("t.ply"), "-o", dir.file("s"), "--shard"}).exitCode, 0);
+    const std::vector<uint8_t> info = readFile(dir.file("s/shard.json"));
+    for (const std::string& out : {dir.file("s/shard.json"), dir.file("s/new.hlod")}) {
+        const RunResult r = runHlod({"merge", dir.file("s"), "-o", out});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod merge: " + out + ": is inside an input folder (" + dir.file("s") + "); write the output elsewhere\n");
+    }
+    EXPECT_EQ(readFile(dir.file("s/shard.json")), info);
+    EXPECT_FALSE(std::filesystem::exists(dir.file("s/new.hlod")));
+    const RunResult blocks = runHlod({"build", dir.file("t.ply"), "-o", dir.file("part.hlod"), "--blocks", "0:1"});
+    EXPECT_EQ(blocks.exitCode, 2);
+    EXPECT_EQ(blocks.err, "hlod: --blocks requires --shard (see --help)\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.file("part.hlod")));
 }
 
 }  // namespace

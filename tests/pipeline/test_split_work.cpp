@@ -192,6 +192,26 @@ TEST(SplitWork, BadWorkFoldersAreOneLineAndStatusTwo) {
     writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(emptied.begin(), emptied.end()));
     writeFile(cell, original);
     expectRefused(dir, build, cell + ": a triangle has material 0 but the input lists 0 (corrupt work folder? split again)");
+
+    // Values no split writes (until stop 44: a step of 1e300 built a database of collapsed blocks
+    // with status 0, an up axis 'x' or an offset of 1e300 one that validate refused).
+    const nlohmann::json good = nlohmann::json::parse(manifest.begin(), manifest.end());
+    for (const auto& [pointer, value] : std::vector<std::pair<std::string, nlohmann::json>>{
+             {"/lattice/position_step", 1e300}, {"/lattice/position_step", 1e-300}, {"/lattice/position_bits", 99},
+             {"/up/axis", "x"}, {"/options/up", "w"}, {"/options/offset", {1e300, 0, 0}}, {"/bounds/1/0", -1e30},
+             {"/grid/size_u", 0}}) {
+        nlohmann::json changed = good;
+        changed[nlohmann::json::json_pointer(pointer)] = value;
+        const std::string text = changed.dump();
+        writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(text.begin(), text.end()));
+        expectRefused(dir, build, dir.file("work/manifest.json") + ": corrupt manifest (");
+    }
+    // An output inside the work folder would replace what it reads (exit 0 and a ruined folder before).
+    writeFile(dir.file("work/manifest.json"), manifest);
+    for (const std::string& out : {dir.file("work/manifest.json"), dir.file("work/cells/cell_0.piece"), dir.file("work/x.hlod")})
+        expectRefused(dir, {"build", dir.file("work"), "-o", out}, out + ": is inside an input folder (" + dir.file("work") + ")");
+    EXPECT_EQ(readFile(dir.file("work/manifest.json")), manifest);
+    EXPECT_EQ(readFile(cell), original);
 }
 
 TEST(SplitWork, SplitOptionsBelongToTheSplitAndForeignFoldersAreNotReplaced) {

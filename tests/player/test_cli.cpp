@@ -233,6 +233,7 @@ TEST_F(Cli, AbsurdVmBinCountsAreUsageErrors) {
             EXPECT_EQ(r.exitCode, 2) << option << " " << value;
             EXPECT_EQ(lines(r.err), 1) << r.err;
             EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
+            EXPECT_NE(r.err.find("expected a finite number in (0, 100]"), std::string::npos) << r.err;  // one range, as --help
         }
     RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--loader", "vm", "--vm-bins", "100", "--vm-delta", "100"});
     EXPECT_EQ(r.exitCode, 0) << r.err;
