@@ -166,6 +166,15 @@ GltfMaterials addGltfMaterials(const tinygltf::Model& model, const EmbeddedImage
             throw InputError(path + ": material " + std::to_string(index) + " reads texture coordinate set " +
                              std::to_string(out.uvOfGltf.back().set));
         const int tex = info.index;
+        // A texture or image that is not there is unusable like any other (README "Textures: one rule";
+        // until stop 44 these left the material untextured without a word, even with --strict).
+        const auto problem = [&](const std::string& what) { raw.stats.textureProblems.push_back({path + ": " + what, material.name}); };
+        if (tex >= static_cast<int>(model.textures.size()))
+            problem("material " + std::to_string(index) + " uses texture " + std::to_string(tex) + ", which does not exist (" +
+                    std::to_string(model.textures.size()) + " textures)");
+        else if (tex >= 0 && (model.textures[size_t(tex)].source < 0 || model.textures[size_t(tex)].source >= int(model.images.size())))
+            problem("texture " + std::to_string(tex) + " has no image hlod can read (source " +
+                    std::to_string(model.textures[size_t(tex)].source) + " of " + std::to_string(model.images.size()) + " images)");
         if (tex >= 0 && tex < static_cast<int>(model.textures.size())) {
             const int source = model.textures[static_cast<size_t>(tex)].source;
             const int sampler = model.textures[static_cast<size_t>(tex)].sampler;  // none: REPEAT (glTF 2.0 §3.8.4.6)
@@ -176,7 +185,7 @@ GltfMaterials addGltfMaterials(const tinygltf::Model& model, const EmbeddedImage
             if (source >= 0 && source < static_cast<int>(model.images.size())) {
                 const tinygltf::Image& img = model.images[static_cast<size_t>(source)];
                 if (const auto failed = images.unusable.find(source); failed != images.unusable.end())
-                    raw.stats.textureProblems.push_back({path + ": image " + std::to_string(source) + " " + failed->second, material.name});
+                    problem("image " + std::to_string(source) + " " + failed->second);
                 else if (const auto file = images.written.find(source); file != images.written.end())
                     material.texturePath = file->second;
                 else if (!img.image.empty() && img.width > 0 && img.height > 0 && img.component > 0) {
@@ -184,8 +193,11 @@ GltfMaterials addGltfMaterials(const tinygltf::Model& model, const EmbeddedImage
                     const std::span<const uint8_t> bytes = embeddedImageBytes(model, img);
                     material.jpegQuality = jpegQuality(bytes), material.jpegChroma420 = jpegChroma420(bytes);
                 }
-                else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)  // an undecodable data: URI: untextured
+                else if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0)
                     material.texturePath = imageFile(path, img.uri, options);
+                else
+                    problem("image " + std::to_string(source) + " has no data hlod can decode" +
+                            (img.uri.empty() ? std::string() : " (a data: URI that does not decode)"));
             }
         }
         out.materialOfGltf.push_back(static_cast<uint32_t>(raw.materials.size()));
