@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -112,6 +113,20 @@ void writeTextFile(const std::string& path, const std::string& what, const std::
     TextFileWriter file(path, what);
     file.stream() << text;
     file.commit();
+}
+
+StagingFolder::StagingFolder(const std::string& target) {
+    const std::string prefix = target + ".tmp";
+    removeStaleTemporaries(prefix);  // of runs killed before they removed theirs
+    std::string pattern = temporaryPattern(prefix);
+    if (!mkdtemp(pattern.data())) throw std::runtime_error(target + ": cannot create a temporary folder next to it");
+    ::chmod(pattern.c_str(), 0755);  // mkdtemp's 0700 would hide the output from other readers (a web server)
+    path = pattern;
+}
+
+StagingFolder::~StagingFolder() {
+    std::error_code ignored;
+    if (!kept) std::filesystem::remove_all(path, ignored);
 }
 
 }  // namespace hlod

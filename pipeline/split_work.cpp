@@ -112,20 +112,6 @@ std::string inWork(const std::string& work, const std::string& texture) {
 
 }  // namespace
 
-StagingFolder::StagingFolder(const std::string& target) {
-    const std::string prefix = target + ".tmp";
-    removeStaleTemporaries(prefix);  // of runs killed before they removed theirs
-    std::string pattern = temporaryPattern(prefix);
-    if (!mkdtemp(pattern.data())) throw std::runtime_error(target + ": cannot create a temporary folder next to it");
-    ::chmod(pattern.c_str(), 0755);  // mkdtemp's 0700 would hide the output from other readers (a web server)
-    path = pattern;
-}
-
-StagingFolder::~StagingFolder() {
-    std::error_code ignored;
-    if (!kept) fs::remove_all(path, ignored);
-}
-
 bool isSplitWork(const std::string& path) {
     std::error_code ec;
     return fs::is_directory(path, ec) && fs::exists(fs::path(path) / kManifest, ec);

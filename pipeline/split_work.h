@@ -65,17 +65,6 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
 // A folder holding manifest.json.
 bool isSplitWork(const std::string& path);
 
-// A staging folder next to `target` (TARGET.tmp-PID-XXXXXX, formats/temp_files.h), renamed to it
-// by its user when complete (then `kept`), removed otherwise however the run ends: a killed split
-// or shard build leaves no half-written TARGET.
-struct StagingFolder {
-    std::string path;
-    bool kept = false;
-    explicit StagingFolder(const std::string& target);
-    ~StagingFolder();
-    StagingFolder(const StagingFolder&) = delete;
-    StagingFolder& operator=(const StagingFolder&) = delete;
-};
 
 // Reads WORK's manifest and checks every block file (present, its size, and for the blocks
 // [first, last) its XXH3-64): InputError "WORK/FILE: problem" otherwise. The split's options

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -27,14 +28,10 @@ bool isCityFile(const fs::path& file) {
     return std::regex_match(file.filename().string(), ours);
 }
 
-void prepareDirectory(const fs::path& dir) {
+void checkDirectory(const fs::path& dir) {
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
         throw std::runtime_error(dir.string() + ": exists and is not a directory");
-    fs::create_directories(dir, ec);
-    if (ec) throw std::runtime_error(dir.string() + ": cannot create directory: " + ec.message());
-    for (const auto& entry : fs::directory_iterator(dir))
-        if (isCityFile(entry.path())) fs::remove(entry.path());
 }
 
 nlohmann::json manifest(const CityPlan& plan, const CityResult& result) {
@@ -74,15 +71,24 @@ nlohmann::json manifest(const CityPlan& plan, const CityResult& result) {
             {"blocks", blocks}};
 }
 
-// Removes what a failed run wrote: the folder when the run made it, else the city's files.
-void removeCity(const std::string& dir, bool madeFolder) {
+// The complete city in `staging` becomes DIR: the folder itself when DIR does not exist, else its
+// files replace the city's in DIR (an earlier, larger run's blocks would be read as this city's),
+// city.json last.
+void moveCity(StagingFolder& staging, const std::string& dir) {
     std::error_code ec;
-    if (madeFolder) {
-        fs::remove_all(dir, ec);
+    if (!fs::exists(dir, ec)) {
+        fs::rename(staging.path, dir);
+        staging.kept = true;
         return;
     }
-    for (const auto& entry : fs::directory_iterator(dir, ec))
-        if (isCityFile(entry.path())) fs::remove(entry.path(), ec);
+    for (const auto& entry : fs::directory_iterator(dir))
+        if (isCityFile(entry.path())) fs::remove(entry.path());
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(staging.path)) files.push_back(entry.path());
+    std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) {
+        return (a.filename() == "city.json") < (b.filename() == "city.json");
+    });
+    for (const fs::path& file : files) fs::rename(file, fs::path(dir) / file.filename());
 }
 
 CityResult writeCity(const CityOptions& options, const CityPlan& plan, const std::string& dir) {
@@ -102,19 +108,29 @@ CityResult writeCity(const CityOptions& options, const CityPlan& plan, const std
 
 }  // namespace
 
-// A run that fails (a full disk, a folder it cannot write) leaves nothing behind: one line naming
-// the file and the reason, as every output of hlod.
+// The city is written in a staging folder beside DIR and moved in when complete: a run that fails
+// (a full disk, a folder it cannot write) or is interrupted leaves no partial city (an interrupted
+// one was a folder `hlod build` read as a city until stop 44); a failure is one line naming the
+// file and the reason, as every output of hlod.
 CityResult generateCity(const CityOptions& options, const std::string& dir) {
     CityPlan plan = planCity(options);
+    checkDirectory(dir);
+    fs::path target = fs::absolute(dir).lexically_normal();
+    if (target.filename().empty()) target = target.parent_path();  // "out/": the staging folder beside out, not in it
     std::error_code ec;
-    const bool madeFolder = !fs::exists(dir, ec);
-    prepareDirectory(dir);
+    fs::create_directories(target.parent_path(), ec);
+    StagingFolder staging(target.string());
+    CityResult result;
     try {
-        return writeCity(options, plan, dir);
-    } catch (...) {
-        removeCity(dir, madeFolder);
-        throw;
+        result = writeCity(options, plan, staging.path);
+    } catch (const std::exception& e) {  // name the file the user asked for, not the staging one
+        std::string what = e.what();
+        for (size_t at = what.find(staging.path); at != std::string::npos; at = what.find(staging.path, at + dir.size()))
+            what.replace(at, staging.path.size(), dir);
+        throw std::runtime_error(what);
     }
+    moveCity(staging, target.string());
+    return result;
 }
 
 }  // namespace hlod::synth

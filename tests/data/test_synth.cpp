@@ -258,3 +258,24 @@ TEST(Synth, AFullDiskSaysWhyAndLeavesNothing) {
     EXPECT_NE(r.err.find("(write failed: File too large)"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir));
 }
+
+// Interrupted anywhere (SIGKILL after 0.1 .. 0.7 s of a ~1 s run), synth leaves no folder or a
+// complete city: until stop 44 a killed run left a folder of truncated JPEGs that `hlod build`
+// read as a city. The next run removes the killed run's staging folder.
+TEST(Synth, KilledAnywhereLeavesNoCityOrACompleteOne) {
+    const fs::path root = tempDir("killed");
+    fs::create_directories(root);
+    const std::string dir = (root / "city").string();
+    for (const char* delay : {"0.1", "0.3", "0.5", "0.7"}) {
+        fs::remove_all(dir);
+        hlod::test::runProcess({"sh", "-c", "\"$0\" \"$@\" > /dev/null & sleep " + std::string(delay) + "; kill -9 $!; wait", HLOD_BINARY,
+                                "synth", "city", "-o", dir, "--scale", "0.002", "--city-blocks", "100"});
+        EXPECT_TRUE(!fs::exists(dir) || fs::exists(dir + "/city.json")) << "after " << delay << " s";
+    }
+    const hlod::test::RunResult r = hlod::test::runProcess({HLOD_BINARY, "synth", "city", "-o", dir, "--scale", "0.002"});
+    EXPECT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_TRUE(fs::exists(dir + "/city.json"));
+    for (const auto& entry : fs::directory_iterator(root))
+        EXPECT_EQ(entry.path().filename(), "city") << "left behind: " << entry.path();
+    fs::remove_all(root);
+}
