@@ -4,6 +4,8 @@
 // scale 1: the rule rests on what the generator recorded, not on guessing from counts.
 #include "pipeline/stats/stats.h"
 
+#include "formats/errors.h"
+
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -16,21 +18,21 @@ namespace fs = std::filesystem;
 
 nlohmann::json readJson(const fs::path& path) {
     std::ifstream in(path);
-    if (!in) throw std::runtime_error(path.string() + ": cannot read");
+    if (!in) throw InputError(path.string() + ": cannot read");
     try {
         return nlohmann::json::parse(in);
     } catch (const nlohmann::json::exception&) {
-        throw std::runtime_error(path.string() + ": not valid JSON");
+        throw InputError(path.string() + ": not valid JSON");  // as a bad build report: exit 2
     }
 }
 
 template <class T>
 T field(const nlohmann::json& j, const char* key, const fs::path& path) {
-    if (!j.contains(key)) throw std::runtime_error(path.string() + ": missing \"" + key + "\"");
+    if (!j.contains(key)) throw InputError(path.string() + ": missing \"" + key + "\"");
     try {
         return j.at(key).get<T>();
     } catch (const nlohmann::json::exception&) {
-        throw std::runtime_error(path.string() + ": \"" + key + "\" has the wrong type");
+        throw InputError(path.string() + ": \"" + key + "\" has the wrong type");
     }
 }
 
@@ -67,6 +69,8 @@ std::optional<CityManifest> findCityManifest(const std::string& dbPath, const Sk
         }
     }
     for (const fs::path& base : bases) {
+        std::error_code ec;
+        if (!fs::exists(base, ec)) continue;  // the input was not here: a city.json beside it is another input's
         for (const fs::path& candidate : {base, base / "city.json", base.parent_path() / "city.json"}) {
             if (candidate.filename() != "city.json") continue;
             if (auto m = readManifest(candidate)) return m;

@@ -11,6 +11,9 @@
 
 #include <iomanip>
 #include <iostream>
+#include <set>
+#include <stdexcept>
+#include <string>
 
 namespace hlod::cli {
 namespace {
@@ -37,6 +40,11 @@ void printCalibration(std::ostream& os, const Calibration& c) {
 }
 
 int runCalibrate(const CalibrateArgs& args) {
+    std::set<uint32_t> sizes;  // the batches are grids: 1 and 2 triangles are both 2 (fitLine failed after measuring)
+    for (uint32_t n : args.calibration.triangleCounts) sizes.insert(calibrationBatchTriangles(n));
+    if (sizes.size() < 2)
+        throw std::invalid_argument("--triangles: every batch is a grid of " + std::to_string(*sizes.begin()) +
+                                    " triangles; fitting a line needs two sizes (give counts further apart)");
     TextFileWriter file(args.output, "calibration");  // an unwritable OUT fails before measuring
     std::unique_ptr<Renderer> renderer = makeGlRenderer(args.gl);
     const double aspect = static_cast<double>(args.gl.width) / args.gl.height;

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <iomanip>
 #include <stdexcept>
+#include <utility>
 
 namespace hlod {
 namespace {
@@ -89,10 +90,27 @@ Camera calibrationCamera(double aspect) {
     return camera;
 }
 
-DecodedNode calibrationBatch(uint32_t id, uint32_t triangles, bool textured) {
-    const double aspect = 16.0 / 9.0;
-    const auto rows = static_cast<uint32_t>(std::max(1.0, std::round(std::sqrt(triangles / (2 * aspect)))));
+namespace {
+
+constexpr double kBatchAspect = 16.0 / 9.0;
+
+// The rows and columns of quads of a batch of about `triangles` triangles.
+std::pair<uint32_t, uint32_t> batchGrid(uint32_t triangles) {
+    const auto rows = static_cast<uint32_t>(std::max(1.0, std::round(std::sqrt(triangles / (2 * kBatchAspect)))));
     const auto cols = std::max<uint32_t>(1, static_cast<uint32_t>(std::round(triangles / (2.0 * rows))));
+    return {rows, cols};
+}
+
+}  // namespace
+
+uint32_t calibrationBatchTriangles(uint32_t triangles) {
+    const auto [rows, cols] = batchGrid(triangles);
+    return 2 * rows * cols;
+}
+
+DecodedNode calibrationBatch(uint32_t id, uint32_t triangles, bool textured) {
+    const double aspect = kBatchAspect;
+    const auto [rows, cols] = batchGrid(triangles);
     MeshData mesh;
     for (uint32_t r = 0; r <= rows; ++r)
         for (uint32_t c = 0; c <= cols; ++c) {

@@ -65,6 +65,7 @@ double texturedWeight(double perTexturedTriMs, double perUntexturedTriMs);
 // A synthetic node: a grid of about `triangles` triangles in the plane z = 0 that covers
 // about 2/3 of a 60° 16:9 view from calibrationCamera(); textured with a 1024² image or flat.
 DecodedNode calibrationBatch(uint32_t id, uint32_t triangles, bool textured);
+uint32_t calibrationBatchTriangles(uint32_t triangles);  // the triangles calibrationBatch draws
 Camera calibrationCamera(double aspect);
 
 // Draws the batches on `renderer` (any Renderer) and fits the model, with the per-pixel slope

@@ -178,8 +178,15 @@ TEST(Stats, ThesisFiguresOnlyForTheScaleOneCity) {
     EXPECT_TRUE(stats::isThesisScale(m));
     manifest(0.01);
     EXPECT_FALSE(stats::isThesisScale(stats::findCityManifest(db, sk)));
+    std::ofstream(dir / "city" / "block_000.obj") << "v 0 0 0\n";
     sk.meta = {{"input", (dir / "city" / "block_000.obj").string()}};  // a file of the city: beside it
     EXPECT_TRUE(stats::findCityManifest(db, sk).has_value());
+    // A relative input that is not beside a city.json above the database is not that city (until
+    // stop 44 a bunny built in a/b/c reported the city.json of a/).
+    fs::create_directories(dir / "city" / "a" / "b");
+    std::ofstream(dir / "city" / "a" / "b" / "bunny.ply") << "ply\n";
+    sk.meta = {{"input", "bunny.ply"}};
+    EXPECT_FALSE(stats::findCityManifest((dir / "city" / "a" / "b" / "bunny.hlod").string(), sk).has_value());
     sk.meta = {{"input", "city"}};  // relative to a folder above the database (built from the repo root)
     EXPECT_TRUE(stats::findCityManifest((dir / "out" / "thesis" / "city.hlod").string(), sk).has_value());
     sk.meta = {{"input", "elsewhere"}};

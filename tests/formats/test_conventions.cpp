@@ -256,7 +256,10 @@ TEST_F(Conventions, AbsurdNumbersAreStatusTwoNotACrashOrAHang) {
         {{"play", db, "--path", path, "--overhead-ms", "1e300"}, "hlod: --overhead-ms: value '1e300': expected"},
         {{"compare", db, "--path", path, "--v-time", "1e300"}, "hlod: --v-time: value '1e300': expected"},
         // the help said [0, 4] while the generator refused 0 after the parse (until stop 44)
-        {{"synth", "city", "-o", dir.file("zc"), "--scale", "0"}, "hlod: --scale: value '0': expected a finite number in (0, 4]"}};
+        {{"synth", "city", "-o", dir.file("zc"), "--scale", "0"}, "hlod: --scale: value '0': expected a finite number in (0, 4]"},
+        // both batches are grids of 2 triangles: fitLine failed after the measurements (until stop 44)
+        {{"calibrate", "-o", dir.file("k.conf"), "--triangles", "1", "2"},
+         "hlod calibrate: --triangles: every batch is a grid of 2 triangles; fitting a line needs two sizes (give counts further apart)"}};
     // Every output option refuses "" (a filesystem error, status 1, before stop 36).
     for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
              {"build", obj, "-o"}, {"split", obj, "-o"}, {"merge", dir.path.string(), "-o"}, {"path", db, "-o"},
