@@ -119,7 +119,8 @@ StagingFolder::StagingFolder(const std::string& target) {
     const std::string prefix = target + ".tmp";
     removeStaleTemporaries(prefix);  // of runs killed before they removed theirs
     std::string pattern = temporaryPattern(prefix);
-    if (!mkdtemp(pattern.data())) throw std::runtime_error(target + ": cannot create a temporary folder next to it");
+    if (!mkdtemp(pattern.data()))
+        throw std::runtime_error(target + ": cannot create a temporary folder next to it (" + std::strerror(errno) + ")");
     ::chmod(pattern.c_str(), 0755);  // mkdtemp's 0700 would hide the output from other readers (a web server)
     path = pattern;
 }

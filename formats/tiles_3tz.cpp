@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -135,8 +136,9 @@ struct Zip {
         put<uint16_t>(end, 0);
         write(central);
         write(end);
+        const int failed = out ? 0 : errno;  // the write's reason, before close can change errno
         out.close();
-        if (!out) throw std::runtime_error(path + ": cannot write");
+        if (!out) throw std::runtime_error(writeFailure(path, failed ? failed : errno));
     }
 };
 
@@ -158,7 +160,7 @@ void write3tz(const std::string& folder, const std::string& file) {
         return a < b;
     });
     Zip zip{std::ofstream(file, std::ios::binary | std::ios::trunc), file, {}, 0, 0};
-    if (!zip.out) throw std::runtime_error(file + ": cannot write");
+    if (!zip.out) throw std::runtime_error(writeFailure(file, errno));
     std::vector<std::pair<std::array<uint8_t, 16>, uint64_t>> index;
     for (const std::string& name : names) index.emplace_back(md5(name), zip.add(name, readAll(fs::path(folder) / name)));
     std::sort(index.begin(), index.end(), [](const auto& a, const auto& b) {

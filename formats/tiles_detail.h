@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,5 +40,11 @@ void write3tz(const std::string& folder, const std::string& file);
 
 // The path of node n's content inside the tileset.
 std::string contentUri(uint32_t node);
+
+// "PATH: cannot write (reason)" for a stream that failed with `error` (errno; 0: no reason known),
+// as every writer of hlod says why (a full disk: "File too large", "No space left on device").
+inline std::string writeFailure(const std::string& path, int error) {
+    return path + ": cannot write" + (error ? " (" + std::string(std::strerror(error)) + ")" : std::string());
+}
 
 }  // namespace hlod::tiles

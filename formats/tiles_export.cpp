@@ -7,6 +7,7 @@
 #include "formats/temp_files.h"
 #include "formats/tiles_detail.h"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -23,10 +24,12 @@ namespace {
 namespace fs = std::filesystem;
 
 void writeFile(const fs::path& path, const void* data, size_t size) {
+    errno = 0;
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(static_cast<const char*>(data), std::streamsize(size));
+    const int failed = out ? 0 : errno;  // the write's reason, before close can change errno
     out.close();
-    if (!out) throw std::runtime_error(path.string() + ": cannot write");
+    if (!out) throw std::runtime_error(tiles::writeFailure(path.string(), failed ? failed : errno));
 }
 
 // Refuses an OUT that an export must not replace: anything but an earlier export.

@@ -21,8 +21,10 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <set>
@@ -54,7 +56,8 @@ struct TempDir {
         const std::string prefix = (fs::path(parent) / "hlod-build").string();
         removeStaleTemporaries(prefix);  // of builds killed before they removed theirs
         std::string pattern = temporaryPattern(prefix);
-        if (!mkdtemp(pattern.data())) throw std::runtime_error(parent + ": cannot create a temporary folder");
+        if (!mkdtemp(pattern.data()))
+            throw std::runtime_error(parent + ": cannot create a temporary folder (" + std::strerror(errno) + ")");
         path = pattern;
     }
     ~TempDir() {

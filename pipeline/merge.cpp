@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -108,7 +109,7 @@ void BlockRecordWriter::finish() {
     write(impl_->f, kEndTag, impl_->file), write(impl_->f, impl_->count, impl_->file);
     const bool ok = std::fclose(impl_->f) == 0;
     impl_->f = nullptr;
-    if (!ok) throw std::runtime_error(impl_->file + ": write failed");
+    if (!ok) throw std::runtime_error(impl_->file + ": write failed (" + std::strerror(errno) + ")");
 }
 
 namespace {
@@ -183,7 +184,7 @@ void writeShardInfo(const std::string& dir, const ShardInfo& info) {
     j["meta"] = info.meta;
     std::ofstream out(std::filesystem::path(dir) / "shard.json");
     out << jsonText(j, 1) << "\n";
-    if (!out) throw std::runtime_error(dir + "/shard.json: write failed");
+    if (!out.flush()) throw std::runtime_error(dir + "/shard.json: write failed (" + std::strerror(errno) + ")");
 }
 
 ShardInfo readShardInfo(const std::string& dir) {

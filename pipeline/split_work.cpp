@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <xxhash.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -175,7 +176,7 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
     {
         std::ofstream out(fs::path(staging.path) / kManifest);
         out << jsonText(manifest, 1) << "\n";
-        if (!out.flush()) throw std::runtime_error(work + "/" + kManifest + ": write failed");
+        if (!out.flush()) throw std::runtime_error(work + "/" + kManifest + ": write failed (" + std::strerror(errno) + ")");
     }
     if (isSplitWork(work)) fs::remove_all(target);  // an earlier split of this folder
     fs::rename(staging.path, target);

@@ -18,6 +18,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -48,6 +49,8 @@ std::vector<std::string> splitNames(const std::string& list) {
     for (std::string name; std::getline(in, name, ',');) {
         if (name.empty()) throw std::invalid_argument("--policies: empty policy name in '" + list + "'");
         makePolicy(name);  // unknown names are a usage error before any work
+        if (std::find(names.begin(), names.end(), name) != names.end())  // two rows no table or CSV tells apart
+            throw std::invalid_argument("--policies: '" + name + "' is given twice in '" + list + "'");
         names.push_back(name);
     }
     if (names.empty() || list.back() == ',') throw std::invalid_argument("--policies: empty policy name in '" + list + "'");

@@ -148,6 +148,13 @@ TEST_F(Cli, TextOutputOnAFullDiskFailsWithOneLineAndLeavesNothing) {
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_NE(r.err.find("hlod play: " + csv + ": cannot write statistics (write failed"), std::string::npos) << r.err;
     EXPECT_TRUE(fs::is_empty(out)) << "left behind: " << fs::directory_iterator(out)->path();
+    // An export says why too (until stop 44 only "FILE: cannot write").
+    const RunResult tiles = runProcess({"sh", "-c", "ulimit -f 2; trap '' XFSZ; exec \"$0\" \"$@\"", HLOD_BINARY, "export", "tiles", db,
+                                        "-o", (out / "tiles").string()});
+    EXPECT_EQ(tiles.exitCode, 1) << tiles.err;
+    EXPECT_EQ(lines(tiles.err), 1) << tiles.err;
+    EXPECT_NE(tiles.err.find(": cannot write (File too large)"), std::string::npos) << tiles.err;
+    EXPECT_TRUE(fs::is_empty(out)) << "left behind: " << fs::directory_iterator(out)->path();
 }
 
 // An output never replaces what is not a regular file (a FIFO here; as root `-o /dev/null`

@@ -107,6 +107,9 @@ TEST_F(CompareCli, UnknownPolicyOrSettingIsAUsageError) {
     EXPECT_EQ(r.exitCode, 2) << r.err;
     r = runHlod({"compare", db, "--path", path, "--policies", "thesis,"});
     EXPECT_EQ(r.exitCode, 2) << r.err;
+    r = runHlod({"compare", db, "--path", path, "--policies", "thesis,sse,thesis"});  // two rows named alike before stop 44
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_EQ(r.err, "hlod compare: --policies: 'thesis' is given twice in 'thesis,sse,thesis'\n");
     r = runHlod({"compare", (dir / "missing.hlod").string(), "--path", path, "--policies", "thesis"});
     EXPECT_EQ(r.exitCode, 2) << r.err;
     r = runHlod({"play", db, "--path", path, "--policy", "nonsense"});
