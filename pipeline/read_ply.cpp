@@ -148,13 +148,15 @@ PlyHeader readHeader(std::FILE* f, const std::string& name) {
             return h;
         }
         if (word == "format") {
-            std::string f2;
-            in >> f2;
+            std::string f2, version;
+            in >> f2 >> version;
             haveFormat = true;
             if (f2 == "ascii") h.format = PlyFormat::Ascii;
             else if (f2 == "binary_little_endian") h.format = PlyFormat::BinaryLE;
             else if (f2 == "binary_big_endian") h.format = PlyFormat::BinaryBE;
             else throw InputError(name + ": unsupported PLY format '" + f2 + "'");
+            if (version != "1.0" && version != "1")  // the only version there is (Turk 1994)
+                throw InputError(name + ": unsupported PLY format version '" + version + "' (1.0 is read)");
         } else if (word == "element") {
             PlyElement e;
             long long count = -1;
@@ -177,6 +179,10 @@ PlyHeader readHeader(std::FILE* f, const std::string& name) {
                 throw InputError(name + ": corrupt PLY header (unknown type '" + t + "')");
             }
             in >> p.name;
+            for (const PlyProperty& q : h.elements.back().properties)  // which one would the reader take?
+                if (q.name == p.name)
+                    throw InputError(name + ": corrupt PLY header (property '" + p.name + "' twice in element '" +
+                                     h.elements.back().name + "')");
             h.elements.back().properties.push_back(p);
         } else if (word == "comment") {
             std::string tag, file;
@@ -330,7 +336,9 @@ bool readFaces(PlyReader& r, const PlyElement& e, RawMesh& raw, const std::strin
                 if (static_cast<int>(p) == uvList) face.uvs.push_back(static_cast<float>(value));
                 if (static_cast<int>(p) != list) continue;
                 if (!(value >= 0 && value < 4294967295.0))  // NaN fails too
-                    throw InputError(name + ": vertex index " + std::to_string(value) + " out of range");
+                    throw InputError(name + ": vertex index " + formatConstant(value) + " out of range");
+                if (value != std::floor(value))  // a float list: 1.5 was read as 1
+                    throw InputError(name + ": vertex index " + formatConstant(value) + " is not a whole number");
                 face.vertices.push_back(static_cast<uint32_t>(value));
             }
         }

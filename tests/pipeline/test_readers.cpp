@@ -320,6 +320,23 @@ TEST(BadInput, OutOfRangeIndex) {
                                         "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                                         "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
     EXPECT_NE(errorOf([&] { readMesh(dir.file("i.ply")); }).find("uses vertex 7 but there are only 3"), std::string::npos);
+    // Until stop 44: a float index 1.5 was read as 1, an index of 2^32 printed as 4294967296.000000,
+    // a duplicated property or a format version 2.0 went unremarked.
+    const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string points = "0 0 0\n1 0 0\n0 1 0\n";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {head + "element face 1\nproperty list uchar float vertex_indices\nend_header\n" + points + "3 0 1.5 2\n",
+         ": vertex index 1.5 is not a whole number"},
+        {head + "element face 1\nproperty list uchar double vertex_indices\nend_header\n" + points + "3 0 4294967296 2\n",
+         ": vertex index 4294967296 out of range"},
+        {head + "property float x\nend_header\n" + points, ": corrupt PLY header (property 'x' twice in element 'vertex')"},
+        {"ply\nformat ascii 2.0\nelement vertex 0\nend_header\n", ": unsupported PLY format version '2.0' (1.0 is read)"}};
+    for (const auto& [text, problem] : cases) {
+        std::ofstream(dir.file("k.ply")) << text;
+        EXPECT_EQ(errorOf([&] { readMesh(dir.file("k.ply")); }), dir.file("k.ply") + problem);
+    }
+    std::ofstream(dir.file("w.ply")) << head << "element face 1\nproperty list uchar float vertex_indices\nend_header\n" << points << "3 0 1 2\n";
+    EXPECT_EQ(readMesh(dir.file("w.ply")).piece.mesh.triangleCount(), 1u);  // whole floats are indices
     std::ofstream(dir.file("i.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
     EXPECT_NE(errorOf([&] { readMesh(dir.file("i.obj")); }), "");
 }
