@@ -50,7 +50,9 @@ std::string absurd(const ImageRows& image) {
 
 std::string textureProblem(const std::string& path) {
     std::error_code error;
-    if (!std::filesystem::is_regular_file(path, error)) return "is missing";
+    if (std::filesystem::is_directory(path, error)) return "is a folder, not an image";  // was "is missing"
+    if (!std::filesystem::exists(path, error)) return "is missing";
+    if (!std::filesystem::is_regular_file(path, error)) return "is not a regular file";  // a FIFO would block the read
     if (std::filesystem::file_size(path, error) == 0) return "is empty (0 bytes)";
     try {
         return absurd(*openImageFile(path));

@@ -143,6 +143,21 @@ TEST(Textures, ReadersReportTheProblemAndClearTheMaterial) {
     for (const Material& m : s.materials) EXPECT_TRUE(m.texturePath.empty());
 }
 
+// A texture name that is a folder was reported as missing (until stop 44); a FIFO is never opened.
+TEST(Textures, AFolderOrAFifoIsNamedForWhatItIs) {
+    TempDir dir;
+    writeTexturedObj(dir, "atlas.png", {}, false);
+    std::filesystem::create_directory(dir.file("atlas.png"));
+    SourceMesh s = readMesh(dir.file("m.obj"));
+    ASSERT_EQ(s.stats.textureProblems.size(), 2u);
+    EXPECT_NE(s.stats.textureProblems[0].what.find("atlas.png' is a folder, not an image"), std::string::npos) << s.stats.textureProblems[0].what;
+    std::filesystem::remove(dir.file("atlas.png"));
+    ASSERT_EQ(mkfifo(dir.file("atlas.png").c_str(), 0600), 0);
+    s = readMesh(dir.file("m.obj"));
+    ASSERT_EQ(s.stats.textureProblems.size(), 2u);
+    EXPECT_NE(s.stats.textureProblems[0].what.find("atlas.png' is not a regular file"), std::string::npos) << s.stats.textureProblems[0].what;
+}
+
 // An embedded glTF image that does not decode follows the same rule instead of failing the file.
 TEST(Textures, AnUndecodableEmbeddedGltfImageIsATextureProblem) {
     TempDir dir;
