@@ -113,10 +113,10 @@ void addPath(CLI::App& app, int& status) {
     sub->add_option("-o,--output", a->output, "camera path file to write")->required()->check(nonEmptyPath());
     sub->add_option("--kind", a->kind, "walk, drive (10x the walk), fly (whole model in view), erratic, line, zigzag (Robin Hood Table 2)")
         ->check(CLI::IsMember({"walk", "drive", "fly", "erratic", "line", "zigzag"}));
-    sub->add_option("--duration", a->options.duration, "seconds (default: one lap; fly 60 s)")
+    sub->add_option("--duration", a->options.duration, "seconds (default or 0: one lap; fly 60 s)")
         ->check(finiteIn(0, kMaxCameraTime));
     sub->add_option("--speed", a->options.speed,
-                    "metres per second (default: city-like 1.5 walk, 15 drive; object: one lap in 60 s, drive 6 s)")
+                    "metres per second (default or 0: city-like 1.5 walk, 15 drive; object: one lap in 60 s, drive 6 s)")
         ->check(finiteAtLeast(0));
     sub->add_option("--eye-height", a->options.eyeHeight,
                     "metres above the ground estimate (city-like) or the model's bottom (object; default: half its height), "

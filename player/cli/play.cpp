@@ -232,7 +232,7 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--initial-hyst", a->player.initialHystSwitches,
                     "hysteresis counter of a node evaluated first, in units of c_hystSwitch (default -1)")
         ->check(finiteNumber());
-    sub->add_option("--frames-dir", a->framesDir, "write PNG frames here (needs --renderer gl)");
+    sub->add_option("--frames-dir", a->framesDir, "write PNG frames here (needs --renderer gl)")->check(nonEmptyPath());
     sub->add_option("--every", a->every, "with --frames-dir: every Nth frame")
         ->check(wholeNumber());
     sub->add_flag("--color-by-level", a->player.frameOptions.colorByLevel, "shade nodes by level");

@@ -209,7 +209,7 @@ void addView(CLI::App& app, int& status) {
     sub->add_flag("--strict", args->strict,
                   "a node that cannot be read or decoded ends the session (exit 1); by default it is skipped "
                   "with one warning and its parent stays drawn");
-    sub->add_option("--speed", args->speed, "initial speed in m/s (default: model diagonal / 20)")->check(finiteAtLeast(0));
+    sub->add_option("--speed", args->speed, "initial speed in m/s (default or 0: model diagonal / 20)")->check(finiteAtLeast(0));
     sub->add_option("--up", args->up, "up axis of the model (default: the one the database records; z for a database without one)")
         ->check(CLI::IsMember({"y", "z"}));
     addConstantOptions(*sub, args->constants);
