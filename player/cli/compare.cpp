@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -161,8 +162,10 @@ bool plot(const std::string& prefix, const std::vector<PolicyRun>& runs, const P
     return pclose(pipe) == 0 && ok;
 }
 
+constexpr const char* kOutputSuffixes[] = {".txt", ".csv", ".json", "-frames.csv", "-frame-time.png", "-triangles.png", "-gap.png"};
+
 int runCompare(CompareArgs& a) {
-    for (const char* suffix : {".txt", ".csv", ".json", "-frames.csv", "-frame-time.png", "-triangles.png", "-gap.png"})
+    for (const char* suffix : kOutputSuffixes)
         if (!a.prefix.empty()) {  // checked before the replays, not at their end
             const std::string name = suffix;
             checkOutputFile(a.prefix + name, name.ends_with(".png") ? "a plot" : name == "-frames.csv" ? "the frames" : "the table",
@@ -213,6 +216,12 @@ int runCompare(CompareArgs& a) {
             {"c_textured", formatConstant(cTextured)}, {"seed", std::to_string(a.model.seed)},
             {"loader_policy", a.loader}, {"on_miss", a.onMiss}};
         appendLoaderInfo(setup, a.player);
+        // An earlier run's set goes first: an interrupted write, --no-plots or no oracle (no -gap.png)
+        // never leaves this run's files beside an older run's (until stop 44 they were mixed).
+        for (const char* suffix : kOutputSuffixes) {
+            std::error_code ec;
+            if (std::filesystem::is_regular_file(a.prefix + suffix, ec)) std::filesystem::remove(a.prefix + suffix, ec);
+        }
         writeTextFile(a.prefix + ".txt", "the table", text.str());
         std::ostringstream csv;
         writeCompareCsv(csv, rows);

@@ -55,6 +55,7 @@ protected:
 TEST_F(CompareCli, WritesOneRowPerPolicyInEveryForm) {
     const std::string policies = "thesis,thesis-rh,none,static,feedback,sse,sse-budget";
     std::string prefix = (dir / "cmp").string();
+    std::ofstream(prefix + "-gap.png") << "an earlier run's plot";  // this run has no oracle: it goes (stale before stop 44)
     RunResult r = runHlod({"compare", db, "--path", path, "--policies", policies, "--step-ms", "30", "--preload",
                            "--warmup", "10", "--policy-set", "static.pixels=64", "-o", prefix});
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -94,6 +95,7 @@ TEST_F(CompareCli, WritesOneRowPerPolicyInEveryForm) {
     EXPECT_TRUE(fs::exists(prefix + "-frame-time.png"));
     EXPECT_GT(fs::file_size(prefix + "-frame-time.png"), 1000u);
     EXPECT_GT(fs::file_size(prefix + "-triangles.png"), 1000u);
+    EXPECT_FALSE(fs::exists(prefix + "-gap.png"));
 }
 
 TEST_F(CompareCli, UnknownPolicyOrSettingIsAUsageError) {
