@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -54,15 +55,26 @@ void refuseOutputOverInputs(const std::string& output, std::initializer_list<std
     }
 }
 
-void refuseOutputInsideFolder(const std::string& output, const std::string& folder) {
-    std::error_code outError, dirError;
-    const std::filesystem::path out = std::filesystem::weakly_canonical(std::filesystem::absolute(output), outError);
+namespace {
+
+// Whether PATH lies strictly below FOLDER (after symbolic links); nullopt when either cannot be resolved.
+std::optional<bool> below(const std::string& path, const std::string& folder) {
+    std::error_code pathError, dirError;
+    const std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(path), pathError);
     const std::filesystem::path dir = std::filesystem::weakly_canonical(std::filesystem::absolute(folder), dirError);
-    if (outError || dirError) return;  // the writer of OUTPUT, the reader of FOLDER say what is wrong
-    const auto [d, o] = std::mismatch(dir.begin(), dir.end(), out.begin(), out.end());
-    if (d == dir.end() && o != out.end())
+    if (pathError || dirError) return std::nullopt;
+    const auto [d, o] = std::mismatch(dir.begin(), dir.end(), p.begin(), p.end());
+    return d == dir.end() && o != p.end() && !o->empty();
+}
+
+}  // namespace
+
+void refuseOutputInsideFolder(const std::string& output, const std::string& folder) {
+    if (below(output, folder).value_or(false))  // unresolvable: the writer of OUTPUT, the reader of FOLDER say why
         throw std::invalid_argument(output + ": is inside an input folder (" + folder + "); write the output elsewhere");
 }
+
+bool isInsideFolder(const std::string& path, const std::string& folder) { return below(path, folder).value_or(false); }
 
 void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs) {
     if (output.empty()) return;
@@ -119,8 +131,10 @@ StagingFolder::StagingFolder(const std::string& target) {
     const std::string prefix = target + ".tmp";
     removeStaleTemporaries(prefix);  // of runs killed before they removed theirs
     std::string pattern = temporaryPattern(prefix);
-    if (!mkdtemp(pattern.data()))
-        throw std::runtime_error(target + ": cannot create a temporary folder next to it (" + std::strerror(errno) + ")");
+    if (!mkdtemp(pattern.data())) {
+        const int error = errno;
+        throw std::runtime_error(target + ": cannot create a temporary folder next to it (" + std::strerror(error) + ")");
+    }
     ::chmod(pattern.c_str(), 0755);  // mkdtemp's 0700 would hide the output from other readers (a web server)
     path = pattern;
 }

@@ -29,6 +29,8 @@ void refuseOutputOverInputs(const std::string& output, std::initializer_list<std
 // elsewhere" when OUTPUT lies in FOLDER or below it (after symbolic links): a folder the run reads
 // as a whole (a split's work folder, a shard), whose files it would replace.
 void refuseOutputInsideFolder(const std::string& output, const std::string& folder);
+// Whether PATH lies below FOLDER, after symbolic links (false when either cannot be resolved).
+bool isInsideFolder(const std::string& path, const std::string& folder);
 // Both checks of a file output, before a run's work: refuseOutputOverInputs, then checkReplaceable.
 // An empty OUTPUT (an option not given) passes.
 void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs);

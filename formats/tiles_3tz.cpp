@@ -83,7 +83,9 @@ struct Zip {
         v.insert(v.end(), bytes, bytes + sizeof(T));
     }
     void write(const std::vector<uint8_t>& bytes) {
+        errno = 0;
         out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        if (!out) throw std::runtime_error(writeFailure(path, errno));  // at once: its reason, no more work
         offset += bytes.size();
     }
     // Appends one stored entry; returns the offset of its local header.
@@ -136,9 +138,9 @@ struct Zip {
         put<uint16_t>(end, 0);
         write(central);
         write(end);
-        const int failed = out ? 0 : errno;  // the write's reason, before close can change errno
+        errno = 0;
         out.close();
-        if (!out) throw std::runtime_error(writeFailure(path, failed ? failed : errno));
+        if (!out) throw std::runtime_error(writeFailure(path, errno));
     }
 };
 

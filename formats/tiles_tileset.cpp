@@ -29,9 +29,11 @@ Geodetic parseGeodetic(const std::string& text) {
     Geodetic g;
     char comma1 = 0, comma2 = 0;
     if (!(in >> g.latitude >> comma1 >> g.longitude >> comma2 >> g.height) || comma1 != ',' || comma2 != ',' ||
-        !(in >> std::ws).eof() || !(std::abs(g.height) <= 1e7) || std::abs(g.latitude) > 90 || std::abs(g.longitude) > 180)
+        !(in >> std::ws).eof() || !(g.height >= -6e6 && g.height <= 1e7) || std::abs(g.latitude) > 90 || std::abs(g.longitude) > 180)
+        // -6e6 m keeps the origin on its side of the earth's centre (polar radius 6,356,752 m): -7e6
+        // turned the model's east-north-up frame inside out (accepted until stop 44).
         throw std::invalid_argument("--origin " + text +
-                                    ": expected LAT,LON,HEIGHT (degrees in [-90, 90], [-180, 180], metres within +-1e7)");
+                                    ": expected LAT,LON,HEIGHT (degrees in [-90, 90], [-180, 180], metres in [-6e6, 1e7])");
     return g;
 }
 

@@ -56,8 +56,10 @@ struct TempDir {
         const std::string prefix = (fs::path(parent) / "hlod-build").string();
         removeStaleTemporaries(prefix);  // of builds killed before they removed theirs
         std::string pattern = temporaryPattern(prefix);
-        if (!mkdtemp(pattern.data()))
-            throw std::runtime_error(parent + ": cannot create a temporary folder (" + std::strerror(errno) + ")");
+        if (!mkdtemp(pattern.data())) {
+            const int error = errno;
+            throw std::runtime_error(parent + ": cannot create a temporary folder (" + std::strerror(error) + ")");
+        }
         path = pattern;
     }
     ~TempDir() {

@@ -109,7 +109,8 @@ void BlockRecordWriter::finish() {
     write(impl_->f, kEndTag, impl_->file), write(impl_->f, impl_->count, impl_->file);
     const bool ok = std::fclose(impl_->f) == 0;
     impl_->f = nullptr;
-    if (!ok) throw std::runtime_error(impl_->file + ": write failed (" + std::strerror(errno) + ")");
+    const int error = errno;
+    if (!ok) throw std::runtime_error(impl_->file + ": write failed (" + std::strerror(error) + ")");
 }
 
 namespace {
@@ -184,7 +185,10 @@ void writeShardInfo(const std::string& dir, const ShardInfo& info) {
     j["meta"] = info.meta;
     std::ofstream out(std::filesystem::path(dir) / "shard.json");
     out << jsonText(j, 1) << "\n";
-    if (!out.flush()) throw std::runtime_error(dir + "/shard.json: write failed (" + std::strerror(errno) + ")");
+    if (!out.flush()) {
+        const int error = errno;
+        throw std::runtime_error(dir + "/shard.json: write failed (" + std::strerror(error) + ")");
+    }
 }
 
 ShardInfo readShardInfo(const std::string& dir) {

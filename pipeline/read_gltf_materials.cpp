@@ -169,15 +169,14 @@ GltfMaterials addGltfMaterials(const tinygltf::Model& model, const EmbeddedImage
         // A texture or image that is not there is unusable like any other (README "Textures: one rule";
         // until stop 44 these left the material untextured without a word, even with --strict).
         const auto problem = [&](const std::string& what) { raw.stats.textureProblems.push_back({path + ": " + what, material.name}); };
-        if (tex >= static_cast<int>(model.textures.size()))
+        const bool known = tex >= 0 && tex < static_cast<int>(model.textures.size());
+        if (tex != -1 && !known)  // -1: no texture
             problem("material " + std::to_string(index) + " uses texture " + std::to_string(tex) + ", which does not exist (" +
                     std::to_string(model.textures.size()) + " textures)");
-        else if (tex >= 0 && (model.textures[size_t(tex)].source < 0 || model.textures[size_t(tex)].source >= int(model.images.size())))
-            problem("texture " + std::to_string(tex) + " has no image hlod can read (source " +
-                    std::to_string(model.textures[size_t(tex)].source) + " of " + std::to_string(model.images.size()) + " images)");
-        if (tex >= 0 && tex < static_cast<int>(model.textures.size())) {
-            const int source = model.textures[static_cast<size_t>(tex)].source;
-            const int sampler = model.textures[static_cast<size_t>(tex)].sampler;  // none: REPEAT (glTF 2.0 §3.8.4.6)
+        if (known) {
+            const tinygltf::Texture& texture = model.textures[static_cast<size_t>(tex)];
+            const int source = texture.source;
+            const int sampler = texture.sampler;  // none: REPEAT (glTF 2.0 §3.8.4.6)
             if (sampler >= 0 && sampler < static_cast<int>(model.samplers.size())) {
                 const tinygltf::Sampler& s = model.samplers[static_cast<size_t>(sampler)];
                 material.uvPeriod[0] = uvPeriod(s.wrapS), material.uvPeriod[1] = uvPeriod(s.wrapT);
@@ -198,6 +197,11 @@ GltfMaterials addGltfMaterials(const tinygltf::Model& model, const EmbeddedImage
                 else
                     problem("image " + std::to_string(source) + " has no data hlod can decode" +
                             (img.uri.empty() ? std::string() : " (a data: URI that does not decode)"));
+            } else {
+                std::string extensions;  // an image only an extension names (EXT_texture_webp, KHR_texture_basisu)
+                for (const auto& [name, value] : texture.extensions) extensions += (extensions.empty() ? "; extensions: " : ", ") + name;
+                problem("texture " + std::to_string(tex) + " has no image hlod can read (source " + std::to_string(source) + " of " +
+                        std::to_string(model.images.size()) + " images" + extensions + ")");
             }
         }
         out.materialOfGltf.push_back(static_cast<uint32_t>(raw.materials.size()));

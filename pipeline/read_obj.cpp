@@ -116,6 +116,18 @@ public:
     }
 
 private:
+    // A token as a message shows it: control bytes as \xNN (a NUL ended the message mid-quote until
+    // stop 44), at most 40 bytes.
+    static std::string shown(std::string_view t) {
+        std::string out;
+        for (const char c : t.substr(0, 40)) {
+            char hex[8];
+            std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned char>(c));
+            out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? std::string(hex) : std::string(1, c);
+        }
+        return t.size() > 40 ? out + "..." : out;
+    }
+
     [[noreturn]] void corrupt(const Line& l, const std::string& what) const {
         throw InputError(path_ + ":" + std::to_string(l.number) + ": " + (lastLine_ ? "truncated or corrupt" : "corrupt") +
                          " OBJ (" + what + ")");
@@ -131,7 +143,7 @@ private:
         const char* begin = t.data() + (t.front() == '+' ? 1 : 0);
         T v = 0;
         const auto [end, ec] = std::from_chars(begin, t.data() + t.size(), v);
-        if (ec != std::errc() || end != t.data() + t.size()) corrupt(l, "bad number '" + std::string(t) + "'");
+        if (ec != std::errc() || end != t.data() + t.size()) corrupt(l, "bad number '" + shown(t) + "'");
         return v;
     }
 
@@ -139,7 +151,7 @@ private:
     uint32_t index(const Line& l, std::string_view t, size_t count) {
         long long v = 0;
         const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-        if (ec != std::errc() || end != t.data() + t.size() || v == 0) corrupt(l, "bad face index '" + std::string(t) + "'");
+        if (ec != std::errc() || end != t.data() + t.size() || v == 0) corrupt(l, "bad face index '" + shown(t) + "'");
         const long long resolved = v > 0 ? v - 1 : static_cast<long long>(count) + v;
         if (resolved < 0 || resolved >= 0xFFFFFFFFll) corrupt(l, "face index " + std::to_string(v) + " out of range");
         return static_cast<uint32_t>(resolved);

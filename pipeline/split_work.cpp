@@ -85,9 +85,10 @@ GridSpec gridFrom(const json& j) {
     if (g.axisU < 0 || g.axisU > 2 || g.axisV < 0 || g.axisV > 2 || g.cellsU < 1 || g.cellsV < 1 ||
         uint64_t(g.cellsU) * g.cellsV > kMaxGridBlocks)
         throw std::runtime_error("grid out of range");
-    for (double v : {g.minU, g.minV, g.sizeU, g.sizeV})
-        if (!(std::abs(v) <= kMaxCoordinate)) throw std::runtime_error("grid out of range");
-    if (!(g.sizeU > 0 && g.sizeV > 0)) throw std::runtime_error("grid out of range");
+    // Corners within the coordinate limit, cells of positive size within its span.
+    if (!(std::abs(g.minU) <= kMaxCoordinate && std::abs(g.minV) <= kMaxCoordinate && g.sizeU > 0 && g.sizeV > 0 &&
+          g.sizeU <= 2 * kMaxCoordinate && g.sizeV <= 2 * kMaxCoordinate))
+        throw std::runtime_error("grid out of range");
     return g;
 }
 
@@ -176,7 +177,10 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
     {
         std::ofstream out(fs::path(staging.path) / kManifest);
         out << jsonText(manifest, 1) << "\n";
-        if (!out.flush()) throw std::runtime_error(work + "/" + kManifest + ": write failed (" + std::strerror(errno) + ")");
+        if (!out.flush()) {
+            const int error = errno;
+            throw std::runtime_error(work + "/" + kManifest + ": write failed (" + std::strerror(error) + ")");
+        }
     }
     if (isSplitWork(work)) fs::remove_all(target);  // an earlier split of this folder
     fs::rename(staging.path, target);
@@ -227,13 +231,21 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
         w.inputs.positionStep = j.at("lattice").at("position_step");
         if (w.inputs.positionStep != (w.inputs.grid ? gridPositionStep(w.inputs.bounds, *w.inputs.grid, splitBits) : 0.0))
             throw std::runtime_error("lattice position_step is not its grid's");
+        // Files the split wrote lie in the work folder ("../" led out of it until stop 44). A texture by
+        // its absolute path is where the split found it (the input may have been named relative to
+        // another working directory, so its folder is not known here).
+        const auto inWork = [&](const std::string& name) {
+            const std::string file = (fs::path(work) / name).string();
+            if (!isInsideFolder(file, work)) throw std::runtime_error("'" + name + "' is outside the work folder");
+            return file;
+        };
         for (const json& m : j.at("materials")) {
             const std::string texture = m.at("texture").get<std::string>();
             Material material{m.at("name").get<std::string>(),
-                              texture.empty() || fs::path(texture).is_absolute() ? texture : (fs::path(work) / texture).string(), nullptr};
+                              texture.empty() || fs::path(texture).is_absolute() ? texture : inWork(texture), nullptr};
             const std::string image = m.at("image").get<std::string>();
             if (!image.empty()) {
-                const std::string path = (fs::path(work) / image).string();
+                const std::string path = inWork(image);
                 material.image = std::make_shared<const Image>(readImage(path, path));
             }
             for (int a = 0; a < 2; ++a) material.uvPeriod[a] = m.at("uv_period").at(a).get<float>();

@@ -65,7 +65,6 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
 // A folder holding manifest.json.
 bool isSplitWork(const std::string& path);
 
-
 // Reads WORK's manifest and checks every block file (present, its size, and for the blocks
 // [first, last) its XXH3-64): InputError "WORK/FILE: problem" otherwise. The split's options
 // (--block-triangles, --block-size, --up, --allow-outside-input) are adopted into `options`; a

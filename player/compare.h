@@ -16,8 +16,8 @@
 
 namespace hlod {
 
-// One frame as the table, the frames CSV and the plots read it: ~80 bytes, where a FrameStats holds
-// ~0.5 KB with its per-level arrays (16 policies at the 1,000,000-frame cap took ~8 GB until stop 44).
+// One frame as the table, the frames CSV and the plots read it: 72 bytes, where a FrameStats holds
+// ~0.45 KB with its per-level arrays (16 policies at the 1,000,000-frame cap took ~7 GB until stop 44).
 struct CompareFrame {
     uint64_t frame = 0;
     double timeSeconds = 0, targetMs = 0, actualMs = 0, benefit = 0, selectionMs = 0, optimisationMs = 0;

@@ -4,16 +4,17 @@
 // is written last, so its presence marks a complete city that stats and tests can check.
 #include "pipeline/synth/synth.h"
 
+#include "formats/errors.h"
 #include "formats/json_text.h"
 #include "formats/temp_files.h"
 
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <stdexcept>
 
 namespace hlod::synth {
@@ -71,24 +72,22 @@ nlohmann::json manifest(const CityPlan& plan, const CityResult& result) {
             {"blocks", blocks}};
 }
 
-// The complete city in `staging` becomes DIR: the folder itself when DIR does not exist, else its
-// files replace the city's in DIR (an earlier, larger run's blocks would be read as this city's),
-// city.json last.
-void moveCity(StagingFolder& staging, const std::string& dir) {
-    std::error_code ec;
-    if (!fs::exists(dir, ec)) {
+// The complete city in `staging` becomes DIR: the folder itself when DIR did not exist; else (the
+// staging folder is inside DIR, on its filesystem) its blocks replace the earlier city's, whose
+// other files go (a larger run's blocks would be read as this city's), and city.json comes last.
+void moveCity(StagingFolder& staging, const fs::path& dir, bool existed) {
+    if (!existed) {
         fs::rename(staging.path, dir);
         staging.kept = true;
         return;
     }
+    std::set<fs::path> names;
+    for (const auto& entry : fs::directory_iterator(staging.path))
+        if (entry.path().filename() != "city.json") names.insert(entry.path().filename());
+    for (const fs::path& name : names) fs::rename(fs::path(staging.path) / name, dir / name);
     for (const auto& entry : fs::directory_iterator(dir))
-        if (isCityFile(entry.path())) fs::remove(entry.path());
-    std::vector<fs::path> files;
-    for (const auto& entry : fs::directory_iterator(staging.path)) files.push_back(entry.path());
-    std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) {
-        return (a.filename() == "city.json") < (b.filename() == "city.json");
-    });
-    for (const fs::path& file : files) fs::rename(file, fs::path(dir) / file.filename());
+        if (isCityFile(entry.path()) && !names.count(entry.path().filename())) fs::remove(entry.path());
+    fs::rename(fs::path(staging.path) / "city.json", dir / "city.json");
 }
 
 CityResult writeCity(const CityOptions& options, const CityPlan& plan, const std::string& dir) {
@@ -108,28 +107,34 @@ CityResult writeCity(const CityOptions& options, const CityPlan& plan, const std
 
 }  // namespace
 
-// The city is written in a staging folder beside DIR and moved in when complete: a run that fails
-// (a full disk, a folder it cannot write) or is interrupted leaves no partial city (an interrupted
-// one was a folder `hlod build` read as a city until stop 44); a failure is one line naming the
-// file and the reason, as every output of hlod.
+// The city is written in a staging folder and moved into DIR when complete: a run that fails (a
+// full disk, a folder it cannot write) or is interrupted leaves no partial city (an interrupted one
+// was a folder `hlod build` read as a city until stop 44); a failure is one line naming the file
+// and the reason, as every output of hlod. The staging folder is DIR/.city.tmp-PID-XXXXXX when DIR
+// exists (a mount point or a link to another filesystem: renames stay on it), else beside DIR.
 CityResult generateCity(const CityOptions& options, const std::string& dir) {
     CityPlan plan = planCity(options);
     checkDirectory(dir);
     fs::path target = fs::absolute(dir).lexically_normal();
-    if (target.filename().empty()) target = target.parent_path();  // "out/": the staging folder beside out, not in it
+    if (target.filename().empty()) target = target.parent_path();  // "out/": out itself
     std::error_code ec;
-    fs::create_directories(target.parent_path(), ec);
-    StagingFolder staging(target.string());
+    const bool existed = fs::exists(target, ec);
+    if (!existed) fs::create_directories(target.parent_path(), ec);
+    StagingFolder staging((existed ? target / ".city" : target).string());
     CityResult result;
     try {
         result = writeCity(options, plan, staging.path);
-    } catch (const std::exception& e) {  // name the file the user asked for, not the staging one
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::runtime_error& e) {  // name the file the user asked for, not the staging one
         std::string what = e.what();
-        for (size_t at = what.find(staging.path); at != std::string::npos; at = what.find(staging.path, at + dir.size()))
-            what.replace(at, staging.path.size(), dir);
+        const std::string shown = existed ? (fs::path(dir) / "").string() : dir;  // DIR/.city.tmp-…/F -> DIR/F
+        const std::string staged = existed ? staging.path + "/" : staging.path;
+        for (size_t at = what.find(staged); at != std::string::npos; at = what.find(staged, at + shown.size()))
+            what.replace(at, staged.size(), shown);
         throw std::runtime_error(what);
     }
-    moveCity(staging, target.string());
+    moveCity(staging, target, existed);
     return result;
 }
 

@@ -199,7 +199,7 @@ void addView(CLI::App& app, int& status) {
         "view", "fly through a database in a window (WASD move, R/F rise/sink, Q/E roll, arrows or left-drag look, "
                 "scroll or +/- speed, Esc quit)");
     addDatabaseArgument(*sub, args->database);
-    sub->add_option("--record", args->record, "write the flight to this camera path file on exit");
+    sub->add_option("--record", args->record, "write the flight to this camera path file on exit")->check(nonEmptyPath());
     sub->add_option("--width", args->gl.width, "window width")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_option("--height", args->gl.height, "window height")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_option("--memory", args->memoryBudget, "memory budget in bytes (thesis §4.3); 0 = none")->capture_default_str()

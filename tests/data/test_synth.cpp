@@ -277,5 +277,24 @@ TEST(Synth, KilledAnywhereLeavesNoCityOrACompleteOne) {
     EXPECT_TRUE(fs::exists(dir + "/city.json"));
     for (const auto& entry : fs::directory_iterator(root))
         EXPECT_EQ(entry.path().filename(), "city") << "left behind: " << entry.path();
+    // Into a folder that exists (staged inside it): its other files stay, the earlier city stays
+    // whole until the new one is complete, and a larger earlier city's extra blocks go.
+    std::ofstream(dir + "/keep.txt") << "mine";
+    const std::string before = readAll(dir + "/city.json");
+    for (const char* delay : {"0.1", "0.3"}) {
+        hlod::test::runProcess({"sh", "-c", "\"$0\" \"$@\" > /dev/null & sleep " + std::string(delay) + "; kill -9 $!; wait", HLOD_BINARY,
+                                "synth", "city", "-o", dir, "--scale", "0.002", "--city-blocks", "100"});
+        EXPECT_EQ(readAll(dir + "/city.json"), before) << "after " << delay << " s";
+    }
+    const hlod::test::RunResult small = hlod::test::runProcess({HLOD_BINARY, "synth", "city", "-o", dir, "--scale", "0.001"});
+    EXPECT_EQ(small.exitCode, 0) << small.outAndErr();
+    EXPECT_EQ(readAll(dir + "/keep.txt"), "mine");
+    size_t entries = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        ++entries;
+        EXPECT_EQ(entry.path().filename().string().find(".city.tmp"), std::string::npos) << "left behind: " << entry.path();
+    }
+    const nlohmann::json city = nlohmann::json::parse(readAll(dir + "/city.json"));
+    EXPECT_EQ(entries, 3 * city["block_count"].get<size_t>() + 2);  // OBJ, MTL and JPEG per block, city.json, keep.txt
     fs::remove_all(root);
 }

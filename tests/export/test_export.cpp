@@ -143,7 +143,7 @@ TEST_F(ExportTiles, OriginPlacesTheLocalFrameEastNorthUp) {
     EXPECT_NEAR(std::asin(up[2]) * 180 / M_PI, 37.8716, 1e-9);
     EXPECT_NEAR(std::hypot(m[12], m[13], m[14]), 6370000, 10000);
 
-    for (const char* bad : {"1,2", "91,0,0", "a,b,c", "1,2,3,4", "0,0,1e300"}) {  // 1e300 m: accepted before stop 44
+    for (const char* bad : {"1,2", "91,0,0", "a,b,c", "1,2,3,4", "0,0,1e300", "0,0,-7e6"}) {  // accepted before stop 44: 1e300 m, -7e6 m (beyond the earth's centre)
         RunResult u = runHlod({"export", "tiles", db, "-o", dir.file("bad"), "--origin", bad});
         EXPECT_EQ(u.exitCode, 2) << bad;
         EXPECT_EQ(u.err.rfind("hlod export tiles: --origin", 0), 0u) << u.err;

@@ -265,7 +265,7 @@ TEST_F(Conventions, AbsurdNumbersAreStatusTwoNotACrashOrAHang) {
              {"build", obj, "-o"}, {"split", obj, "-o"}, {"merge", dir.path.string(), "-o"}, {"path", db, "-o"},
              {"export", "tiles", db, "-o"}, {"calibrate", "-o"}, {"synth", "city", "-o"},
              {"compare", db, "--path", path, "--policies", "thesis", "-o"}, {"play", db, "--path", path, "--stats"},
-             {"play", db, "--path", path, "--json"}, {"play", db, "--path", path, "--frames-dir"}}) {
+             {"play", db, "--path", path, "--json"}, {"play", db, "--path", path, "--frames-dir"}, {"view", db, "--record"}}) {
         std::vector<std::string> empty = args;
         empty.push_back("");
         const std::string option = args.back() == "-o" ? "--output" : args.back();

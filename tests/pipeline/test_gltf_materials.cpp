@@ -9,6 +9,9 @@
 #include "tests/support/gltf_model.h"
 #include "tests/support/run_hlod.h"
 
+#include <nlohmann/json.hpp>
+
+#include <functional>
 #include <numbers>
 
 namespace hlod::test {
@@ -195,4 +198,40 @@ TEST(GltfBadInput, AMalformedTextureTransformNamesItsMaterial) {
 }
 
 }  // namespace
+// A texture or image reference that leads nowhere is an unusable texture like a bad file (until
+// stop 44 the material was left untextured without a word, and --strict passed).
+TEST(GltfBadInput, TextureReferencesThatLeadNowhereAreUnusableTextures) {
+    TempDir dir;
+    const MeshData m = terrain(4).mesh;
+    const std::vector<std::pair<std::function<void(tinygltf::Model&)>, std::string>> cases = {
+        {[](tinygltf::Model& g) { g.materials[0].pbrMetallicRoughness.baseColorTexture.index = 99; },
+         "material 0 uses texture 99, which does not exist (1 textures)"},
+        {[](tinygltf::Model& g) { g.textures[0].source = -1, g.textures[0].name = "no source"; },
+         "texture 0 has no image hlod can read (source -1 of 1 images)"},
+        {[](tinygltf::Model& g) { g.textures[0].source = 7; }, "texture 0 has no image hlod can read (source 7 of 1 images)"},
+        {[](tinygltf::Model& g) { g.images[0].uri = "data:image/png;base64"; },
+         "image 0 has no data hlod can decode (a data: URI that does not decode)"}};
+    for (const auto& [change, expected] : cases) {
+        tinygltf::Model model = twoSetModel(dir, m, 0, nullptr);
+        change(model);
+        saveModel(model, dir.file("t.gltf"));
+        const SourceMesh mesh = readMesh(dir.file("t.gltf"));
+        EXPECT_FALSE(mesh.materials[0].image);
+        EXPECT_TRUE(mesh.materials[0].texturePath.empty());
+        ASSERT_EQ(mesh.stats.textureProblems.size(), 1u) << expected;
+        EXPECT_EQ(mesh.stats.textureProblems[0].what, dir.file("t.gltf") + ": " + expected);
+        const RunResult strict = runHlod({"build", dir.file("t.gltf"), "-o", dir.file("t.hlod"), "--strict"});
+        EXPECT_EQ(strict.exitCode, 2) << strict.outAndErr();
+        EXPECT_EQ(strict.err, "hlod build: " + dir.file("t.gltf") + ": " + expected + " (--strict)\n");
+    }
+    saveModel(twoSetModel(dir, m, 0, nullptr), dir.file("fine.gltf"));
+    EXPECT_TRUE(readMesh(dir.file("fine.gltf")).stats.textureProblems.empty());
+    nlohmann::json negative = nlohmann::json::parse(readText(dir.file("fine.gltf")));  // tinygltf writes no index < 0
+    negative["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = -5;
+    std::ofstream(dir.file("n.gltf")) << negative.dump();
+    const SourceMesh mesh = readMesh(dir.file("n.gltf"));
+    ASSERT_EQ(mesh.stats.textureProblems.size(), 1u);
+    EXPECT_EQ(mesh.stats.textureProblems[0].what, dir.file("n.gltf") + ": material 0 uses texture -5, which does not exist (1 textures)");
+}
+
 }  // namespace hlod::test

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <tuple>
 
 namespace hlod::test {
 namespace {
@@ -196,15 +197,23 @@ TEST(SplitWork, BadWorkFoldersAreOneLineAndStatusTwo) {
     // Values no split writes (until stop 44: a step of 1e300 built a database of collapsed blocks
     // with status 0, an up axis 'x' or an offset of 1e300 one that validate refused).
     const nlohmann::json good = nlohmann::json::parse(manifest.begin(), manifest.end());
-    for (const auto& [pointer, value] : std::vector<std::pair<std::string, nlohmann::json>>{
-             {"/lattice/position_step", 1e300}, {"/lattice/position_step", 1e-300}, {"/lattice/position_bits", 99},
-             {"/up/axis", "x"}, {"/options/up", "w"}, {"/options/offset", {1e300, 0, 0}}, {"/bounds/1/0", -1e30},
-             {"/grid/size_u", 0}}) {
+    const std::vector<std::tuple<std::string, nlohmann::json, std::string>> changes = {
+        {"/lattice/position_step", 1e300, "lattice position_step is not its grid's"},
+        {"/lattice/position_step", 1e-300, "lattice position_step is not its grid's"},
+        {"/lattice/position_bits", 99, "position_bits out of range"},
+        {"/up/axis", "x", "up axis 'x' is neither y nor z"},
+        {"/options/up", "w", "--up 'w' is neither y nor z"},
+        {"/options/offset", {1e300, 0, 0}, "offset beyond +-1e15"},
+        {"/bounds/1/0", -1e30, "bounds out of range"},
+        {"/grid/size_u", 0, "grid out of range"},
+        {"/materials/0/texture", "../../x.png", "'../../x.png' is outside the work folder"},
+        {"/materials/0/image", "../x.png", "'../x.png' is outside the work folder"}};
+    for (const auto& [pointer, value, reason] : changes) {
         nlohmann::json changed = good;
         changed[nlohmann::json::json_pointer(pointer)] = value;
         const std::string text = changed.dump();
         writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(text.begin(), text.end()));
-        expectRefused(dir, build, dir.file("work/manifest.json") + ": corrupt manifest (");
+        expectRefused(dir, build, dir.file("work/manifest.json") + ": corrupt manifest (" + reason + ")");
     }
     // An output inside the work folder would replace what it reads (exit 0 and a ruined folder before).
     writeFile(dir.file("work/manifest.json"), manifest);

@@ -190,6 +190,11 @@ TEST(ReadObjStream, CorruptNumbersAndTruncatedLinesAreRefused) {
         EXPECT_NE(errorOf([&] { readMesh(dir.file("t.obj")); }).find(message), std::string::npos)
             << text << "\n-> " << errorOf([&] { readMesh(dir.file("t.obj")); });
     }
+    // A NUL in a token ended the message mid-quote (until stop 44); a long token is cut.
+    std::ofstream(dir.file("t.obj")) << std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\0x\n", 34);
+    EXPECT_EQ(errorOf([&] { readMesh(dir.file("t.obj")); }), dir.file("t.obj") + ":4: corrupt OBJ (bad face index '3\\x00x')");
+    std::ofstream(dir.file("t.obj")) << "v 0 0 " << std::string(100, '7') << "z\n";
+    EXPECT_EQ(errorOf([&] { readMesh(dir.file("t.obj")); }), dir.file("t.obj") + ":1: corrupt OBJ (bad number '" + std::string(40, '7') + "...')");
 }
 
 TEST(ReadObjStream, PolygonsNegativeIndicesAndMissingLibraries) {
