@@ -46,7 +46,7 @@ void checkTarget(const fs::path& out, bool archive) {
     }
 }
 
-// A temporary path next to `out`, removed on destruction unless released.
+// A temporary file next to `out` (the archive), removed on destruction.
 struct Temporary {
     fs::path path;
     explicit Temporary(fs::path p) : path(std::move(p)) {}
@@ -55,14 +55,6 @@ struct Temporary {
         if (!path.empty()) fs::remove_all(path, ec);
     }
 };
-
-fs::path makeTemporaryFolder(const fs::path& out) {
-    removeStaleTemporaries(out.string() + ".tmp");  // of exports killed before they renamed theirs
-    std::string pattern = temporaryPattern(out.string() + ".tmp");
-    if (!mkdtemp(pattern.data())) throw std::runtime_error(out.string() + ": cannot create a temporary folder beside it");
-    ::chmod(pattern.c_str(), 0755);  // mkdtemp's 0700 would hide the output from other readers (a web server)
-    return pattern;
-}
 
 // Moves `from` onto `to`; an existing `to` ends up at `from` (removed by its Temporary).
 void renameOnto(const fs::path& from, const fs::path& to) {
@@ -89,22 +81,23 @@ TilesReport exportTiles(const Database& db, const std::string& outPath, const Ti
     checkTarget(out, options.archive);
     refuseOutputOverInputs(out.string(), {db.path()});
     const Skeleton& s = db.skeleton();
-    Temporary folder(makeTemporaryFolder(out));
-    fs::create_directory(folder.path / "tiles");
+    const StagingFolder staging(out.string());  // OUT.tmp-PID-XXXXXX, 0755; removed at the end (after an exchange: the old OUT)
+    const fs::path folder = staging.path;
+    fs::create_directory(folder / "tiles");
 
     TilesReport report;
     std::vector<std::optional<Box3f>> content(s.nodes.size());
     for (uint32_t n = 0; n < s.nodes.size(); ++n) {
         std::optional<tiles::Glb> glb = tiles::nodeGlb(db, n);
         if (!glb) continue;
-        writeFile(folder.path / tiles::contentUri(n), glb->bytes.data(), glb->bytes.size());
+        writeFile(folder / tiles::contentUri(n), glb->bytes.data(), glb->bytes.size());
         content[n] = glb->bounds;
         report.contentTiles += 1;
         report.triangles += glb->triangles;
         report.contentBytes += glb->bytes.size();
     }
     const std::string json = jsonText(tiles::tilesetJson(s, content, options, db.path()));
-    writeFile(folder.path / "tileset.json", json.data(), json.size());  // last: the folder is complete
+    writeFile(folder / "tileset.json", json.data(), json.size());  // last: the folder is complete
     report.tiles = s.nodes.size() + 1;
     report.tilesetBytes = json.size();
 
@@ -115,12 +108,12 @@ TilesReport exportTiles(const Database& db, const std::string& outPath, const Ti
         ::fchmod(fd, 0644);  // mkstemp's 0600 would hide the archive from other readers
         ::close(fd);
         Temporary archive(name);
-        tiles::write3tz(folder.path.string(), archive.path.string());
+        tiles::write3tz(folder.string(), archive.path.string());
         report.outputBytes = fs::file_size(archive.path);
         renameOnto(archive.path, out);
     } else {
-        report.outputBytes = folderBytes(folder.path);
-        renameOnto(folder.path, out);
+        report.outputBytes = folderBytes(folder);
+        renameOnto(folder, out);
     }
     return report;
 }

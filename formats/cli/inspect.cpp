@@ -74,12 +74,17 @@ void printNode(const nlohmann::json& n) {
 int runInspect(const InspectArgs& a) {
     Database db = Database::open(a.path);
     nlohmann::json out;
-    if (a.node && *a.node >= db.skeleton().nodes.size())  // names the database, unlike nodeJson's message
-        throw std::invalid_argument(a.path + ": node " + std::to_string(*a.node) + " does not exist (the database has " +
-                                    std::to_string(db.skeleton().nodes.size()) + " nodes)");
-    if (a.node) out = nodeJson(db.skeleton(), *a.node);
-    else if (a.tree) out = treeJson(db.skeleton(), a.depth);
-    else out = toJson(summarize(db));
+    if (a.node) {
+        try {
+            out = nodeJson(db.skeleton(), *a.node);
+        } catch (const std::invalid_argument& e) {  // no such node: the line names the database too
+            throw std::invalid_argument(a.path + ": " + e.what());
+        }
+    } else if (a.tree) {
+        out = treeJson(db.skeleton(), a.depth);
+    } else {
+        out = toJson(summarize(db));
+    }
     if (a.json) std::cout << jsonText(out, 2) << '\n';
     else if (a.node) printNode(out);
     else if (a.tree) printTree(out, 0);
