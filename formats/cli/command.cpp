@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -81,12 +82,19 @@ CLI::Validator finiteAboveAtMost(double lo, double hi) {
                        [lo, hi](double v) { return v > lo && v <= hi; });
 }
 
-CLI::Validator wholeNumber() {
+CLI::Validator wholeNumberUpTo(uint64_t max) {
     return CLI::Validator(
-        [](std::string& input) {
+        [max](std::string& input) {
             const size_t first = input.find_first_not_of(" \t");
             if (first == std::string::npos || !std::isdigit(static_cast<unsigned char>(input[first])))
                 return "value '" + input + "': expected a whole number >= 0";
+            const size_t end = input.find_last_not_of(" \t") + 1;
+            const std::string digits = input.substr(first, end - first);
+            if (digits.find_first_not_of("0123456789") != std::string::npos) return std::string();  // 512M: a size
+            const std::string trimmed = digits.substr(std::min(digits.find_first_not_of('0'), digits.size() - 1));
+            const std::string bound = std::to_string(max);
+            if (trimmed.size() > bound.size() || (trimmed.size() == bound.size() && trimmed > bound))
+                return "value '" + input + "': expected a whole number in [0, " + bound + "]";
             return std::string();
         },
         "");  // the help's UINT says it

@@ -8,9 +8,13 @@
 
 #include "formats/constants.h"
 
+#include <cstdint>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <iosfwd>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -42,7 +46,19 @@ CLI::Validator finiteAtLeast(double lo);        // a finite number >= lo
 CLI::Validator finitePositive();                // a finite number > 0
 CLI::Validator finiteIn(double lo, double hi);  // a finite number in [lo, hi]
 CLI::Validator finiteAboveAtMost(double lo, double hi);  // a finite number in (lo, hi]
-CLI::Validator wholeNumber();                   // written without a sign
+// A count written without a sign, at most `max` (a bigger one was CLI11's "Could not convert");
+// wholeNumber(option) takes the bound from the option's type (V: CLI::Validator, complete where
+// an option is added).
+CLI::Validator wholeNumberUpTo(uint64_t max);
+template <class T, class V = CLI::Validator>
+V wholeNumber(const T&) {
+    static_assert(std::is_integral_v<T>, "wholeNumber is for count options");
+    return wholeNumberUpTo(std::numeric_limits<T>::max());
+}
+template <class T, class V = CLI::Validator>
+V wholeNumber(const std::optional<T>&) {
+    return wholeNumber(T{});
+}
 CLI::Validator nonEmptyPath();                  // every -o: "" is a usage error, not a filesystem error
 
 // The positional database argument, named DB in every subcommand.

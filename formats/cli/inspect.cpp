@@ -100,9 +100,9 @@ void addInspect(CLI::App& app, int& status) {
     addDatabaseArgument(*sub, args->path);
     auto* tree = sub->add_flag("--tree", args->tree, "print the node tree");
     sub->add_option("--depth", args->depth, "with --tree: levels to print (0 = all)")->needs(tree)
-        ->check(wholeNumber());
+        ->check(wholeNumber(args->depth));
     sub->add_option("--node", args->node, "print one node in full")->excludes(tree)
-        ->check(wholeNumber());
+        ->check(wholeNumber(args->node));
     sub->add_flag("--json", args->json, "machine-readable JSON output");
     sub->callback([args, &status] { status = runGuarded("inspect", [&] { return runInspect(*args); }); });
 }

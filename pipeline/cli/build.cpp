@@ -197,12 +197,12 @@ void addBuild(CLI::App& app, int& status) {
                     "empty pieces dropped)")
         ->check(CLI::IsMember({"balanced", "even"}));
     sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088, whatever the memory limit)")
-        ->check(wholeNumber());
+        ->check(wholeNumber(o.blockTriangles));
     sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)")
         ->check(finiteAtLeast(0));
     sub->add_option("--memory-limit", o.memoryLimit, "working-set bound, e.g. 512M, 2G (default 1G)")
         ->transform(CLI::AsSizeValue(false))
-        ->transform(wholeNumber());  // inserted before the size transform: "-1" is refused, not wrapped
+        ->transform(wholeNumber(o.memoryLimit));  // inserted before the size transform: "-1" is refused, not wrapped
     sub->add_option("--draco-position-bits", o.draco.positionBits,
                     "Draco position bits over the largest block (one lattice for all nodes, FORMAT.md)")
         ->check(CLI::Range(8, kMaxPositionBits));

@@ -45,12 +45,12 @@ void addSplit(CLI::App& app, int& status) {
     sub->add_option("-o,--output", a->work, "work folder to write (absent, empty, or an earlier work folder)")
         ->required()->check(nonEmptyPath());
     sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088)")
-        ->check(wholeNumber());
+        ->check(wholeNumber(o.blockTriangles));
     sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)")
         ->check(finiteAtLeast(0));
     sub->add_option("--memory-limit", o.memoryLimit, "bound on the split's buffers, e.g. 512M, 2G (default 1G)")
         ->transform(CLI::AsSizeValue(false))
-        ->transform(wholeNumber());  // inserted before the size transform: "-1" is refused, not wrapped
+        ->transform(wholeNumber(o.memoryLimit));  // inserted before the size transform: "-1" is refused, not wrapped
     sub->add_option("--draco-position-bits", o.draco.positionBits,
                     "Draco position bits the recorded lattice is for (a build with other bits recomputes it)")
         ->check(CLI::Range(8, kMaxPositionBits));

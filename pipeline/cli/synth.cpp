@@ -24,11 +24,11 @@ void addSynth(CLI::App& app, int& status) {
                      "fraction of the thesis model (1 = 114 blocks, 8.95 M triangles, 937 M texels)")
         ->check(finiteAboveAtMost(0, 4));
     city->add_option("--seed", options->seed, "random seed (same seed and scale = same bytes)")
-        ->check(wholeNumber());
+        ->check(wholeNumber(options->seed));
     city->add_option("--jpeg-quality", options->jpegQuality, "JPEG quality 1..100")
         ->check(CLI::Range(1, 100));
     city->add_option("--city-blocks", options->cityBlocks, "number of city blocks (default round(25 sqrt(scale)))")
-        ->check(wholeNumber());
+        ->check(wholeNumber(options->cityBlocks));
     city->callback([options, dir, &status] {
         status = runGuarded("synth city", [&] {
             const auto start = std::chrono::steady_clock::now();

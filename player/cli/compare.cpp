@@ -255,13 +255,13 @@ void addCompare(CLI::App& app, int& status) {
         ->check(nonEmptyPath());
     sub->add_flag("!--no-plots", a->plots, "skip the gnuplot PNGs");
     sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path, at most 1,000,000)")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->maxFrames));
     sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half)")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->warmup));
     sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none)")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->player.memoryBudget));
     sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "nodes loaded per frame (synchronous loader)")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->player.syncLoadsPerFrame));
     addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
     sub->add_option("--renderer", a->renderer, "model (default) or gl")->check(CLI::IsMember({"model", "gl"}));
     sub->add_option("--width", a->width, "viewport width, pixels")

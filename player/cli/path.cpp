@@ -126,7 +126,7 @@ void addPath(CLI::App& app, int& status) {
     sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys")
         ->check(finitePositive());
     sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->options.seed));
     sub->add_option("--up", a->up, "up axis of the model, y or z (default: the one the database records; z for a database without one)");
     sub->add_flag("--look-at-center", a->options.lookAtCenter,
                   "walk, drive, erratic: look at the model's centre, not ahead (walking around an object scan)");

@@ -164,7 +164,7 @@ void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>&
     sub.add_option("--model-node-error", model.nodeError, "cost model: per-node cost error in [-e, e]")
         ->check(finiteIn(0, 1));
     sub.add_option("--seed", model.seed, "cost model: noise and error seed (the same for every policy of `compare`)")
-        ->check(wholeNumber());
+        ->check(wholeNumber(model.seed));
 }
 
 void warnLoadFailure(const std::string& command, const Database& db, const LoadFailure& failure) {
@@ -185,25 +185,25 @@ void addPlay(CLI::App& app, int& status) {
                                                       "; default thesis");
     sub->add_option("--policy-set", a->policySettings, "policy setting P.NAME=VALUE (repeatable; player/POLICIES.md)");
     sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none); lowest-priority nodes are evicted")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->player.memoryBudget));
     sub->add_flag("--strict", a->player.strictLoads,
                   "a node that cannot be read or decoded ends the run (exit 1); by default it is skipped with "
                   "one warning, its parent stays drawn and failed_loads counts it");
     sub->add_flag("--require-loaded-children", a->player.requireLoadedChildren,
                   "switch to children only when all of them are loaded (thesis §5.2)");
     sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path, at most 1,000,000)")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->maxFrames));
     sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->warmup));
     sub->add_flag("--sync-loader", a->syncLoader,
                   "step the loader in the render thread: exactly repeatable and as fast as the CPU allows "
                   "(otherwise the cost model sleeps for each modelled frame time, so the loading thread gets "
                   "real time)");
     sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->player.syncLoadsPerFrame));
     addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
     sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->player.maxUploadsPerFrame));
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)")
         ->check(finiteIn(0, kMaxFrameMs));
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured with drawing off)")
@@ -234,7 +234,7 @@ void addPlay(CLI::App& app, int& status) {
         ->check(finiteNumber());
     sub->add_option("--frames-dir", a->framesDir, "write PNG frames here (needs --renderer gl)")->check(nonEmptyPath());
     sub->add_option("--every", a->every, "with --frames-dir: every Nth frame")
-        ->check(wholeNumber());
+        ->check(wholeNumber(a->every));
     sub->add_flag("--color-by-level", a->player.frameOptions.colorByLevel, "shade nodes by level");
     sub->add_option("--width", a->width, "frame width (gl)")
         ->check(CLI::Range(1, 16384));

@@ -200,8 +200,9 @@ TEST_F(Conventions, AbsurdConstantsAreStatusTwoWithOneLine) {
 }
 
 // Every number option of every subcommand, found in its --help: a floating-point one refuses
-// nan and +-inf, a count (INT, UINT) refuses -1, each with status 2 and one line naming the
-// option and the value (formats/cli/command.h), before any work.
+// nan and +-inf, a count (INT, UINT) refuses -1 and 10^23 (beyond its type: CLI11's "Could not
+// convert" until stop 45), each with status 2 and one line naming the option, the value and
+// (for a count) what it accepts (formats/cli/command.h), before any work.
 TEST_F(Conventions, NumberOptionsRefuseNanInfinityAndNegativeCounts) {
     const std::string obj = dir.file("t.obj");
     std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
@@ -222,7 +223,8 @@ TEST_F(Conventions, NumberOptionsRefuseNanInfinityAndNegativeCounts) {
             if (!std::regex_search(line, m, option)) continue;
             const int repeat = m[3].matched ? std::stoi(m[3]) : 1;
             const std::vector<std::string> values =
-                m[2] == "FLOAT" ? std::vector<std::string>{"nan", "inf", "-inf"} : std::vector<std::string>{"-1"};
+                m[2] == "FLOAT" ? std::vector<std::string>{"nan", "inf", "-inf"}
+                                : std::vector<std::string>{"-1", "99999999999999999999999"};
             for (const std::string& value : values) {
                 std::vector<std::string> args = base;
                 args.push_back(m[1]);
@@ -233,11 +235,12 @@ TEST_F(Conventions, NumberOptionsRefuseNanInfinityAndNegativeCounts) {
                 expectOneErrorLine(r, "hlod: ");
                 EXPECT_NE(r.err.find(m[1]), std::string::npos) << what << ": " << r.err;
                 EXPECT_NE(r.err.find(value), std::string::npos) << what << ": " << r.err;
+                EXPECT_EQ(r.err.find("Could not convert"), std::string::npos) << what << ": " << r.err;
                 ++checked;
             }
         }
     }
-    EXPECT_GT(checked, 150u);  // the sweep found the options (about 70 of them)
+    EXPECT_GT(checked, 180u);  // the sweep found the options (about 70 of them)
 }
 
 // Finite but absurd numbers that once crashed (-j 99999: TBB) or ran until memory ran out (a path
