@@ -105,6 +105,21 @@ void TextFileWriter::fail(const std::string& reason) {
     throw std::runtime_error(path_ + ": cannot write " + what_ + " (" + reason + ")");
 }
 
+std::optional<std::string> foreignEntry(const std::string& folder,
+                                        const std::function<bool(const std::string& relative, bool isFolder)>& ours) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::recursive_directory_iterator it(folder, ec), end;
+    for (; !ec && it != end; it.increment(ec)) {
+        const fs::file_status st = it->symlink_status(ec);
+        const std::string relative = fs::path(it->path()).lexically_relative(folder).generic_string();
+        if (ec || !(fs::is_regular_file(st) || fs::is_directory(st)) || !ours(relative, fs::is_directory(st)))
+            return relative;
+    }
+    if (ec) return std::string(".");  // unreadable: not known to be ours
+    return std::nullopt;
+}
+
 void createOutputFolder(const std::string& folder, const std::string& what) {
     std::error_code error;
     std::filesystem::create_directories(folder, error);

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <fstream>
+#include <functional>
 #include <initializer_list>
+#include <optional>
 #include <string>
 
 namespace hlod {
@@ -34,6 +36,14 @@ bool isInsideFolder(const std::string& path, const std::string& folder);
 // Both checks of a file output, before a run's work: refuseOutputOverInputs, then checkReplaceable.
 // An empty OUTPUT (an option not given) passes.
 void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs);
+
+// The first entry of FOLDER (recursively; a path relative to it) that `ours(relative, isFolder)`
+// does not accept, or that is neither a regular file nor a folder; none when FOLDER holds only what
+// a command writes. A folder output is replaced only when it holds nothing else: a marker file
+// (tileset.json, manifest.json, shard.json) alone let a run delete a user's other files (until
+// stop 45).
+std::optional<std::string> foreignEntry(const std::string& folder,
+                                        const std::function<bool(const std::string& relative, bool isFolder)>& ours);
 
 // Creates FOLDER and its parents for a run's outputs. Throws std::runtime_error "FOLDER: cannot
 // create the folder for WHAT (reason)" (one line, not std::filesystem's "filesystem error: ...").

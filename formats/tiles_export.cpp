@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -43,6 +44,11 @@ void checkTarget(const fs::path& out, bool archive) {
         if (!fs::is_regular_file(st)) throw InputError(out.string() + ": exists and is not a file");
     } else if (!fs::is_directory(st) || (!fs::is_empty(out) && !fs::exists(out / "tileset.json"))) {
         throw InputError(out.string() + ": exists and is not a tileset folder (no tileset.json); not replaced");
+    } else if (const auto other = foreignEntry(out.string(), [](const std::string& entry, bool isFolder) {
+                   static const std::regex tile(R"(tiles/[0-9]+\.glb)");
+                   return isFolder ? entry == "tiles" : entry == "tileset.json" || std::regex_match(entry, tile);
+               })) {
+        throw InputError(out.string() + ": holds " + *other + ", which hlod export does not write; not replaced");
     }
 }
 

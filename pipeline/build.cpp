@@ -27,6 +27,7 @@
 #include <cstring>
 #include <filesystem>
 #include <optional>
+#include <regex>
 #include <set>
 
 #ifndef HLOD_VERSION
@@ -363,12 +364,18 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
 }
 
 namespace {
-// A shard's output may be absent, an empty folder or an earlier shard (replaced); anything else is
-// refused rather than deleted.
-bool replaceableShard(const std::string& output) {
+// A shard's output may be absent, an empty folder or an earlier shard holding nothing else
+// (replaced); anything else is refused rather than deleted.
+void checkReplaceableShard(const std::string& output) {
     std::error_code ec;
-    if (!fs::exists(output, ec)) return true;
-    return fs::is_directory(output, ec) && (fs::is_empty(output, ec) || fs::exists(fs::path(output) / "shard.json", ec));
+    if (!fs::exists(output, ec)) return;
+    if (!fs::is_directory(output, ec) || !(fs::is_empty(output, ec) || fs::exists(fs::path(output) / "shard.json", ec)))
+        throw std::invalid_argument(output + ": exists and is not a shard folder (refusing to replace it)");
+    const auto other = foreignEntry(output, [](const std::string& entry, bool isFolder) {
+        static const std::regex record(R"(block_[0-9]+\.nodes)");
+        return !isFolder && (entry == "shard.json" || std::regex_match(entry, record));
+    });
+    if (other) throw std::invalid_argument(output + ": holds " + *other + ", which a shard build does not write (refusing to replace it)");
 }
 }  // namespace
 
@@ -380,8 +387,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     options.read.output = request.output;  // nor any file the input refers to
     validateConstants(options.constants, kUsedByBuild);
     checkBuildOptions(options);
-    if (request.shard && !replaceableShard(request.output))
-        throw std::invalid_argument(request.output + ": exists and is not a shard folder (refusing to replace it)");
+    if (request.shard) checkReplaceableShard(request.output);
     std::optional<SplitWork> work;  // an `hlod split` work folder: its blocks, options and input
     if (isSplitWork(request.input)) {
         refuseOutputInsideFolder(request.output, request.input);  // -o WORK/manifest.json ruined it (until stop 44)

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <regex>
 
 #ifndef HLOD_VERSION
 #define HLOD_VERSION "0.0.0"
@@ -119,6 +120,14 @@ bool isSplitWork(const std::string& path) {
     return fs::is_directory(path, ec) && fs::exists(fs::path(path) / kManifest, ec);
 }
 
+namespace {
+// What a split writes: the manifest and the cells of a single mesh (cells/cell_N.piece).
+bool splitWrites(const std::string& entry, bool isFolder) {
+    static const std::regex cell(R"(cells/cell_[0-9]+\.piece)");
+    return isFolder ? entry == "cells" : entry == kManifest || std::regex_match(entry, cell);
+}
+}  // namespace
+
 SplitSummary writeSplitWork(const std::string& input, const BuildOptions& options, const std::string& work,
                             Progress& progress) {
     checkBuildOptions(options);
@@ -126,6 +135,8 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
     std::error_code ec;
     if (fs::exists(target, ec) && !isSplitWork(work) && !(fs::is_directory(target, ec) && fs::is_empty(target, ec)))
         throw std::invalid_argument(work + ": exists and is not an hlod split work folder (refusing to replace it)");
+    if (const auto other = isSplitWork(work) ? foreignEntry(work, splitWrites) : std::nullopt)
+        throw std::invalid_argument(work + ": holds " + *other + ", which hlod split does not write (refusing to replace it)");
     if (isSplitWork(input)) throw std::invalid_argument(input + ": is already a split work folder");
     const UpChoice up = chooseUpAxis(input, options.up);
     progress.message("up axis: " + up.axis + " (" + up.reason + ")");

@@ -231,6 +231,22 @@ TEST_F(ExportTiles, ReplacesAnEarlierExportOnly) {
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(r.err, "hlod export tiles: " + other + ": exists and is not a tileset folder (no tileset.json); not replaced\n");
     EXPECT_TRUE(fs::exists(other + "/notes.txt"));
+    // A tileset.json alone does not make a folder an earlier export: a site holding other files
+    // beside it is refused, not replaced (until stop 45 its other files were deleted, exit 0).
+    writeFile(other + "/tileset.json", {'{', '}'});
+    fs::create_directories(other + "/tiles");
+    r = runHlod({"export", "tiles", db, "-o", other});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, "hlod export tiles: " + other + ": holds notes.txt, which hlod export does not write; not replaced\n");
+    EXPECT_TRUE(fs::exists(other + "/notes.txt"));
+    fs::remove(other + "/notes.txt");
+    writeFile(other + "/tiles/index.html", {'<'});
+    r = runHlod({"export", "tiles", db, "-o", other});
+    EXPECT_EQ(r.err, "hlod export tiles: " + other + ": holds tiles/index.html, which hlod export does not write; not replaced\n");
+    fs::remove(other + "/tiles/index.html");
+    r = runHlod({"export", "tiles", db, "-o", other});  // what is left is an export's: replaced
+    EXPECT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_TRUE(fs::exists(other + "/tiles/0.glb"));
 
     RunResult missing = runHlod({"export", "tiles", dir.file("none.hlod"), "-o", dir.file("x")});
     EXPECT_EQ(missing.exitCode, 2);

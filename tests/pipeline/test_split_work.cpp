@@ -257,6 +257,22 @@ TEST(SplitWork, SplitOptionsBelongToTheSplitAndForeignFoldersAreNotReplaced) {
     EXPECT_NE(foreignShard.err.find(dir.file("mine") + ": exists and is not a shard folder"), std::string::npos) << foreignShard.err;
     EXPECT_TRUE(fs::exists(dir.file("mine/keep.txt")));
     EXPECT_FALSE(fs::exists(dir.file("mine/shard.json")));
+
+    // A marker file alone does not make a folder hlod's: a work folder or shard holding anything
+    // else (a user's notes beside an earlier split's files) is refused, not replaced (until stop
+    // 45 the whole folder was deleted, exit 0).
+    writeFile(dir.file("work/notes.txt"), {'x'});
+    const RunResult noted = runHlod({"split", dir.file("t.ply"), "-o", dir.file("work"), "--block-triangles", "300"});
+    EXPECT_EQ(noted.exitCode, 2) << noted.outAndErr();
+    EXPECT_EQ(noted.err, "hlod split: " + dir.file("work") + ": holds notes.txt, which hlod split does not write (refusing to replace it)\n");
+    EXPECT_TRUE(fs::exists(dir.file("work/notes.txt")));
+    EXPECT_TRUE(fs::exists(dir.file("work/manifest.json")));
+    fs::create_directories(dir.file("s/plots"));
+    const RunResult plotted = runHlod({"build", dir.file("work"), "-o", dir.file("s"), "--shard"});
+    EXPECT_EQ(plotted.exitCode, 2) << plotted.outAndErr();
+    EXPECT_EQ(plotted.err, "hlod build: " + dir.file("s") + ": holds plots, which a shard build does not write (refusing to replace it)\n");
+    EXPECT_TRUE(fs::exists(dir.file("s/plots")));
+    EXPECT_TRUE(fs::exists(dir.file("s/shard.json")));
 }
 
 TEST(SplitWork, KilledAnywhereLeavesNoWorkFolderOrACompleteOne) {
