@@ -84,6 +84,11 @@ int runPath(PathArgs& a) {
     const uint32_t level = onGround ? groundLevel(db.skeleton()) : 0;
     if (onGround) addSurfaces(db, level, surfaces);
     CameraPath path = generatePath(db.skeleton(), a.options, onGround ? &surfaces : nullptr);
+    for (const CameraKey& k : path.keys)  // a fly orbit lies 1.5 extents out: play refused what path wrote (until stop 45)
+        for (double c : k.position)
+            if (!(std::abs(c) <= kMaxCameraCoordinate))
+                throw InputError(a.db + ": the " + a.kind + " path reaches a coordinate of " + std::to_string(c) +
+                                 ", beyond the 1e15 a camera path holds (the model is too large or too far from the origin)");
     writeCameraPathFile(a.output, path);
     std::cout << a.output << ": " << a.kind << " path, " << path.keys.size() << " keys, duration " << path.duration()
               << " s\n";

@@ -259,6 +259,23 @@ TEST_F(Cli, PathEyeHeightWithinWhatPathsHold) {
     EXPECT_EQ(runHlod({"path", db, "--kind", "walk", "--eye-height", "0", "-o", (dir / "e.path").string()}).exitCode, 0);
 }
 
+// A fly path orbits 1.5 extents out: on a model 8e14 units across it passed the 1e15 its reader
+// holds, and `hlod path` wrote (exit 0) a path `hlod play` refused (until stop 45).
+TEST_F(Cli, PathRefusesCoordinatesItsReaderWouldRefuse) {
+    const std::string obj = (dir / "big.obj").string(), big = (dir / "big.hlod").string();
+    std::ofstream(obj) << "v 0 0 0\nv 8e14 0 0\nv 0 8e14 0\nf 1 2 3\n";
+    ASSERT_EQ(runHlod({"build", obj, "-o", big}).exitCode, 0);
+    RunResult r = runHlod({"path", big, "--kind", "fly", "-o", (dir / "big.path").string()});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(big + ": the fly path reaches a coordinate of "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("beyond the 1e15 a camera path holds"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "big.path"));
+    r = runHlod({"path", big, "--kind", "walk", "--duration", "60", "-o", (dir / "big.path").string()});  // within
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_EQ(runHlod({"play", big, "--path", (dir / "big.path").string(), "--sync-loader", "--frames", "5"}).exitCode, 0);
+}
+
 // Blocks of one node (an input smaller than c_desiredTris): the vm loader's prefetch pops a
 // resident hlod0 with nothing around it (before stop 44 it then read an empty queue: SIGSEGV).
 TEST_F(Cli, VmLoaderPlaysBlocksOfOneNode) {
