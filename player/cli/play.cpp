@@ -48,8 +48,9 @@ std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
 int runPlay(PlayArgs& a) {
     checkOutputFile(a.stats, "statistics", {a.db, a.path, a.calibration, a.constants.configFile});  // before the run
     checkOutputFile(a.json == "-" ? "" : a.json, "summary", {a.db, a.path, a.calibration, a.constants.configFile});
+    std::ostream& text = a.json == "-" ? std::cerr : std::cout;  // stdout holds the JSON alone
     Constants c;
-    applyConstantOptions(a.constants, c, std::cout);
+    applyConstantOptions(a.constants, c, text);
     if (!a.calibration.empty()) {
         const Calibration calibration = readCalibration(a.calibration);
         a.player.initialVTime = calibration.msPerCost;
@@ -76,7 +77,7 @@ int runPlay(PlayArgs& a) {
     Player player(db, c, *renderer, a.player);
     if (!a.framesDir.empty()) createOutputFolder(a.framesDir, "PNG frames");
 
-    printConstants(std::cout, c, kUsedByPlayer);
+    printConstants(text, c, kUsedByPlayer);
     std::vector<std::pair<std::string, std::string>> info = {
         {"database", a.db},
         {"path", a.path},
@@ -104,7 +105,7 @@ int runPlay(PlayArgs& a) {
         {"share_step", std::to_string(a.player.shareLoop.step)},
         {"initial_hyst", std::to_string(a.player.initialHystSwitches * c.hystSwitch)},
         {"time", "simulated (camera sampled at the sum of measured frame times)"}});
-    for (const auto& [k, v] : info) std::cout << k << ": " << v << '\n';
+    for (const auto& [k, v] : info) text << k << ": " << v << '\n';
     std::optional<TextFileWriter> csv;  // renamed into place when the run completes
     if (!a.stats.empty()) csv.emplace(a.stats, "statistics");
     if (csv) writeStatsPreamble(csv->stream(), c, info, player.levelCount());
@@ -124,15 +125,9 @@ int runPlay(PlayArgs& a) {
     if (a.maxFrames == 0 && frames.size() == ro.frameCap)
         std::cerr << "hlod play: warning: stopped after " << ro.frameCap << " frames, before the path's end (--frames N replays more)\n";
     StatsSummary summary = summarize(frames, a.warmup);
-    printSummary(std::cout, summary);
-    if (!a.json.empty()) {
-        std::string text = summaryJson(summary, c) + "\n";
-        if (a.json == "-") {
-            std::cout << text;
-        } else {
-            writeTextFile(a.json, "summary", text);
-        }
-    }
+    printSummary(text, summary);
+    if (a.json == "-") std::cout << summaryJson(summary, c) << '\n';
+    else if (!a.json.empty()) writeTextFile(a.json, "summary", summaryJson(summary, c) + "\n");
     return 0;
 }
 
@@ -180,7 +175,7 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--renderer", a->renderer, "model (cost model, draws nothing; default) or gl (OpenGL, EGL offscreen)")
         ->check(CLI::IsMember({"model", "gl"}));
     sub->add_option("--stats", a->stats, "per-frame CSV to write (player/STATS.md)")->check(nonEmptyPath());
-    sub->add_option("--json", a->json, "write the summary as JSON to FILE ('-': stdout)")->check(nonEmptyPath());
+    sub->add_option("--json", a->json, "write the summary as JSON to FILE ('-': stdout, and the text to stderr)")->check(nonEmptyPath());
     sub->add_option("--policy", a->player.policy, "selection policy (player/POLICIES.md): " + policyNamesList() +
                                                       "; default thesis");
     sub->add_option("--policy-set", a->policySettings, "policy setting P.NAME=VALUE (repeatable; player/POLICIES.md)");

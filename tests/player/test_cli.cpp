@@ -83,6 +83,12 @@ TEST_F(Cli, PlayWritesCsvAndJsonSummary) {
     auto j = nlohmann::json::parse(readText(json));
     EXPECT_EQ(j["frames"], 100);
     EXPECT_EQ(j["constants"]["c_targetTime"], "20");
+
+    // --json -: stdout is the JSON alone, the text on stderr (both on stdout until stop 45)
+    r = runHlod({"play", db, "--path", path, "--json", "-", "--frames", "100", "--sync-loader", "--set", "c_targetTime=20"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["frames"], 100) << r.out;
+    EXPECT_NE(r.err.find("c_targetTime=20"), std::string::npos) << r.err;
 }
 
 TEST_F(Cli, MissingDatabaseIsOneLine) {
