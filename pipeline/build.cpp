@@ -131,6 +131,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         if (raw.triangles.size() == 0) throw InputError(input + ": empty mesh (no valid triangles)");
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
         enforceTextures(raw.stats.textureProblems, options);
+        checkModelExtent(input, raw.bounds);
         const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
         checkPositionStep(input, gridCell(raw.bounds, grid), options.draco.positionStep);  // before the split's work
         in.positionStep = gridPositionStep(raw.bounds, grid, options.draco.positionBits);
@@ -181,6 +182,7 @@ SplitInputs findBlocks(const std::string& input, const BuildOptions& options, co
     reportRead(input, source.stats, progress);
     in.textureProblems = source.stats.textureProblems;
     progress.beginStage("split", source.piece.mesh.triangleCount());
+    checkModelExtent(input, pieceBounds(source.piece.mesh));
     const GridSpec grid = chooseGrid(pieceBounds(source.piece.mesh), source.piece.mesh.triangleCount(), blockTarget(options),
                                      options.blockSize);
     checkPositionStep(input, gridCell(pieceBounds(source.piece.mesh), grid), options.draco.positionStep);

@@ -8,12 +8,14 @@
 // coordinates get options.draco.texcoordBits, or when 0 (the default) a quarter texel of the
 // node's own texture (texcoordBitsForTexture).
 #include "pipeline/pipeline.h"
+#include "formats/errors.h"
 
 #include "formats/metrics.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -38,6 +40,17 @@ void checkPositionStep(const std::string& input, const Box3f& block, double step
         what << "--draco-position-step " << formatConstant(step) << " is too fine for " << input << ": a block spans more than 2^"
              << kMaxPositionBits << " of its steps (at least " << formatConstant(finest) << ")";
         throw std::invalid_argument(what.str());
+    }
+}
+
+void checkModelExtent(const std::string& input, const Box3f& bounds) {
+    const double extent = std::max({double(bounds.max.x) - bounds.min.x, double(bounds.max.y) - bounds.min.y,
+                                    double(bounds.max.z) - bounds.min.z});
+    if (!(extent >= kMinExtent)) {
+        std::ostringstream what;
+        what << input << ": the model is " << std::setprecision(3) << extent << " units across, below the " << kMinExtent
+             << " hlod builds (its triangles' float areas underflow): scale it up";
+        throw InputError(what.str());
     }
 }
 

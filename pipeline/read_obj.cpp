@@ -142,7 +142,12 @@ private:
         }
         const char* begin = t.data() + (t.front() == '+' ? 1 : 0);
         T v = 0;
-        const auto [end, ec] = std::from_chars(begin, t.data() + t.size(), v);
+        auto [end, ec] = std::from_chars(begin, t.data() + t.size(), v);
+        if constexpr (std::is_floating_point_v<T>) {
+            // 7.5e-53 is a number below float's range: 0, as strtof reads it ("bad number" until stop 45)
+            if (ec == std::errc::result_out_of_range && std::abs(std::strtold(std::string(begin, end).c_str(), nullptr)) < 1)
+                v = 0, ec = std::errc();
+        }
         if (ec != std::errc() || end != t.data() + t.size()) corrupt(l, "bad number '" + shown(t) + "'");
         return v;
     }

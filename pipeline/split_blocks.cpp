@@ -68,7 +68,8 @@ GridSpec chooseGrid(const Box3f& bounds, uint64_t triangles, uint64_t targetTria
     GridSpec g;
     g.axisU = std::min(order[0], order[1]);
     g.axisV = std::max(order[0], order[1]);
-    const double eu = std::max(extent[g.axisU], 1e-9), ev = std::max(extent[g.axisV], 1e-9);
+    const double floor = std::max(extent[order[0]] * 1e-9, 1e-300);  // a flat model: a thin cell, its lattice the model's
+    const double eu = std::max(extent[g.axisU], floor), ev = std::max(extent[g.axisV], floor);
     if (blockSize > 0) {
         g.cellsU = static_cast<uint32_t>(std::clamp(std::ceil(eu / blockSize), 1.0, 4096.0));
         g.cellsV = static_cast<uint32_t>(std::clamp(std::ceil(ev / blockSize), 1.0, 4096.0));

@@ -171,6 +171,50 @@ TEST(StreamSplit, AMeshWithNoTrianglesIsAnEmptyMeshError) {
     }
 }
 
+// A tiny model: its position lattice follows its size (a lattice clamped at 1e-9 stored a model
+// 2e-12 across with a part of its triangles, exit 0, until stop 45); below kMinExtent (float areas
+// underflow) it is refused.
+TEST(BuildRequestStream, TinyModelsKeepTheirTrianglesOrAreRefused) {
+    TempDir dir;
+    // Triangles stored at the leaves of a UV sphere of radius `r` (80 x 40 quads; those at the
+    // poles r/2,600 across).
+    auto leafTriangles = [&](double r) {
+        MeshData sphere;
+        const uint32_t n = 40;
+        for (uint32_t i = 0; i <= n; ++i)
+            for (uint32_t j = 0; j < 2 * n; ++j) {
+                const double t = M_PI * i / n, p = M_PI * j / n;
+                sphere.positions.insert(sphere.positions.end(), {float(r * std::sin(t) * std::cos(p)),
+                                                                 float(r * std::sin(t) * std::sin(p)), float(r * std::cos(t))});
+            }
+        for (uint32_t i = 0; i < n; ++i)
+            for (uint32_t j = 0; j < 2 * n; ++j) {
+                const uint32_t a = i * 2 * n + j, b = i * 2 * n + (j + 1) % (2 * n);
+                sphere.indices.insert(sphere.indices.end(), {a, a + 2 * n, b + 2 * n, a, b + 2 * n, b});
+            }
+        writePly(dir.file("t.ply"), sphere, true);
+        BuildRequest request;
+        request.input = dir.file("t.ply");
+        request.output = dir.file("t.hlod");
+        std::ostringstream log;
+        Progress progress(log, false);
+        runBuild(request, progress);
+        const Database db = Database::open(request.output);
+        uint32_t leafLevel = 0;
+        uint64_t triangles = 0;
+        for (const Node& n : db.skeleton().nodes) leafLevel = std::max(leafLevel, n.level);
+        for (const Node& n : db.skeleton().nodes)
+            if (n.level == leafLevel) triangles += n.texturedTriangles + n.untexturedTriangles;
+        return triangles;
+    };
+    const uint64_t reference = leafTriangles(1e-3);
+    EXPECT_GT(reference, 6000u);
+    EXPECT_NEAR(double(leafTriangles(1e-12)), double(reference), 5);  // float rounding; ~1,000 fewer before stop 45
+    EXPECT_EQ(errorOf([&] { leafTriangles(2.5e-13); }),
+              dir.file("t.ply") + ": the model is 5e-13 units across, below the 1e-12 hlod builds (its triangles' float "
+                                  "areas underflow): scale it up");
+}
+
 TEST(ReadObjStream, CorruptNumbersAndTruncatedLinesAreRefused) {
     TempDir dir;
     const std::pair<const char*, const char*> cases[] = {
@@ -190,6 +234,14 @@ TEST(ReadObjStream, CorruptNumbersAndTruncatedLinesAreRefused) {
         EXPECT_NE(errorOf([&] { readMesh(dir.file("t.obj")); }).find(message), std::string::npos)
             << text << "\n-> " << errorOf([&] { readMesh(dir.file("t.obj")); });
     }
+    // A number below float's range is 0, as strtof reads it ("bad number" until stop 45); one
+    // beyond it is refused.
+    std::ofstream(dir.file("t.obj")) << "v 0 0 0\nv 1 0 7.5e-53\nv 0 1 -1e-4000\nf 1 2 3\n";
+    const SourceMesh tiny = readMesh(dir.file("t.obj"));
+    EXPECT_EQ(tiny.piece.mesh.positions[5], 0.0f);
+    EXPECT_EQ(tiny.piece.mesh.positions[8], 0.0f);
+    std::ofstream(dir.file("t.obj")) << "v 0 0 0\nv 1 0 1e39\nv 0 1 0\nf 1 2 3\n";
+    EXPECT_EQ(errorOf([&] { readMesh(dir.file("t.obj")); }), dir.file("t.obj") + ":2: corrupt OBJ (bad number '1e39')");
     // A NUL in a token ended the message mid-quote (until stop 44); a long token is cut.
     std::ofstream(dir.file("t.obj")) << std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\0x\n", 34);
     EXPECT_EQ(errorOf([&] { readMesh(dir.file("t.obj")); }), dir.file("t.obj") + ":4: corrupt OBJ (bad face index '3\\x00x')");
