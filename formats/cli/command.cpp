@@ -11,6 +11,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -104,6 +105,22 @@ CLI::Validator nonEmptyPath() {
     return CLI::Validator([](std::string& input) { return input.empty() ? std::string("an empty path") : std::string(); }, "");
 }
 
+namespace {
+// "PATH: what failed (reason)" for a std::filesystem call no hlod check foresaw (the current
+// folder deleted under the run; two runs renaming onto one folder), instead of libstdc++'s
+// "filesystem error: cannot make absolute path: No such file or directory [PATH]".
+std::string filesystemProblem(const std::filesystem::filesystem_error& e) {
+    std::string what = e.what();
+    const std::string prefix = "filesystem error: ", reason = e.code().message();
+    if (what.starts_with(prefix)) what.erase(0, prefix.size());
+    if (const size_t paths = what.find(" ["); paths != std::string::npos) what.erase(paths);
+    if (what.ends_with(": " + reason)) what.erase(what.size() - reason.size() - 2);
+    std::string path = e.path1().string();
+    if (!e.path2().empty()) path += " -> " + e.path2().string();
+    return (path.empty() ? "" : path + ": ") + what + " (" + reason + ")";
+}
+}  // namespace
+
 int runGuarded(const std::string& command, const std::function<int()>& body) {
     auto fail = [&](const std::exception& e, int status) {
         std::string line = e.what();
@@ -122,6 +139,8 @@ int runGuarded(const std::string& command, const std::function<int()>& body) {
         return fail(e, kExitUsage);
     } catch (const std::invalid_argument& e) {
         return fail(e, kExitUsage);
+    } catch (const std::filesystem::filesystem_error& e) {
+        return fail(std::runtime_error(filesystemProblem(e)), kExitInvalid);
     } catch (const std::exception& e) {
         return fail(e, kExitInvalid);
     }

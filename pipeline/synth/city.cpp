@@ -77,7 +77,11 @@ nlohmann::json manifest(const CityPlan& plan, const CityResult& result) {
 // other files go (a larger run's blocks would be read as this city's), and city.json comes last.
 void moveCity(StagingFolder& staging, const fs::path& dir, bool existed) {
     if (!existed) {
-        fs::rename(staging.path, dir);
+        std::error_code ec;
+        fs::rename(staging.path, dir, ec);
+        if (ec)  // another run made DIR since this one began (two syntheses into one new folder)
+            throw std::runtime_error(dir.string() + ": cannot move the city in (" + ec.message() +
+                                     "; another run wrote it meanwhile?)");
         staging.kept = true;
         return;
     }

@@ -305,5 +305,23 @@ TEST_F(Conventions, HelpAndVersionAreStatusZero) {
     }
 }
 
+// A std::filesystem failure no check foresaw (here the working folder deleted under the run, where
+// a relative output cannot be made absolute) is one hlod line naming the path, not libstdc++'s
+// "filesystem error: cannot make absolute path: ... [PATH]" (until stop 45).
+TEST_F(Conventions, FilesystemFailuresAreOneLineNamingThePath) {
+    const std::string obj = dir.file("t.obj");
+    std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const std::string gone = dir.file("gone");
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"build", obj, "-o", "g.hlod"}, {"split", obj, "-o", "w"}, {"synth", "city", "-o", "c", "--scale", "0.01"}}) {
+        std::vector<std::string> argv = {"sh", "-c", "mkdir \"$0\" && cd \"$0\" && rmdir \"$0\" && exec \"$@\"", gone, HLOD_BINARY};
+        argv.insert(argv.end(), args.begin(), args.end());
+        const RunResult r = runProcess(argv);
+        EXPECT_EQ(r.exitCode, 1) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod " + (args[0] == "synth" ? "synth city" : args[0]) + ": " + args[3] +
+                             ": cannot make absolute path (No such file or directory)\n");
+    }
+}
+
 }  // namespace
 }  // namespace hlod::test
