@@ -16,6 +16,19 @@ smk() { snakemake -s "$src/scripts/workflow/Snakefile" -c2 --directory "$tmp" "$
           --config input="$input" db="$tmp/city.hlod" work="$tmp/w" shards=3 hlod="$hlod" > "$tmp/smk.log" 2>&1 \
         || { cat "$tmp/smk.log"; echo "FAIL: snakemake $*"; exit 1; }; }
 
+# Absurd config values: refused with their reason before any job (shards=0 or -1 ran one shard,
+# 2.5 two, until stop 45).
+for bad in shards=0 shards=-1 shards=2.5 shards=abc threads=0 mem_mb=-1; do
+  if snakemake -s "$src/scripts/workflow/Snakefile" -n -c1 --directory "$tmp" \
+       --config input="$input" db="$tmp/bad.hlod" hlod="$hlod" "$bad" > "$tmp/bad.log" 2>&1; then
+    echo "FAIL: config $bad accepted"; exit 1
+  fi
+  grep -q "config ${bad%%=*}=.*: expected a whole number >= 1" "$tmp/bad.log" || { cat "$tmp/bad.log"; echo "FAIL: config $bad: no reason"; exit 1; }
+done
+snakemake -s "$src/scripts/workflow/Snakefile" -n -c1 --directory "$tmp" --config db="$tmp/bad.hlod" > "$tmp/bad.log" 2>&1 && exit 1
+grep -q "config input: required" "$tmp/bad.log" || { cat "$tmp/bad.log"; echo "FAIL: missing input: no reason"; exit 1; }
+[ ! -e "$tmp/bad.hlod" ] && [ ! -e "$tmp/bad.hlod.work" ] || { echo "FAIL: a refused config wrote files"; exit 1; }
+
 "$hlod" build "$input" -o "$tmp/one.hlod" -j 2 > "$tmp/one.log"
 
 # Interrupted: the split and the first shard only.
