@@ -78,6 +78,8 @@ bool isInsideFolder(const std::string& path, const std::string& folder) { return
 
 void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs) {
     if (output.empty()) return;
+    if (output.back() == '/')  // f.hlod/ failed at the end with "cannot create a temporary folder (Not a directory)"
+        throw std::invalid_argument(output + ": names a folder (ends in '/'); the " + what + " is a file");
     refuseOutputOverInputs(output, inputs);
     checkReplaceable(output, what);
 }

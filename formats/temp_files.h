@@ -33,8 +33,8 @@ void refuseOutputOverInputs(const std::string& output, std::initializer_list<std
 void refuseOutputInsideFolder(const std::string& output, const std::string& folder);
 // Whether PATH lies below FOLDER, after symbolic links (false when either cannot be resolved).
 bool isInsideFolder(const std::string& path, const std::string& folder);
-// Both checks of a file output, before a run's work: refuseOutputOverInputs, then checkReplaceable.
-// An empty OUTPUT (an option not given) passes.
+// The checks of a file output, before a run's work: a name ending in '/' (a folder) refused,
+// refuseOutputOverInputs, then checkReplaceable. An empty OUTPUT (an option not given) passes.
 void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs);
 
 // The first entry of FOLDER (recursively; a path relative to it) that `ours(relative, isFolder)`

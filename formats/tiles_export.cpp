@@ -82,8 +82,10 @@ uint64_t folderBytes(const fs::path& folder) {
 }  // namespace
 
 TilesReport exportTiles(const Database& db, const std::string& outPath, const TilesOptions& options) {
-    const fs::path out = fs::path(outPath).lexically_normal();
-    if (out.filename().empty()) throw InputError(outPath + ": not a file or folder name");
+    fs::path out = fs::path(outPath).lexically_normal();
+    if (out.filename().empty() && !options.archive) out = out.parent_path();  // DIR/ names the folder DIR
+    if (out.filename().empty() || out.filename() == "." || out.filename() == "..")
+        throw InputError(outPath + ": not a file or folder name");
     checkTarget(out, options.archive);
     refuseOutputOverInputs(out.string(), {db.path()});
     const Skeleton& s = db.skeleton();

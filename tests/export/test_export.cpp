@@ -244,9 +244,14 @@ TEST_F(ExportTiles, ReplacesAnEarlierExportOnly) {
     r = runHlod({"export", "tiles", db, "-o", other});
     EXPECT_EQ(r.err, "hlod export tiles: " + other + ": holds tiles/index.html, which hlod export does not write; not replaced\n");
     fs::remove(other + "/tiles/index.html");
-    r = runHlod({"export", "tiles", db, "-o", other});  // what is left is an export's: replaced
+    r = runHlod({"export", "tiles", db, "-o", other + "/"});  // what is left is an export's: replaced; DIR/ is DIR
     EXPECT_EQ(r.exitCode, 0) << r.outAndErr();
     EXPECT_TRUE(fs::exists(other + "/tiles/0.glb"));
+    for (const std::string& name : {std::string("/"), dir.file("a.3tz/")}) {  // no name (`DIR/` before stop 45)
+        r = name == "/" ? runHlod({"export", "tiles", db, "-o", name}) : runHlod({"export", "tiles", db, "-o", name, "--3tz"});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod export tiles: " + name + ": not a file or folder name\n");
+    }
 
     RunResult missing = runHlod({"export", "tiles", dir.file("none.hlod"), "-o", dir.file("x")});
     EXPECT_EQ(missing.exitCode, 2);

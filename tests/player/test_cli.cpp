@@ -191,6 +191,15 @@ TEST_F(Cli, OutputsNeverReplaceADeviceOrAnInput) {
         EXPECT_EQ(r.exitCode, 2) << args[0] << ": " << r.err;
         EXPECT_EQ(r.err, message + "; write the output elsewhere\n");
     }
+    // A file output named with a trailing '/' (build failed at the end with "cannot create a
+    // temporary folder (Not a directory)" until stop 45): refused before any work.
+    const std::string slash = (dir / "f.out/").string();
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"path", db, "-o", slash}, {"play", db, "--path", path, "--sync-loader", "--stats", slash}, {"build", path, "-o", slash}}) {
+        r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << args[0] << ": " << r.err;
+        EXPECT_NE(r.err.find(slash + ": names a folder (ends in '/')"), std::string::npos) << r.err;
+    }
     EXPECT_EQ(readText(db), dbBytes);
     EXPECT_EQ(readText(path), pathBytes);
     EXPECT_TRUE(fs::is_symlink(link));
