@@ -6,6 +6,7 @@
 //   player/cli/    play, path, view, calibrate, compare
 #include "formats/cli/huge_pages.h"
 #include "formats/cli/subcommands.h"
+#include "formats/interrupt.h"
 #include "pipeline/cli/subcommands.h"
 #include "player/cli/subcommands.h"
 
@@ -29,6 +30,7 @@ constexpr hlod::cli::AddSubcommand kSubcommands[] = {
 
 int main(int argc, char** argv) {
     if (hlod::cli::kGlibcMalloc) hlod::cli::reexecWithHugePages(argv);  // formats/cli/huge_pages.h
+    hlod::removeTemporariesOnInterrupt();  // Ctrl-C leaves no temporaries (formats/interrupt.h); before any thread
     CLI::App app{"hlod: out-of-core HLOD databases for huge scanned 3D models (build, inspect, play)"};
     app.set_version_flag("--version", std::string("hlod ") + HLOD_VERSION);
     app.require_subcommand(1);

@@ -1,6 +1,8 @@
 // Stale temporaries of killed runs (formats/temp_files.h).
 #include "formats/temp_files.h"
 
+#include "formats/interrupt.h"
+
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -88,7 +90,7 @@ TextFileWriter::TextFileWriter(std::string path, std::string what) : path_(std::
     checkReplaceable(path_, what_);
     removeStaleTemporaries(path_ + ".tmp");
     std::string name = temporaryPattern(path_ + ".tmp");
-    const int fd = ::mkstemp(name.data());
+    const int fd = createTemporary(name, false);
     if (fd < 0) fail(std::strerror(errno));
     ::fchmod(fd, 0644);  // mkstemp's 0600 would hide the output from other readers
     ::close(fd);
@@ -99,10 +101,12 @@ TextFileWriter::TextFileWriter(std::string path, std::string what) : path_(std::
 
 TextFileWriter::~TextFileWriter() {
     if (!committed_ && !temporary_.empty()) std::remove(temporary_.c_str());
+    forgetTemporary(temporary_);
 }
 
 void TextFileWriter::fail(const std::string& reason) {
     if (!temporary_.empty()) std::remove(temporary_.c_str());
+    forgetTemporary(temporary_);
     temporary_.clear();
     throw std::runtime_error(path_ + ": cannot write " + what_ + " (" + reason + ")");
 }
@@ -134,7 +138,10 @@ void TextFileWriter::commit() {
     out_.close();
     const int error = earlier ? earlier : errno;
     if (!out_) fail(error ? std::string("write failed: ") + std::strerror(error) : "write failed");
-    if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail(std::strerror(errno));
+    uninterrupted([&] {
+        if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail(std::strerror(errno));
+        forgetTemporary(temporary_);
+    });
     committed_ = true;
 }
 
@@ -148,7 +155,7 @@ StagingFolder::StagingFolder(const std::string& target) {
     const std::string prefix = target + ".tmp";
     removeStaleTemporaries(prefix);  // of runs killed before they removed theirs
     std::string pattern = temporaryPattern(prefix);
-    if (!mkdtemp(pattern.data())) {
+    if (createTemporary(pattern, true) < 0) {
         const int error = errno;
         throw std::runtime_error(target + ": cannot create a temporary folder next to it (" + std::strerror(error) + ")");
     }
@@ -156,9 +163,18 @@ StagingFolder::StagingFolder(const std::string& target) {
     path = pattern;
 }
 
+void StagingFolder::publish(const std::function<void()>& renames) {
+    uninterrupted([&] {
+        renames();
+        forgetTemporary(path);
+    });
+    kept = true;
+}
+
 StagingFolder::~StagingFolder() {
     std::error_code ignored;
     if (!kept) std::filesystem::remove_all(path, ignored);
+    forgetTemporary(path);
 }
 
 }  // namespace hlod

@@ -72,12 +72,14 @@ private:
 void writeTextFile(const std::string& path, const std::string& what, const std::string& text);
 
 // A staging folder next to `target` (TARGET.tmp-PID-XXXXXX), renamed to it (or its files moved
-// into it) by its user when complete (then `kept`), removed otherwise (a killed run's by the next
-// run's): a killed split, shard build or synth leaves no half-written TARGET.
+// into it) by its user's publish() when complete (then `kept`), removed otherwise (an interrupted
+// run's at the signal, formats/interrupt.h; a killed run's by the next run's): a killed split,
+// shard build or synth leaves no half-written TARGET.
 struct StagingFolder {
     std::string path;
     bool kept = false;
     explicit StagingFolder(const std::string& target);
+    void publish(const std::function<void()>& renames);  // runs the renames that make it TARGET
     ~StagingFolder();
     StagingFolder(const StagingFolder&) = delete;
     StagingFolder& operator=(const StagingFolder&) = delete;

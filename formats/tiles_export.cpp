@@ -3,6 +3,7 @@
 // in one renameat2(RENAME_EXCHANGE)), like the database writer's atomic rename (FORMAT.md §Atomic
 // writing): a failed or killed export never leaves at OUT a tileset that looks complete, and the
 // next export to OUT removes a killed one's temporary (formats/temp_files.h).
+#include "formats/interrupt.h"
 #include "formats/json_text.h"
 #include "formats/temp_files.h"
 #include "formats/tiles_detail.h"
@@ -59,6 +60,7 @@ struct Temporary {
     ~Temporary() {
         std::error_code ec;
         if (!path.empty()) fs::remove_all(path, ec);
+        forgetTemporary(path.string());
     }
 };
 
@@ -111,17 +113,17 @@ TilesReport exportTiles(const Database& db, const std::string& outPath, const Ti
 
     if (options.archive) {
         std::string name = temporaryPattern(out.string() + ".tmp");  // OUT.tmp-PID-XXXXXX: swept like the folder
-        const int fd = mkstemp(name.data());
+        const int fd = createTemporary(name, false);
         if (fd < 0) throw std::runtime_error(out.string() + ": cannot create a temporary file beside it");
         ::fchmod(fd, 0644);  // mkstemp's 0600 would hide the archive from other readers
         ::close(fd);
         Temporary archive(name);
         tiles::write3tz(folder.string(), archive.path.string());
         report.outputBytes = fs::file_size(archive.path);
-        renameOnto(archive.path, out);
+        uninterrupted([&] { renameOnto(archive.path, out); });  // afterwards it holds the earlier archive, if any
     } else {
         report.outputBytes = folderBytes(folder);
-        renameOnto(folder, out);
+        uninterrupted([&] { renameOnto(folder, out); });  // afterwards it holds the earlier export, if any
     }
     return report;
 }

@@ -2,6 +2,7 @@
 // skeleton LAST and the header over the placeholder at offset 0, fsyncs, renames into place
 // and fsyncs the directory (FORMAT.md §Atomic writing). Links follow thesis §3.3 / Fig. 3.1.
 #include "formats/fd_io.h"
+#include "formats/interrupt.h"
 #include "formats/layout.h"
 #include "formats/temp_files.h"
 
@@ -59,7 +60,7 @@ Writer::Writer(const std::string& path, double cTextured) : impl_(std::make_uniq
     checkReplaceable(path, "database");
     removeStaleTemporaries(path + ".tmp");  // of writers killed before they renamed theirs
     std::string tmpl = temporaryPattern(path + ".tmp");
-    impl_->fd = ::mkstemp(tmpl.data());
+    impl_->fd = createTemporary(tmpl, false);
     if (impl_->fd < 0) throw ioError(path, "cannot create temporary file");
     impl_->tmpPath = tmpl;
     ::fchmod(impl_->fd, 0644);  // mkstemp's 0600 would hide the database from other readers
@@ -73,6 +74,7 @@ Writer::~Writer() {
     if (!impl_ || impl_->finished) return;
     if (impl_->fd >= 0) ::close(impl_->fd);
     ::unlink(impl_->tmpPath.c_str());
+    forgetTemporary(impl_->tmpPath);
 }
 
 static void checkBlobs(const NodeInput& in) {
@@ -151,7 +153,10 @@ void Writer::finish() {
     writeAll(w.fd, 0, header, w.tmpPath);
     if (::fsync(w.fd) != 0) throw ioError(w.tmpPath, "fsync failed");
     writeAll(w.fd, 0, magic, w.tmpPath);
-    if (::rename(w.tmpPath.c_str(), w.path.c_str()) != 0) throw ioError(w.path, "rename failed");
+    uninterrupted([&] {
+        if (::rename(w.tmpPath.c_str(), w.path.c_str()) != 0) throw ioError(w.path, "rename failed");
+        forgetTemporary(w.tmpPath);
+    });
     w.finished = true;
     const int synced = ::fsync(w.fd), closed = ::close(w.fd);
     w.fd = -1;

@@ -11,6 +11,7 @@
 
 #include "formats/build_report.h"
 #include "formats/constants.h"
+#include "formats/interrupt.h"
 #include "formats/offset.h"
 #include "formats/temp_files.h"
 #include "formats/up_axis.h"
@@ -57,7 +58,7 @@ struct TempDir {
         const std::string prefix = (fs::path(parent) / "hlod-build").string();
         removeStaleTemporaries(prefix);  // of builds killed before they removed theirs
         std::string pattern = temporaryPattern(prefix);
-        if (!mkdtemp(pattern.data())) {
+        if (createTemporary(pattern, true) < 0) {
             const int error = errno;
             throw std::runtime_error(parent + ": cannot create a temporary folder (" + std::strerror(error) + ")");
         }
@@ -66,6 +67,7 @@ struct TempDir {
     ~TempDir() {
         std::error_code ignored;
         fs::remove_all(path, ignored);
+        forgetTemporary(path);
     }
 };
 
@@ -478,9 +480,10 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     for (uint32_t b = first; b < last; ++b) shard.blocks.push_back(b);
     writeShardInfo(recordDir, shard);
     if (staging) {
-        if (fs::exists(request.output)) fs::remove_all(request.output);  // an earlier shard, or an empty folder
-        fs::rename(staging->path, request.output);
-        staging->kept = true;
+        staging->publish([&] {
+            if (fs::exists(request.output)) fs::remove_all(request.output);  // an earlier shard, or an empty folder
+            fs::rename(staging->path, request.output);
+        });
     } else {
         progress.beginStage("write", blockCount, "blocks");
         mergeShards({recordDir}, request.output, options.constants.textured);

@@ -193,9 +193,10 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
             throw std::runtime_error(work + "/" + kManifest + ": write failed (" + std::strerror(error) + ")");
         }
     }
-    if (isSplitWork(work)) fs::remove_all(target);  // an earlier split of this folder
-    fs::rename(staging.path, target);
-    staging.kept = true;
+    staging.publish([&] {
+        if (isSplitWork(work)) fs::remove_all(target);  // an earlier split of this folder
+        fs::rename(staging.path, target);
+    });
     return summary;
 }
 

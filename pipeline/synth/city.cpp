@@ -76,22 +76,24 @@ nlohmann::json manifest(const CityPlan& plan, const CityResult& result) {
 // staging folder is inside DIR, on its filesystem) its blocks replace the earlier city's, whose
 // other files go (a larger run's blocks would be read as this city's), and city.json comes last.
 void moveCity(StagingFolder& staging, const fs::path& dir, bool existed) {
-    if (!existed) {
-        std::error_code ec;
-        fs::rename(staging.path, dir, ec);
-        if (ec)  // another run made DIR since this one began (two syntheses into one new folder)
-            throw std::runtime_error(dir.string() + ": cannot move the city in (" + ec.message() +
-                                     "; another run wrote it meanwhile?)");
-        staging.kept = true;
-        return;
-    }
-    std::set<fs::path> names;
-    for (const auto& entry : fs::directory_iterator(staging.path))
-        if (entry.path().filename() != "city.json") names.insert(entry.path().filename());
-    for (const fs::path& name : names) fs::rename(fs::path(staging.path) / name, dir / name);
-    for (const auto& entry : fs::directory_iterator(dir))
-        if (isCityFile(entry.path()) && !names.count(entry.path().filename())) fs::remove(entry.path());
-    fs::rename(fs::path(staging.path) / "city.json", dir / "city.json");
+    staging.publish([&] {
+        if (!existed) {
+            std::error_code ec;
+            fs::rename(staging.path, dir, ec);
+            if (ec)  // another run made DIR since this one began (two syntheses into one new folder)
+                throw std::runtime_error(dir.string() + ": cannot move the city in (" + ec.message() +
+                                         "; another run wrote it meanwhile?)");
+            return;
+        }
+        std::set<fs::path> names;
+        for (const auto& entry : fs::directory_iterator(staging.path))
+            if (entry.path().filename() != "city.json") names.insert(entry.path().filename());
+        for (const fs::path& name : names) fs::rename(fs::path(staging.path) / name, dir / name);
+        for (const auto& entry : fs::directory_iterator(dir))
+            if (isCityFile(entry.path()) && !names.count(entry.path().filename())) fs::remove(entry.path());
+        fs::rename(fs::path(staging.path) / "city.json", dir / "city.json");
+        fs::remove(staging.path);  // empty now
+    });
 }
 
 CityResult writeCity(const CityOptions& options, const CityPlan& plan, const std::string& dir) {

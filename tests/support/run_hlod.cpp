@@ -99,7 +99,7 @@ RunResult runHlod(const std::vector<std::string>& args, const RunOptions& option
     return runProcess(argv, options);
 }
 
-bool runHlodAndKill(const std::vector<std::string>& args, std::chrono::microseconds delay) {
+bool runHlodAndKill(const std::vector<std::string>& args, std::chrono::microseconds delay, int signal, int* waitStatus) {
     std::vector<std::string> argv = {HLOD_BINARY};
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<char*> cargv;
@@ -109,14 +109,23 @@ bool runHlodAndKill(const std::vector<std::string>& args, std::chrono::microseco
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t defaults;
+    sigemptyset(&defaults);
+    for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&defaults, s);
+    posix_spawnattr_setsigdefault(&attributes, &defaults);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
     pid_t pid = 0;
-    const bool started = posix_spawn(&pid, cargv[0], &actions, nullptr, cargv.data(), environ) == 0;
+    const bool started = posix_spawn(&pid, cargv[0], &actions, &attributes, cargv.data(), environ) == 0;
     posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
     if (!started) return false;
     std::this_thread::sleep_for(delay);
-    kill(pid, SIGKILL);
+    kill(pid, signal);
     int status = 0;
     waitpid(pid, &status, 0);
+    if (waitStatus) *waitStatus = status;
     return true;
 }
 

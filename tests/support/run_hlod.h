@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <csignal>
 #include <string>
 #include <vector>
 
@@ -26,8 +27,11 @@ RunResult runProcess(const std::vector<std::string>& argv, const RunOptions& opt
 // runProcess of HLOD_BINARY with `args` (the subcommand and its arguments).
 RunResult runHlod(const std::vector<std::string>& args, const RunOptions& options = {});
 
-// Starts HLOD_BINARY with `args` (output discarded) and sends it SIGKILL after `delay` if it is
-// still running (the kill sweeps); false when it could not be started.
-bool runHlodAndKill(const std::vector<std::string>& args, std::chrono::microseconds delay);
+// Starts HLOD_BINARY with `args` (output discarded) and sends it `signal` (SIGKILL by default)
+// after `delay` if it is still running (the kill sweeps); false when it could not be started.
+// SIGINT, SIGTERM and SIGHUP start at their default action (a test run in the background has them
+// ignored). `waitStatus`, when given, receives waitpid's status.
+bool runHlodAndKill(const std::vector<std::string>& args, std::chrono::microseconds delay, int signal = SIGKILL,
+                    int* waitStatus = nullptr);
 
 }  // namespace hlod::test
