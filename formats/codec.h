@@ -27,6 +27,9 @@ struct MeshData {
 // blob's extent: neighbouring nodes keep their shared borders exactly. Each blob then uses the
 // fewest bits that cover its own extent on that lattice (recorded as its positionBits).
 inline constexpr int kMaxPositionBits = 22;  // the coarsest node needs one more, 23 = exact limit
+// The coarsest lattice: 2^8 steps across a block (a step of 1 on a model 0.2 across collapsed it
+// to one empty node, exit 0, until stop 45).
+inline constexpr int kMinPositionBits = 8;
 // Draco quantizes up to 30 bits, but its entropy coder sizes a histogram by the largest symbol
 // (4 B each): 30 bits took 4 GiB on a node whose UVs span 10^9 (a stray UV), 22 bits is 16 MiB.
 inline constexpr int kMaxTexcoordBits = 22;

@@ -41,6 +41,13 @@ void checkPositionStep(const std::string& input, const Box3f& block, double step
              << kMaxPositionBits << " of its steps (at least " << formatConstant(finest) << ")";
         throw std::invalid_argument(what.str());
     }
+    const double coarsest = positionLatticeStep(block, kMinPositionBits);
+    if (step > coarsest) {
+        std::ostringstream what;
+        what << "--draco-position-step " << formatConstant(step) << " is too coarse for " << input << ": a block spans fewer than 2^"
+             << kMinPositionBits << " of its steps (at most " << formatConstant(coarsest) << ")";
+        throw std::invalid_argument(what.str());
+    }
 }
 
 void checkModelExtent(const std::string& input, const Box3f& bounds) {

@@ -431,7 +431,8 @@ bool errorCapped(const BuildOptions& o);  // --error-cap as the build runs it (b
 Box3f gridCell(const Box3f& bounds, const GridSpec& grid);
 double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionBits);
 // checkPositionStep: std::invalid_argument naming `input` when a given step (> 0) puts more than
-// 2^kMaxPositionBits steps across `block`, more than a blob's integer positions hold.
+// 2^kMaxPositionBits steps across `block`, more than a blob's integer positions hold, or fewer
+// than 2^kMinPositionBits (the model collapses).
 void checkPositionStep(const std::string& input, const Box3f& block, double step);
 // Throws InputError "INPUT: the model is E units across, below ..." when `bounds` spans less than kMinExtent.
 void checkModelExtent(const std::string& input, const Box3f& bounds);

@@ -205,7 +205,7 @@ void addBuild(CLI::App& app, int& status) {
         ->transform(wholeNumber(o.memoryLimit));  // inserted before the size transform: "-1" is refused, not wrapped
     sub->add_option("--draco-position-bits", o.draco.positionBits,
                     "Draco position bits over the largest block (one lattice for all nodes, FORMAT.md)")
-        ->check(CLI::Range(8, kMaxPositionBits));
+        ->check(CLI::Range(kMinPositionBits, kMaxPositionBits));
     sub->add_option("--draco-texcoord-bits", o.draco.texcoordBits,
                     "Draco texture coordinate bits for every node; 0 (default): per node, a quarter texel of its own texture")
         ->check(CLI::Range(0, kMaxTexcoordBits));

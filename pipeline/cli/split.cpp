@@ -53,7 +53,7 @@ void addSplit(CLI::App& app, int& status) {
         ->transform(wholeNumber(o.memoryLimit));  // inserted before the size transform: "-1" is refused, not wrapped
     sub->add_option("--draco-position-bits", o.draco.positionBits,
                     "Draco position bits the recorded lattice is for (a build with other bits recomputes it)")
-        ->check(CLI::Range(8, kMaxPositionBits));
+        ->check(CLI::Range(kMinPositionBits, kMaxPositionBits));
     sub->add_flag("--allow-outside-input", o.read.allowOutsideInput,
                   "let an input refer to files outside its folder (as for hlod build)");
     sub->add_option("--up", o.up, "up axis of the input, recorded in the database (default: y for glTF, z for OBJ/PLY)")

@@ -249,18 +249,23 @@ TEST(PositionLattice, GridStepComesFromOneCell) {
 
 // A given --draco-position-step must leave a block at most 2^kMaxPositionBits steps across: finer
 // ones are refused before any work (before, 1e-20 crashed in Draco and 1e-45 stored every position
-// as one point, both through integer overflow).
-TEST(PositionLattice, AStepTooFineForABlockIsAUsageErrorBeforeAnyWork) {
+// as one point, both through integer overflow); and at least 2^kMinPositionBits: coarser ones
+// collapsed the model (a step of 1 on a 100-unit model kept 4 % of its triangles, with geometric
+// error 0, exit 0, until stop 45).
+TEST(PositionLattice, AStepTooFineOrTooCoarseForABlockIsAUsageErrorBeforeAnyWork) {
     const Box3f unit{{0, 0, 0}, {1, 0.5f, 0}};
     EXPECT_NO_THROW(checkPositionStep("m.obj", unit, std::ldexp(1.0, -kMaxPositionBits)));
+    EXPECT_NO_THROW(checkPositionStep("m.obj", unit, std::ldexp(1.0, -kMinPositionBits)));
     EXPECT_NO_THROW(checkPositionStep("m.obj", unit, 0));  // automatic
     EXPECT_THROW(checkPositionStep("m.obj", unit, std::ldexp(1.0, -kMaxPositionBits - 1)), std::invalid_argument);
+    EXPECT_THROW(checkPositionStep("m.obj", unit, std::ldexp(1.0, -kMinPositionBits + 1)), std::invalid_argument);
     TempDir dir;
     writeObj(dir.file("m.obj"), terrain(4), "");
-    for (const char* step : {"1e-20", "1e-45"}) {
+    for (const char* step : {"1e-20", "1e-45", "1", "1000"}) {
         const RunResult r = runHlod({"build", dir.file("m.obj"), "-o", dir.file("m.hlod"), "--draco-position-step", step});
         EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
-        EXPECT_EQ(r.err.rfind("hlod build: --draco-position-step " + std::string(step) + " is too fine for " + dir.file("m.obj"), 0), 0u)
+        const std::string why = std::string(step).find('-') != std::string::npos ? " is too fine for " : " is too coarse for ";
+        EXPECT_EQ(r.err.rfind("hlod build: --draco-position-step " + std::string(step) + why + dir.file("m.obj"), 0), 0u)
             << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         EXPECT_EQ(r.out.find("split"), std::string::npos) << r.out;
