@@ -154,6 +154,8 @@ std::vector<Violation> validate(const Database& db, const ValidateOptions& o) {
         if (meta) {
             try {
                 cTextured = std::stod(*meta);
+                if (!(cTextured > 0 && cTextured <= 1))  // what every player refuses ("valid" until stop 45)
+                    r.add(kNone, "metadata c_textured='" + *meta + "' is not in (0, 1]");
             } catch (const std::exception&) {
                 r.add(kNone, "metadata c_textured='" + *meta + "' is not a number");
             }

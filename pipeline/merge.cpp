@@ -240,11 +240,18 @@ void mergeShards(const std::vector<std::string>& shardDirs, const std::string& o
     if (owner.size() < first.blockCount)
         throw InputError(shardDirs.front() + ": block " + std::to_string(owner.size()) + " of " + std::to_string(first.blockCount) +
                          " is in none of the " + std::to_string(shardDirs.size()) + " shard(s) given");
+    // A record file holds its own block's nodes: one copied over another's merged into a database of
+    // two roots for one block and none for the other, exit 0 (until stop 45).
+    auto checkBlock = [&](const NodeRecord& r, uint32_t b) {
+        if (r.node.block != b)
+            throw InputError(blockRecordPath(owner[b], b) + ": holds block " + std::to_string(r.node.block) + "'s nodes (corrupt shard)");
+    };
     Writer writer(output, cTextured);
     std::vector<uint32_t> roots(owner.size());
     for (uint32_t b = 0; b < owner.size(); ++b) {
         auto records = readBlockRecords(blockRecordPath(owner[b], b), 1);
         if (records.empty()) throw InputError(blockRecordPath(owner[b], b) + ": block has no nodes");
+        checkBlock(records[0], b);
         roots[b] = writer.addNode(std::move(records[0].node));
     }
     for (uint32_t b = 0; b < owner.size(); ++b) {
@@ -253,6 +260,7 @@ void mergeShards(const std::vector<std::string>& shardDirs, const std::string& o
             const size_t i = ids.size();
             if (i == 0) return ids.push_back(roots[b]);  // hlod0, written above
             if (r.parentLocal >= i) corrupt(blockRecordPath(owner[b], b), "parent link");
+            checkBlock(r, b);
             r.node.parent = ids[r.parentLocal];
             ids.push_back(writer.addNode(std::move(r.node)));
         });

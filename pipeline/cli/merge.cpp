@@ -23,8 +23,13 @@ struct MergeArgs {
 int runMerge(MergeArgs& a) {
     const ShardInfo info = readShardInfo(a.shards.front());
     Constants c;
-    for (const auto& [key, value] : info.meta)
-        if (key == "c_textured") setConstant(c, key, value);
+    try {  // c_textured = -1 merged into a database no player opens, exit 0 (until stop 45)
+        for (const auto& [key, value] : info.meta)
+            if (key == "c_textured") setConstant(c, key, value);
+        validateConstants(c, kUsedByBuild);
+    } catch (const std::exception& e) {
+        throw InputError(a.shards.front() + "/shard.json: " + e.what());
+    }
     {
         a.progress.live = !a.progress.json && isatty(STDOUT_FILENO) != 0;
         Progress progress(std::cout, a.progress);

@@ -188,6 +188,17 @@ TEST_F(Validate, CTexturedFromMetadata) {
     EXPECT_FALSE(validate(Database::open(path), o).empty());
 }
 
+// A META c_textured every player refuses is a violation ("valid" until stop 45).
+TEST_F(Validate, CTexturedOutOfRangeInMetadata) {
+    for (const char* value : {"-1", "0", "5"}) {
+        Writer w(path, 0.5);
+        w.setMeta("c_textured", value);
+        w.addNode(node(kNone, 0, {{0, 0, 0}, {1, 1, 1}}, 0));
+        w.finish();
+        expectViolation(std::string("metadata c_textured='") + value + "' is not in (0, 1]");
+    }
+}
+
 // META keys the readers interpret: a value they refuse is a violation; a well-formed one is not.
 TEST_F(Validate, UpAndOffsetMetadata) {
     for (const auto& [key, value, violation] : std::vector<std::array<std::string, 3>>{

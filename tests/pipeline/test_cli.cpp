@@ -115,6 +115,8 @@ TEST(Cli, ShardsAndMerge) {
     std::vector<uint8_t> level = original;  // the root record's level: no blob covers it, the record's XXH3 does
     level[8] ^= 0x01;
     mergeFails(level, "corrupt block record file (record checksum mismatch)");
+    // another block's record file in its place: a database of two roots for one block (until stop 45)
+    mergeFails(readFile(dir.file("s2/block_000002.nodes")), "holds block 2's nodes (corrupt shard)");
     writeFile(records, original);
 
     // A shard of an hlod before stop 36 (records without checksums) is named as such.
@@ -146,6 +148,17 @@ TEST(Cli, ShardsAndMerge) {
         EXPECT_EQ(r.err, "hlod merge: " + problem + "\n");
         EXPECT_FALSE(std::filesystem::exists(dir.file("bad.hlod")));
     }
+    // c_textured outside (0, 1] merged into a database no player opens, exit 0 (until stop 45).
+    const std::string textured = "\"" + hlod::formatConstant(hlod::Constants{}.textured) + "\"";
+    ASSERT_NE(current.find(textured), std::string::npos) << current;
+    std::string changed = current;
+    changed.replace(changed.find(textured), textured.size(), "\"-1\"");
+    std::ofstream(info) << changed;
+    std::ofstream(dir.file("s2/shard.json")) << second;
+    const RunResult r = runHlod({"merge", dir.file("s1"), dir.file("s2"), "-o", dir.file("bad.hlod")});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_EQ(r.err, "hlod merge: " + info + ": c_textured = -1: must be in (0, 1]\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.file("bad.hlod")));
 }
 
 // An output inside a shard folder replaced the merge's own input, exit 0 (until stop 44); --blocks
