@@ -114,7 +114,13 @@ tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, co
     const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, length, files.folder)
                            : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(data), length, files.folder);
     if (!files.refused.empty()) throw InputError(files.refused);
-    if (!ok) throw InputError(path + ": corrupt glTF (" + err.substr(0, err.find('\n')) + ")");
+    if (!ok) {
+        std::string why = err.substr(0, err.find('\n'));
+        if (const size_t at = why.find("[json.exception."); at != std::string::npos)  // nlohmann's tag, not a sentence
+            why = (why.compare(at, 28, "[json.exception.parse_error.") == 0 ? "not JSON: " : "") + why.substr(0, at) +
+                  why.substr(std::min(why.find("] ", at) + 2, why.size()));
+        throw InputError(path + ": corrupt glTF (" + why + ")");
+    }
     decodeMeshoptViews(model, meshopt, path);
     return model;
 }

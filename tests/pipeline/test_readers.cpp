@@ -378,6 +378,11 @@ TEST(BadInput, CorruptGltf) {
     EXPECT_NE(errorOf([&] { readMesh(dir.file("c.gltf")); }).find("corrupt glTF"), std::string::npos);
     writeFile(dir.file("c.glb"), {'g', 'l', 'T', 'F', 2, 0, 0, 0});
     EXPECT_NE(errorOf([&] { readMesh(dir.file("c.glb")); }).find("corrupt glTF"), std::string::npos);
+    // An OBJ named .gltf: said in words, without nlohmann's "[json.exception.parse_error.101]" (until stop 45).
+    std::ofstream(dir.file("o.gltf")) << "# an OBJ\nv 0 0 0\n";
+    const std::string obj = errorOf([&] { readMesh(dir.file("o.gltf")); });
+    EXPECT_EQ(obj.rfind(dir.file("o.gltf") + ": corrupt glTF (not JSON: parse error at line 1, column 1: ", 0), 0u) << obj;
+    EXPECT_EQ(obj.find("json.exception"), std::string::npos) << obj;
 }
 
 }  // namespace
