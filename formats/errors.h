@@ -17,6 +17,15 @@ struct InputError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// `text` with every control character shown as '?': one printable line whatever bytes a file name
+// or a bad file holds (error messages; the `# key: value` lines of CSV outputs and inspect's text,
+// where a newline in a database's name broke the CSV until stop 45).
+inline std::string printableLine(std::string text) {
+    for (char& c : text)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    return text;
+}
+
 // An input that is neither a regular file nor a folder (a FIFO, a device, a socket) is refused
 // before it is opened: opening a FIFO blocks until a writer comes, and a device's data may never
 // end. Throws InputError "PATH: not a regular file"; a path that does not exist passes (the

@@ -4,6 +4,7 @@
 // window (§6.5), time the hlod0 share spends at its bounds (§4.2 second loop), peak memory (§6.1).
 #include "player/stats.h"
 
+#include "formats/errors.h"
 #include "formats/json_text.h"
 #include "player/feedback.h"
 
@@ -28,7 +29,7 @@ void writeStatsPreamble(std::ostream& os, const Constants& c,
                         std::span<const std::pair<std::string, std::string>> extra, uint32_t levels) {
     os << "# ";
     printConstants(os, c, kUsedByPlayer);
-    for (const auto& [k, v] : extra) os << "# " << k << ": " << v << "\n";
+    for (const auto& [k, v] : extra) os << "# " << printableLine(k) << ": " << printableLine(v) << "\n";
     auto header = statsHeader(levels);
     for (size_t i = 0; i < header.size(); ++i) os << (i ? "," : "") << header[i];
     os << "\n";

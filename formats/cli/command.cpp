@@ -123,10 +123,7 @@ std::string filesystemProblem(const std::filesystem::filesystem_error& e) {
 
 int runGuarded(const std::string& command, const std::function<int()>& body) {
     auto fail = [&](const std::exception& e, int status) {
-        std::string line = e.what();
-        for (char& c : line)  // one printable line, whatever bytes of a bad file the message quotes
-            if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-        std::cerr << "hlod " << command << ": " << line << '\n';
+        std::cerr << "hlod " << command << ": " << printableLine(e.what()) << '\n';
         return status;
     };
     try {

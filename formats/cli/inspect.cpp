@@ -4,6 +4,7 @@
 #include "formats/cli/subcommands.h"
 
 #include "formats/inspect.h"
+#include "formats/errors.h"
 #include "formats/json_text.h"
 
 #include <CLI/CLI.hpp>
@@ -48,7 +49,7 @@ void printSummary(const DatabaseSummary& s) {
     std::printf("constants:");
     for (const auto& [k, v] : s.constants) std::printf(" %s=%s", k.c_str(), v.c_str());
     std::printf("\nprovenance:\n");
-    for (const auto& [k, v] : s.provenance) std::printf("  %s: %s\n", k.c_str(), v.c_str());
+    for (const auto& [k, v] : s.provenance) std::printf("  %s: %s\n", printableLine(k).c_str(), printableLine(v).c_str());
 }
 
 void printTree(const nlohmann::json& nodes, int indent) {

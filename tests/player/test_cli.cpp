@@ -91,6 +91,20 @@ TEST_F(Cli, PlayWritesCsvAndJsonSummary) {
     EXPECT_NE(r.err.find("c_targetTime=20"), std::string::npos) << r.err;
 }
 
+// A database named with a newline: the CSV's `# database:` line broke in two, its second half
+// read as the column header (until stop 45); control characters are shown as '?'.
+TEST_F(Cli, CsvCommentLinesStayOneLineWhateverTheNames) {
+    const std::string named = (dir / "a\nb\x1b.hlod").string(), csv = (dir / "n.csv").string();
+    fs::copy_file(db, named);
+    const RunResult r = runHlod({"play", named, "--path", walk(), "--stats", csv, "--frames", "5", "--sync-loader"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::istringstream in(readText(csv));
+    std::string line;
+    while (std::getline(in, line) && line.starts_with("#")) EXPECT_EQ(line.find('\x1b'), std::string::npos) << line;
+    EXPECT_EQ(line.rfind("frame,", 0), 0u) << line;  // the first line that is not a comment is the header
+    EXPECT_NE(readText(csv).find("# database: " + (dir / "a?b?.hlod").string() + "\n"), std::string::npos);
+}
+
 TEST_F(Cli, MissingDatabaseIsOneLine) {
     std::string path = walk();
     RunResult r = runHlod({"play", (dir / "absent.hlod").string(), "--path", path});
