@@ -86,12 +86,20 @@ struct Player::Impl {
           failed(skeleton.nodes.size(), 0),
           waitView(skeleton.nodes.size(), 1) {
         const bool incore = options.loader == LoaderKind::Incore;
-        if (incore && options.memoryBudget > 0) {
+        if ((incore || options.preload) && options.memoryBudget > 0) {
             uint64_t total = 0;
             for (const Node& n : skeleton.nodes) total += source->expectedBytes(n.id);
             if (total > options.memoryBudget)
-                throw std::invalid_argument("--loader incore needs every node in memory: " + std::to_string(total) +
+                throw std::invalid_argument(std::string(incore ? "--loader incore" : "--preload") +
+                                            " needs every node in memory: " + std::to_string(total) +
                                             " bytes > memory budget " + std::to_string(options.memoryBudget));
+        }
+        if (options.memoryBudget > 0) {  // §4.3: hlod0 stays resident; a smaller budget loaded nothing (until stop 45)
+            uint64_t roots = 0;
+            for (uint32_t root : skeleton.roots()) roots += source->expectedBytes(root);
+            if (roots > options.memoryBudget)
+                throw std::invalid_argument("--memory " + std::to_string(options.memoryBudget) + " is below the " +
+                                            std::to_string(roots) + " bytes of the hlod0 nodes, which stay resident (thesis §4.3)");
         }
         for (const Node& n : skeleton.nodes) levels = std::max(levels, n.level + 1);
         for (uint32_t root : selection.roots) {

@@ -260,7 +260,7 @@ void addCompare(CLI::App& app, int& status) {
         ->check(wholeNumber(a->warmup));
     sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none)")
         ->check(wholeNumber(a->player.memoryBudget));
-    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "nodes loaded per frame (synchronous loader)")
+    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "nodes loaded per frame (synchronous loader; 0: none, hlod0 alone)")
         ->check(wholeNumber(a->player.syncLoadsPerFrame));
     addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
     sub->add_option("--renderer", a->renderer, "model (default) or gl")->check(CLI::IsMember({"model", "gl"}));

@@ -194,10 +194,11 @@ void addPlay(CLI::App& app, int& status) {
                   "step the loader in the render thread: exactly repeatable and as fast as the CPU allows "
                   "(otherwise the cost model sleeps for each modelled frame time, so the loading thread gets "
                   "real time)");
-    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame")
-        ->check(wholeNumber(a->player.syncLoadsPerFrame));
+    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame (0: none, hlod0 alone)")
+        ->check(wholeNumber(a->player.syncLoadsPerFrame))
+        ->needs("--sync-loader");
     addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
-    sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most")
+    sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most (0: none, hlod0 alone)")
         ->check(wholeNumber(a->player.maxUploadsPerFrame));
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)")
         ->check(finiteIn(0, kMaxFrameMs));
@@ -229,7 +230,8 @@ void addPlay(CLI::App& app, int& status) {
         ->check(finiteNumber());
     sub->add_option("--frames-dir", a->framesDir, "write PNG frames here (needs --renderer gl)")->check(nonEmptyPath());
     sub->add_option("--every", a->every, "with --frames-dir: every Nth frame")
-        ->check(wholeNumber(a->every));
+        ->check(wholeNumber(a->every))
+        ->needs("--frames-dir");
     sub->add_flag("--color-by-level", a->player.frameOptions.colorByLevel, "shade nodes by level");
     sub->add_option("--width", a->width, "frame width (gl)")
         ->check(CLI::Range(1, 16384));

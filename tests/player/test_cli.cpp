@@ -105,6 +105,27 @@ TEST_F(Cli, CsvCommentLinesStayOneLineWhateverTheNames) {
     EXPECT_NE(readText(csv).find("# database: " + (dir / "a?b?.hlod").string() + "\n"), std::string::npos);
 }
 
+// A memory budget below the hlod0 set loaded nothing, exit 0 (§4.3: hlod0 stays resident);
+// --preload with a budget below the database ran; options that need another one were ignored
+// (all until stop 45).
+TEST_F(Cli, MemoryBelowHlod0AndOptionsWithoutTheirPartnerAreUsageErrors) {
+    const std::string path = walk();
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"play", db, "--path", path, "--sync-loader", "--memory", "1"}, "hlod play: --memory 1 is below the "},
+        {{"compare", db, "--path", path, "--policies", "thesis", "--preload", "--memory", "1", "--no-plots", "-o",
+          (dir / "c").string()},
+         "hlod compare: --preload needs every node in memory: "},
+        {{"play", db, "--path", path, "--sync-loads", "5"}, "hlod: --sync-loads requires --sync-loader"},
+        {{"play", db, "--path", path, "--sync-loader", "--every", "3"}, "hlod: --every requires --frames-dir"}};
+    for (const auto& [args, message] : cases) {
+        const RunResult r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_EQ(r.err.rfind(message, 0), 0u) << r.err;
+        EXPECT_EQ(lines(r.err), 1) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir / "c.csv"));
+}
+
 TEST_F(Cli, MissingDatabaseIsOneLine) {
     std::string path = walk();
     RunResult r = runHlod({"play", (dir / "absent.hlod").string(), "--path", path});
