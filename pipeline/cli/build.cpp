@@ -231,7 +231,7 @@ void addBuild(CLI::App& app, int& status) {
     CLI::Option* shard = sub->add_flag("--shard", a->request.shard, "write a shard folder (merge shards with `hlod merge`)");
     sub->add_option("--blocks", a->blocks, "with --shard: build only blocks FIRST:LAST (LAST excluded)")
         ->needs(shard);  // a database of some blocks failed after the whole build (until stop 44)
-    sub->add_option("--temp-dir", o.tempDir, "folder for temporary files (default: next to the output)");
+    sub->add_option("--temp-dir", o.tempDir, "folder for temporary files (default: next to the output)")->check(nonEmptyPath());
     sub->add_flag("--allow-outside-input", o.read.allowOutsideInput,
                   "let an input refer to files outside its folder (absolute paths, '..', symbolic links): MTL "
                   "textures, glTF buffers and images, the meshes of a folder input");

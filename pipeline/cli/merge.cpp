@@ -48,7 +48,7 @@ int runMerge(MergeArgs& a) {
 void addMerge(CLI::App& app, int& status) {
     auto a = std::make_shared<MergeArgs>();
     CLI::App* merge = app.add_subcommand("merge", "merge shard folders written by `hlod build --shard` into one database");
-    merge->add_option("SHARDS", a->shards, "shard folders")->required();
+    merge->add_option("SHARDS", a->shards, "shard folders")->required()->check(nonEmptyPath());  // '' read ./shard.json
     merge->add_option("-o,--output", a->output, "database to write")->required()->check(nonEmptyPath());
     addProgressOptions(merge, a->progress);
     merge->callback([a, &status] { status = runGuarded("merge", [&] { return runMerge(*a); }); });

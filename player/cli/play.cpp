@@ -57,6 +57,7 @@ int runPlay(PlayArgs& a) {
         a.player.overheadMs = calibration.fixedOverheadMs;
     }
     if (!a.framesDir.empty() && a.renderer != "gl") throw std::invalid_argument("--frames-dir needs --renderer gl");
+    if (a.player.frameOptions.colorByLevel && a.renderer != "gl") throw std::invalid_argument("--color-by-level needs --renderer gl");
     if (a.every == 0) throw std::invalid_argument("--every must be at least 1");
     a.player.policyOptions = parsePolicySettings(a.policySettings);
     makePolicy(a.player.policy, a.player.policyOptions);  // an unknown name is a usage error before any work
@@ -188,7 +189,7 @@ void addPlay(CLI::App& app, int& status) {
                   "switch to children only when all of them are loaded (thesis §5.2)");
     sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path, at most 1,000,000)")
         ->check(wholeNumber(a->maxFrames));
-    sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions")
+    sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions (at most half)")
         ->check(wholeNumber(a->warmup));
     sub->add_flag("--sync-loader", a->syncLoader,
                   "step the loader in the render thread: exactly repeatable and as fast as the CPU allows "

@@ -106,8 +106,8 @@ TEST_F(Cli, CsvCommentLinesStayOneLineWhateverTheNames) {
 }
 
 // A memory budget below the hlod0 set loaded nothing, exit 0 (§4.3: hlod0 stays resident);
-// --preload with a budget below the database ran; options that need another one were ignored
-// (all until stop 45).
+// --preload with a budget below the database ran; options that need another one were ignored;
+// `merge ''` read ./shard.json (all until stop 45).
 TEST_F(Cli, MemoryBelowHlod0AndOptionsWithoutTheirPartnerAreUsageErrors) {
     const std::string path = walk();
     const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
@@ -116,7 +116,10 @@ TEST_F(Cli, MemoryBelowHlod0AndOptionsWithoutTheirPartnerAreUsageErrors) {
           (dir / "c").string()},
          "hlod compare: --preload needs every node in memory: "},
         {{"play", db, "--path", path, "--sync-loads", "5"}, "hlod: --sync-loads requires --sync-loader"},
-        {{"play", db, "--path", path, "--sync-loader", "--every", "3"}, "hlod: --every requires --frames-dir"}};
+        {{"play", db, "--path", path, "--sync-loader", "--every", "3"}, "hlod: --every requires --frames-dir"},
+        {{"play", db, "--path", path, "--sync-loader", "--color-by-level"}, "hlod play: --color-by-level needs --renderer gl"},
+        {{"play", db, "--path", path, "--sync-loader", "--frames-dir", (dir / "png").string()}, "hlod play: --frames-dir needs --renderer gl"},
+        {{"merge", "", "-o", (dir / "m.hlod").string()}, "hlod: SHARDS: an empty path"}};
     for (const auto& [args, message] : cases) {
         const RunResult r = runHlod(args);
         EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
