@@ -6,9 +6,11 @@
 
 #include "formats/errors.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <type_traits>
 
 namespace hlod::stats {
 
@@ -26,14 +28,17 @@ nlohmann::json readJson(const fs::path& path) {
     }
 }
 
+// A count is a JSON integer >= 0, a scale a positive finite number: -1 was printed as 2^64 - 1 and
+// 1e300 converted to a count was undefined behaviour (until stop 45).
 template <class T>
 T field(const nlohmann::json& j, const char* key, const fs::path& path) {
     if (!j.contains(key)) throw InputError(path.string() + ": missing \"" + key + "\"");
-    try {
-        return j.at(key).get<T>();
-    } catch (const nlohmann::json::exception&) {
-        throw InputError(path.string() + ": \"" + key + "\" has the wrong type");
-    }
+    const nlohmann::json& v = j.at(key);
+    const bool fits = std::is_integral_v<T> ? v.is_number_unsigned() : v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() > 0;
+    if (!fits)
+        throw InputError(path.string() + ": \"" + key + "\" = " + v.dump() + " is not " +
+                         (std::is_integral_v<T> ? "a count" : "a positive number"));
+    return v.get<T>();
 }
 
 std::optional<CityManifest> readManifest(const fs::path& path) {
@@ -73,7 +78,8 @@ std::optional<CityManifest> findCityManifest(const std::string& dbPath, const Sk
         if (!fs::exists(base, ec)) continue;  // the input was not here: a city.json beside it is another input's
         for (const fs::path& candidate : {base, base / "city.json", base.parent_path() / "city.json"}) {
             if (candidate.filename() != "city.json") continue;
-            if (auto m = readManifest(candidate)) return m;
+            // a manifest of other blocks (the city's, beside one of its blocks built alone) is not this input's
+            if (auto m = readManifest(candidate); m && m->blocks == skeleton.roots().size()) return m;
         }
     }
     return std::nullopt;

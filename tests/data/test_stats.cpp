@@ -169,6 +169,11 @@ TEST(Stats, ThesisFiguresOnlyForTheScaleOneCity) {
                               {"triangles", 8950000}, {"texels", 937000000}}.dump();
     };
     Skeleton sk;
+    for (uint32_t b = 0; b < 114; ++b) {  // the manifest's 114 blocks, one root each
+        Node root;
+        root.id = b, root.block = b;
+        sk.nodes.push_back(root);
+    }
     sk.meta = {{"input", "city"}};  // relative to the database's directory
     std::string db = (dir / "city.hlod").string();
     manifest(1.0);
@@ -191,6 +196,30 @@ TEST(Stats, ThesisFiguresOnlyForTheScaleOneCity) {
     EXPECT_TRUE(stats::findCityManifest((dir / "out" / "thesis" / "city.hlod").string(), sk).has_value());
     sk.meta = {{"input", "elsewhere"}};
     EXPECT_FALSE(stats::findCityManifest(db, sk).has_value());
+    // A database of other blocks than the manifest's (one block of the city built alone) is not
+    // that city (until stop 45 it reported the whole city's counts and the thesis's table).
+    Skeleton one = sk;
+    one.nodes.resize(1);
+    one.meta = {{"input", (dir / "city" / "block_000.obj").string()}};
+    EXPECT_FALSE(stats::findCityManifest(db, one).has_value());
+    // Counts that are not counts (-1 was printed as 2^64 - 1; 1e300 was undefined behaviour).
+    sk.meta = {{"input", "city"}};
+    for (const auto& [key, value] : std::vector<std::pair<std::string, nlohmann::json>>{
+             {"triangles", -1}, {"texels", 1e300}, {"block_count", 2.5}, {"scale", -1}, {"seed", "1"}}) {
+        nlohmann::json j{{"generator", "hlod synth city"}, {"scale", 1.0}, {"seed", 1}, {"block_count", 114},
+                         {"triangles", 8950000}, {"texels", 937000000}};
+        j[key] = value;
+        std::ofstream(dir / "city" / "city.json") << j.dump();
+        std::string what;
+        try {
+            stats::findCityManifest(db, sk);
+        } catch (const InputError& e) {
+            what = e.what();
+        }
+        EXPECT_EQ(what, (dir / "city" / "city.json").string() + ": \"" + key + "\" = " + value.dump() + " is not " +
+                      (key == "scale" ? "a positive number" : "a count"))
+            << key;
+    }
     fs::remove_all(dir);
 }
 
