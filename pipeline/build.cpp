@@ -40,17 +40,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string extensionOf(const fs::path& p) {
-    std::string ext = p.extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
-}
-
-bool isMeshFile(const fs::path& p) {
-    const std::string ext = extensionOf(p);
-    return ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb";
-}
-
 // A temporary folder removed with everything in it when the build ends, however it ends.
 struct TempDir {
     std::string path;
@@ -79,7 +68,7 @@ constexpr uint64_t kAutoBlockTriangles = 671'088;
 uint64_t blockTarget(const BuildOptions& o) { return o.blockTriangles ? o.blockTriangles : kAutoBlockTriangles; }
 
 bool isStreamable(const std::string& input) {
-    const std::string ext = extensionOf(input);
+    const std::string ext = meshExtension(input);
     return (ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb") && fs::is_regular_file(input);
 }
 
@@ -123,7 +112,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         raw.spillBeyond(options.memoryLimit / 4, rawDir);  // in memory while the arrays fit limit/4
         raw.progress = &progress;
         progress.beginStage("read", fs::file_size(input), "B");
-        const std::string ext = extensionOf(input);
+        const std::string ext = meshExtension(input);
         ReadOptions readOptions = options.read;
         readOptions.imageDir = (fs::path(tempDir) / "gltf-images").string();
         if (ext == ".ply") parsePly(input, raw, options.read);
@@ -164,10 +153,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
 SplitInputs findBlocks(const std::string& input, const BuildOptions& options, const std::string& tempDir, Progress& progress) {
     SplitInputs in;
     if (fs::is_directory(input)) {
-        std::vector<fs::path> files;
-        for (const auto& entry : fs::directory_iterator(input))
-            if (entry.is_regular_file() && isMeshFile(entry.path())) files.push_back(entry.path());
-        std::sort(files.begin(), files.end());
+        const std::vector<fs::path> files = folderMeshes(input);
         if (files.empty()) throw InputError(input + ": folder has no .ply, .obj, .gltf or .glb files");
         for (const auto& f : files) {
             resolveReference(input, input, f.filename().string(), "mesh", options.read);  // a link may not leave the folder
@@ -304,27 +290,6 @@ uint64_t expectedWork(const std::vector<BlockSource>& blocks, uint32_t first, ui
 }
 
 }  // namespace
-
-UpChoice chooseUpAxis(const std::string& input, const std::string& requested) {
-    if (!requested.empty()) {
-        parseUpAxis(requested, "--up");
-        return {requested, "--up"};
-    }
-    bool gltf = false, other = false;
-    if (fs::is_directory(input)) {
-        for (const auto& entry : fs::directory_iterator(input))
-            if (entry.is_regular_file() && isMeshFile(entry.path())) {
-                const std::string ext = extensionOf(entry.path());
-                (ext == ".gltf" || ext == ".glb" ? gltf : other) = true;
-            }
-    } else {
-        const std::string ext = extensionOf(input);
-        (ext == ".gltf" || ext == ".glb" ? gltf : other) = true;
-    }
-    if (gltf && other) throw InputError(input + ": folder mixes glTF (y up) and OBJ/PLY (z up) meshes; give --up y or --up z");
-    if (gltf) return {"y", "glTF is y-up"};
-    return {"z", "OBJ/PLY: z up by convention; --up y for a y-up scan"};
-}
 
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {
     const char* simplifier = o.simplifier == Simplifier::Meshopt ? "meshopt" : "openmesh";

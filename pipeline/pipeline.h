@@ -20,6 +20,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <iosfwd>
 #include <memory>
@@ -356,6 +357,11 @@ struct UpChoice {
     std::string reason;
 };
 UpChoice chooseUpAxis(const std::string& input, const std::string& requested);
+// input_files.cpp: a path's extension in lower case (".obj"); the mesh files (.ply, .obj, .gltf,
+// .glb) of a folder input, sorted, where an entry so named that is not a regular file (a link
+// leading nowhere or in a loop, a FIFO) is an InputError naming it.
+std::string meshExtension(const std::filesystem::path& p);
+std::vector<std::filesystem::path> folderMeshes(const std::string& folder);
 
 // memory_gate.cpp: admits blocks into the parallel build while their estimated working sets fit
 // --memory-limit together; a block larger than the limit alone waits until it runs by itself.

@@ -5,6 +5,8 @@
 
 #include "formats/validate.h"
 
+#include <sys/stat.h>
+
 #include <atomic>
 #include <numeric>
 #include <chrono>
@@ -263,6 +265,26 @@ TEST(Build, FolderOfBlocksInNameOrder) {
         EXPECT_EQ(s.nodes[roots[b]].block, b);
         EXPECT_NEAR(s.nodes[roots[b]].bounds.min.x, 100.0f * (2 - b), 1e-3);  // block_000 is the third terrain
     }
+}
+
+// A folder entry named as a mesh that is not one: a link leading nowhere or in a loop, a FIFO
+// (left out without a word, or a library message, until stop 45); a folder so named is no block.
+TEST(Build, FolderEntriesNamedAsMeshesThatAreNotFilesAreRefused) {
+    TempDir dir;
+    std::filesystem::create_directories(dir.path / "in" / "sub.obj");
+    writePly(dir.file("in/a.ply"), terrain(10).mesh, false);
+    EXPECT_EQ(build(dir.file("in"), dir.file("ok.hlod"), smallOptions(2)).blockCount, 1u);
+    std::filesystem::create_symlink("nothere.ply", dir.file("in/b.ply"));
+    EXPECT_EQ(errorOf([&] { build(dir.file("in"), dir.file("f.hlod"), smallOptions(2)); }),
+              dir.file("in/b.ply") + ": cannot read (No such file or directory)");
+    std::filesystem::remove(dir.file("in/b.ply"));
+    std::filesystem::create_symlink("c.ply", dir.file("in/c.ply"));
+    EXPECT_EQ(errorOf([&] { build(dir.file("in"), dir.file("f.hlod"), smallOptions(2)); }),
+              dir.file("in/c.ply") + ": cannot read (Too many levels of symbolic links)");
+    std::filesystem::remove(dir.file("in/c.ply"));
+    ASSERT_EQ(::mkfifo(dir.file("in/d.ply").c_str(), 0644), 0);
+    EXPECT_EQ(errorOf([&] { build(dir.file("in"), dir.file("f.hlod"), smallOptions(2)); }), dir.file("in/d.ply") + ": not a regular file");
+    EXPECT_FALSE(std::filesystem::exists(dir.file("f.hlod")));
 }
 
 TEST(Build, BadBlockLeavesNoDatabaseAndNoTemporaries) {
