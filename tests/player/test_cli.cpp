@@ -1,13 +1,11 @@
-// `hlod path` and `hlod play` as a user runs them: outputs (CSV with the documented header,
+// `hlod play` (and `hlod path` writing its paths) as a user runs them: outputs (CSV with the documented header,
 // JSON summary, path file) and, for each class of bad input, one line naming the file,
 // a non-zero status and no half-written output; a corrupt node below hlod0 is a warning.
 #include "formats/constants.h"
 #include "formats/db.h"
 #include "formats/layout.h"
 #include "player/stats.h"
-#include "tests/support/run_hlod.h"
-#include "tests/support/synthetic.h"
-#include "tests/support/temp_dir.h"
+#include "tests/player/cli_fixture.h"
 
 #include <gtest/gtest.h>
 
@@ -26,36 +24,6 @@ using hlod::test::RunResult;
 using hlod::test::readText;
 using hlod::test::runHlod;
 using hlod::test::runProcess;
-
-namespace {
-
-class Cli : public ::testing::Test {
-protected:
-    fs::path dir;
-    std::string db;
-
-    void SetUp() override {
-        dir = fs::temp_directory_path() / ("hlod_cli_player_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir);
-        db = (dir / "terrain.hlod").string();
-        SyntheticOptions o;
-        o.levels = 3;
-        writeSyntheticDatabase(db, o);
-    }
-    void TearDown() override { fs::remove_all(dir); }
-
-    std::string walk() {
-        std::string path = (dir / "walk.path").string();
-        RunResult r = runHlod({"path", db, "--kind", "walk", "--duration", "5", "-o", path});
-        EXPECT_EQ(r.exitCode, 0) << r.err;
-        return path;
-    }
-};
-
-int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
-
-}  // namespace
 
 TEST_F(Cli, PlayWritesCsvAndJsonSummary) {
     std::string path = walk();
@@ -299,36 +267,6 @@ TEST_F(Cli, AbsurdVmBinCountsAreUsageErrors) {
     EXPECT_EQ(r.exitCode, 0) << r.err;
 }
 
-// `hlod path` refuses an eye height its own reader would refuse (2e15: a path `hlod play` then
-// rejected) or that meant "by scale" (a negative one was silently replaced by the default).
-TEST_F(Cli, PathEyeHeightWithinWhatPathsHold) {
-    for (const char* height : {"2e15", "-5"}) {
-        RunResult r = runHlod({"path", db, "--kind", "walk", "--eye-height", height, "-o", (dir / "e.path").string()});
-        EXPECT_EQ(r.exitCode, 2) << height;
-        EXPECT_EQ(lines(r.err), 1) << r.err;
-        EXPECT_NE(r.err.find("--eye-height"), std::string::npos) << r.err;
-        EXPECT_FALSE(fs::exists(dir / "e.path"));
-    }
-    EXPECT_EQ(runHlod({"path", db, "--kind", "walk", "--eye-height", "0", "-o", (dir / "e.path").string()}).exitCode, 0);
-}
-
-// A fly path orbits 1.5 extents out: on a model 8e14 units across it passed the 1e15 its reader
-// holds, and `hlod path` wrote (exit 0) a path `hlod play` refused (until stop 45).
-TEST_F(Cli, PathRefusesCoordinatesItsReaderWouldRefuse) {
-    const std::string obj = (dir / "big.obj").string(), big = (dir / "big.hlod").string();
-    std::ofstream(obj) << "v 0 0 0\nv 8e14 0 0\nv 0 8e14 0\nf 1 2 3\n";
-    ASSERT_EQ(runHlod({"build", obj, "-o", big}).exitCode, 0);
-    RunResult r = runHlod({"path", big, "--kind", "fly", "-o", (dir / "big.path").string()});
-    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
-    EXPECT_EQ(lines(r.err), 1) << r.err;
-    EXPECT_NE(r.err.find(big + ": the fly path reaches a coordinate of "), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("beyond the 1e15 a camera path holds"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(dir / "big.path"));
-    r = runHlod({"path", big, "--kind", "walk", "--duration", "60", "-o", (dir / "big.path").string()});  // within
-    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
-    EXPECT_EQ(runHlod({"play", big, "--path", (dir / "big.path").string(), "--sync-loader", "--frames", "5"}).exitCode, 0);
-}
-
 // Blocks of one node (an input smaller than c_desiredTris): the vm loader's prefetch pops a
 // resident hlod0 with nothing around it (before stop 44 it then read an empty queue: SIGSEGV).
 TEST_F(Cli, VmLoaderPlaysBlocksOfOneNode) {
@@ -342,30 +280,6 @@ TEST_F(Cli, VmLoaderPlaysBlocksOfOneNode) {
         RunResult r = runHlod({"play", flat, "--path", path, "--loader", "vm", sync});
         EXPECT_EQ(r.exitCode, 0) << sync << ": " << r.err;
     }
-}
-
-TEST_F(Cli, PathKindsAndBadDatabase) {
-    for (const char* kind : {"walk", "drive", "fly", "erratic"}) {
-        std::string out = (dir / (std::string(kind) + ".path")).string();
-        RunResult r = runHlod({"path", db, "--kind", kind, "-o", out});
-        EXPECT_EQ(r.exitCode, 0) << kind << r.err;
-        EXPECT_TRUE(readText(out).starts_with("hlod-camera-path 1\n"));
-    }
-    // The scale it chose and the duration are printed; --units must be a unit or a number of metres.
-    RunResult units = runHlod({"path", db, "--units", "mm", "-o", (dir / "mm.path").string()});
-    EXPECT_EQ(units.exitCode, 0) << units.err;
-    EXPECT_NE(units.out.find("duration"), std::string::npos) << units.out;
-    EXPECT_NE(units.out.find("1 unit = 0.001 m"), std::string::npos) << units.out;
-    RunResult badUnits = runHlod({"path", db, "--units", "furlong", "-o", (dir / "u.path").string()});
-    EXPECT_EQ(badUnits.exitCode, 2);
-    EXPECT_EQ(lines(badUnits.err), 1) << badUnits.err;
-    EXPECT_FALSE(fs::exists(dir / "u.path"));
-    std::string junk = (dir / "junk.hlod").string();
-    std::ofstream(junk) << "not a database at all";
-    RunResult r = runHlod({"path", junk, "-o", (dir / "x.path").string()});
-    EXPECT_EQ(r.exitCode, 2);
-    EXPECT_EQ(lines(r.err), 1) << r.err;
-    EXPECT_FALSE(fs::exists(dir / "x.path"));
 }
 
 TEST_F(Cli, CalibrationFileSetsInitialVTimeAndOverhead) {
@@ -479,32 +393,3 @@ TEST_F(Cli, CorruptNodeIsSkippedWithOneWarningUnlessStrict) {
     EXPECT_NE(r.err.find(warning), std::string::npos) << r.err;
 }
 
-// player/CAMERA_PATH.md "Eye height": `hlod path` decodes a cut of the database for the ground
-// and says so; a geometry blob that does not read back is left out with one warning, and the
-// path is still written (exit 0).
-TEST_F(Cli, PathReadsTheGroundAndSurvivesACorruptBlob) {
-    const std::string out = (dir / "p.path").string();
-    RunResult r = runHlod({"path", db, "-o", out});
-    ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_NE(r.out.find("ground: the lowest of "), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("passes through the geometry between "), std::string::npos) << r.out;
-    EXPECT_EQ(r.err, "");
-    uint64_t offset = 0;
-    {
-        const Database d = Database::open(db);
-        for (const BlobRef& b : d.skeleton().blobs)
-            if (b.kind == BlobKind::Geometry && d.skeleton().nodes[b.node].firstChild == kNone) offset = b.offset + b.size / 2;
-    }
-    ASSERT_GT(offset, 0u);
-    {
-        std::fstream f(db, std::ios::in | std::ios::out | std::ios::binary);
-        f.seekg(std::streamoff(offset));
-        const char byte = char(f.get() ^ 0x5A);
-        f.seekp(std::streamoff(offset));
-        f.put(byte);
-    }
-    r = runHlod({"path", db, "-o", out});
-    EXPECT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_NE(r.err.find("hlod path: warning: 1 geometry blobs left out of the ground (first: "), std::string::npos) << r.err;
-    EXPECT_TRUE(fs::exists(out));
-}
