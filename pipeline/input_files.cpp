@@ -1,6 +1,5 @@
-// The input files of a build: a mesh file's format by its extension, the mesh files of a folder
-// input (one block each), and the up axis they imply (pipeline/pipeline.h).
-#include "pipeline/pipeline.h"
+// The input files of a build (pipeline/input_files.h).
+#include "pipeline/input_files.h"
 
 #include "formats/errors.h"
 #include "formats/up_axis.h"

@@ -11,6 +11,7 @@
 #include "formats/codec.h"
 #include "formats/constants.h"
 #include "formats/db.h"
+#include "pipeline/input_files.h"
 #include "pipeline/progress.h"
 #include "pipeline/spill_array.h"
 #include "pipeline/tree_rules.h"
@@ -20,7 +21,6 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
-#include <filesystem>
 #include <functional>
 #include <iosfwd>
 #include <memory>
@@ -348,20 +348,6 @@ struct BuildOptions {
     TextureStore* textures = nullptr;  // runBuild's (texture files decoded once per build); nullptr: per block
 };
 
-// build.cpp: the up axis recorded in the database (META "up", FORMAT.md) and why: `requested`
-// (--up) when given; otherwise y for glTF (glTF 2.0 is y-up) and z for OBJ and PLY (the
-// convention of scanners and of every database before the key). A folder takes its meshes'
-// convention; one that mixes glTF with OBJ/PLY is an InputError asking for --up.
-struct UpChoice {
-    std::string axis;    // "y" or "z"
-    std::string reason;
-};
-UpChoice chooseUpAxis(const std::string& input, const std::string& requested);
-// input_files.cpp: a path's extension in lower case (".obj"); the mesh files (.ply, .obj, .gltf,
-// .glb) of a folder input, sorted, where an entry so named that is not a regular file (a link
-// leading nowhere or in a loop, a FIFO) is an InputError naming it.
-std::string meshExtension(const std::filesystem::path& p);
-std::vector<std::filesystem::path> folderMeshes(const std::string& folder);
 
 // memory_gate.cpp: admits blocks into the parallel build while their estimated working sets fit
 // --memory-limit together; a block larger than the limit alone waits until it runs by itself.
