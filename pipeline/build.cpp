@@ -68,8 +68,7 @@ constexpr uint64_t kAutoBlockTriangles = 671'088;
 uint64_t blockTarget(const BuildOptions& o) { return o.blockTriangles ? o.blockTriangles : kAutoBlockTriangles; }
 
 bool isStreamable(const std::string& input) {
-    const std::string ext = meshExtension(input);
-    return (ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb") && fs::is_regular_file(input);
+    return isMeshFile(input) && fs::is_regular_file(input);
 }
 
 // The textures rule (README "Textures: one rule"): with --strict the first unusable texture ends the

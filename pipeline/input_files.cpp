@@ -18,14 +18,10 @@ std::string meshExtension(const std::filesystem::path& p) {
     return ext;
 }
 
-namespace {
-
 bool isMeshFile(const fs::path& p) {
     const std::string ext = meshExtension(p);
     return ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb";
 }
-
-}  // namespace
 
 // An entry named as a mesh that is not one was left out without a word (a block missing from the
 // database, exit 0), a link loop gave a library message (until stop 45).

@@ -17,10 +17,11 @@ struct UpChoice {
     std::string reason;
 };
 UpChoice chooseUpAxis(const std::string& input, const std::string& requested);
-// A path's extension in lower case (".obj"); the mesh files (.ply, .obj, .gltf,
-// .glb) of a folder input, sorted, where an entry so named that is not a regular file (a link
+// A path's extension in lower case (".obj"); whether it names a mesh format hlod reads (.ply,
+// .obj, .gltf, .glb, by the extension alone); the mesh files of a folder input, sorted, where an entry so named that is not a regular file (a link
 // leading nowhere or in a loop, a FIFO) is an InputError naming it.
 std::string meshExtension(const std::filesystem::path& p);
+bool isMeshFile(const std::filesystem::path& p);
 std::vector<std::filesystem::path> folderMeshes(const std::string& folder);
 
 }  // namespace hlod
