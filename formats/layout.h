@@ -120,8 +120,4 @@ struct HeaderInfo {
 // `header` holds the file's first bytes (at least the header when the file is long enough).
 HeaderInfo parseHeader(std::span<const uint8_t> header, uint64_t fileSize, const std::string& name);
 
-// Recomputes the skeleton and header checksums of a whole file image in place (tests and
-// fuzzers use it to reach the checks behind the checksums). No-op on an image too short.
-void fixChecksums(std::span<uint8_t> file);
-
 }  // namespace hlod::layout

@@ -101,17 +101,6 @@ std::array<uint8_t, kHeaderSize> encodeHeader(uint64_t skeletonOffset, std::span
     return h;
 }
 
-void fixChecksums(std::span<uint8_t> file) {
-    if (file.size() < kOffHeaderSize + 4) return;
-    uint32_t headerSize = load<uint32_t>(file, kOffHeaderSize);
-    if (headerSize < kHeaderSize || headerSize > file.size()) return;
-    uint64_t skOff = load<uint64_t>(file, kOffSkeletonOffset);
-    uint64_t skSize = load<uint64_t>(file, kOffSkeletonSize);
-    if (skOff <= file.size() && skSize <= file.size() - skOff)
-        store(file, kOffSkeletonChecksum, checksum(file.subspan(skOff, skSize)));
-    store(file, headerSize - 8, checksum(file.first(headerSize - 8)));
-}
-
 }  // namespace layout
 
 const std::string* Skeleton::findMeta(const std::string& key) const {

@@ -5,6 +5,7 @@
 #include "formats/codec.h"
 #include "formats/db.h"
 #include "formats/layout.h"
+#include "tests/support/fix_checksums.h"
 #include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -53,7 +54,7 @@ inline size_t recordOffset(const std::vector<uint8_t>& file, uint32_t tag, uint3
 template <class T>
 void patchRecord(std::vector<uint8_t>& file, uint32_t tag, uint32_t index, size_t fieldOffset, T value) {
     layout::store(std::span(file), recordOffset(file, tag, index) + fieldOffset, value);
-    layout::fixChecksums(file);
+    fixChecksums(file);
 }
 
 // Field offsets inside a NODE / BLOB record (FORMAT.md §Node record, §Blob record).

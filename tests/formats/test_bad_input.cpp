@@ -151,11 +151,11 @@ TEST_F(BadInput, AbsurdCountsAndOffsetsBehindValidChecksums) {
     expectRefused(bad, "first blob");
     bad = file;
     layout::store(std::span(bad), layout::kOffSkeletonSize, uint64_t(1) << 40);
-    layout::fixChecksums(bad);
+    fixChecksums(bad);
     expectRefused(bad, "skeleton size");
     bad = file;  // section count
     layout::store(std::span(bad), layout::load<uint64_t>(bad, layout::kOffSkeletonOffset), uint32_t(1) << 30);
-    layout::fixChecksums(bad);
+    fixChecksums(bad);
     expectRefused(bad, "section count");
     bad = file;  // every reader sized a per-block table by it: 16 GB (std::bad_alloc) before stop 36
     patchRecord(bad, layout::kTagInfo, 0, 0, uint32_t(0xFFFFFFFF));

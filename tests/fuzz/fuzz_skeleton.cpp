@@ -4,6 +4,7 @@
 // `hlod inspect` walks it. Any exception other than FormatError, or a crash, is a bug.
 #include "formats/inspect.h"
 #include "formats/layout.h"
+#include "tests/support/fix_checksums.h"
 
 #include <algorithm>
 
@@ -11,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace hlod;
     std::vector<uint8_t> file(data, data + size);
     if (file.size() >= layout::kHeaderSize) layout::store(std::span(file), layout::kOffFileSize, uint64_t(size));
-    layout::fixChecksums(file);
+    test::fixChecksums(file);
     try {
         std::span<const uint8_t> header(file.data(), std::min<size_t>(size, layout::kMaxHeaderSize));
         layout::HeaderInfo h = layout::parseHeader(header, size, "fuzz");

@@ -3,9 +3,9 @@
 // a non-zero status and no half-written output; a corrupt node below hlod0 is a warning.
 #include "formats/constants.h"
 #include "formats/db.h"
-#include "formats/layout.h"
 #include "player/stats.h"
 #include "tests/player/cli_fixture.h"
+#include "tests/support/fix_checksums.h"
 
 #include <gtest/gtest.h>
 
@@ -222,7 +222,7 @@ TEST_F(Cli, DatabaseCTexturedOutOfRangeIsOneLine) {
     ASSERT_LT(value - at, 20u);
     bytes.replace(value, 5, "1e309");
     std::vector<uint8_t> file(bytes.begin(), bytes.end());
-    layout::fixChecksums(file);
+    test::fixChecksums(file);
     std::ofstream(db, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), std::streamsize(file.size()));
     for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
              {"play", db, "--path", path, "--frames", "5"}, {"compare", db, "--path", path, "--policies", "thesis", "--frames", "5"}}) {
