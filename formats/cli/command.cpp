@@ -9,8 +9,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -121,13 +124,29 @@ std::string filesystemProblem(const std::filesystem::filesystem_error& e) {
 }
 }  // namespace
 
+namespace {
+
+// What a subcommand wrote to standard output reached it, or the run failed: a full disk, `>&-`
+// or a file-size limit left a cut JSON with status 0 (until stop 46). A failed write, status 1.
+int checkStandardOutput(const std::string& command, int status) {
+    errno = 0;
+    std::cout.flush();
+    if (std::fflush(stdout) == 0 && !std::ferror(stdout) && std::cout.good()) return status;
+    const int error = errno;
+    std::cerr << "hlod " << command << ": standard output: write failed"
+              << (error ? std::string(" (") + std::strerror(error) + ")" : std::string()) << '\n';
+    return status == kExitOk ? kExitInvalid : status;
+}
+
+}  // namespace
+
 int runGuarded(const std::string& command, const std::function<int()>& body) {
     auto fail = [&](const std::exception& e, int status) {
         std::cerr << "hlod " << command << ": " << printableLine(e.what()) << '\n';
         return status;
     };
     try {
-        return body();
+        return checkStandardOutput(command, body());
     } catch (const UnreadableDatabase& e) {
         return fail(e, kExitUsage);
     } catch (const FormatError& e) {

@@ -323,5 +323,26 @@ TEST_F(Conventions, FilesystemFailuresAreOneLineNamingThePath) {
     }
 }
 
+// Standard output that cannot be written (a full device; a file-size limit cutting a JSON) is a failed
+// write, status 1 and one line, for every subcommand that prints to it (status 0 and a cut JSON
+// until stop 46).
+TEST_F(Conventions, UnwritableStandardOutputIsStatusOne) {
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"inspect", db, "--tree", "--json"}, {"validate", db}, {"stats", db, "--json"},
+             {"play", db, "--path", path, "--sync-loader", "--frames", "3", "--json", "-"}}) {
+        std::vector<std::string> argv = {"sh", "-c", "exec \"$@\" > /dev/full", "sh", HLOD_BINARY};
+        argv.insert(argv.end(), args.begin(), args.end());
+        const RunResult full = runProcess(argv);
+        EXPECT_EQ(full.exitCode, 1) << args[0] << ": " << full.err;
+        EXPECT_NE(full.err.find("hlod " + args[0] + ": standard output: write failed (No space left on device)"),
+                  std::string::npos) << full.err;
+    }
+    std::vector<std::string> argv = {"sh", "-c", "trap '' XFSZ; ulimit -f 1; exec \"$@\" > \"$0\"", dir.file("cut.json"),
+                                     HLOD_BINARY, "inspect", db, "--tree", "--json"};
+    const RunResult cut = runProcess(argv);
+    EXPECT_EQ(cut.exitCode, 1) << cut.err;
+    expectOneErrorLine(cut, "hlod inspect: standard output: write failed (File too large)");
+}
+
 }  // namespace
 }  // namespace hlod::test
