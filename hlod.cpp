@@ -34,8 +34,19 @@ int main(int argc, char** argv) {
     CLI::App app{"hlod: out-of-core HLOD databases for huge scanned 3D models (build, inspect, play)"};
     app.set_version_flag("--version", std::string("hlod ") + HLOD_VERSION);
     app.require_subcommand(1);
-    app.failure_message([](const CLI::App*, const CLI::Error& e) {  // one line, like every other error
-        return std::string("hlod: ") + e.what() + " (see --help)\n";
+    // One line, like every other error, prefixed with the subcommand it concerns ("hlod:" alone
+    // until stop 46); a first word that names no subcommand is said to be one.
+    app.failure_message([argc, argv](const CLI::App* top, const CLI::Error& e) {
+        const std::vector<CLI::App*> chosen = top->get_subcommands();
+        std::string prefix = "hlod";
+        for (const CLI::App* sub = chosen.empty() ? nullptr : chosen.front(); sub;) {
+            prefix += " " + sub->get_name();
+            const std::vector<CLI::App*> next = sub->get_subcommands();
+            sub = next.empty() ? nullptr : next.front();
+        }
+        if (chosen.empty() && argc > 1)
+            return prefix + ": '" + argv[1] + "' is not " + (argv[1][0] == '-' ? "an option" : "a subcommand") + " (see --help)\n";
+        return prefix + ": " + e.what() + " (see --help)\n";
     });
     int status = hlod::cli::kExitOk;
     for (hlod::cli::AddSubcommand add : kSubcommands) add(app, status);

@@ -9,17 +9,37 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 namespace hlod {
 
 namespace {
 
 template <class T>
+constexpr bool kCount = std::is_integral_v<T> && !std::is_same_v<T, bool>;
+
+// A count is a whole number from 0 to its type's largest: nlohmann converts -1 and 2.5 to an
+// unsigned count without a word (`hlod stats` printed -1 as 2^64 - 1 until stop 46).
+template <class T>
+void checkCount(const nlohmann::json& v, const char* key, const std::string& path) {
+    if (!v.is_number_unsigned() || v.get<uint64_t>() > std::numeric_limits<T>::max())
+        throw InputError(path + ": \"" + key + "\" must be a whole number from 0 to " +
+                         std::to_string(std::numeric_limits<T>::max()));
+}
+
+template <class T>
 T field(const nlohmann::json& j, const char* key, const std::string& path) {
     if (!j.is_object() || !j.contains(key)) throw InputError(path + ": missing \"" + key + "\"");
+    const nlohmann::json& v = j.at(key);
+    if constexpr (kCount<T>) checkCount<T>(v, key, path);
+    if constexpr (std::is_same_v<T, std::vector<uint64_t>>)
+        if (v.is_array())
+            for (const nlohmann::json& e : v) checkCount<uint64_t>(e, key, path);
     try {
-        return j.at(key).get<T>();
+        return v.get<T>();
     } catch (const nlohmann::json::exception&) {
         throw InputError(path + ": \"" + key + "\" has the wrong type");
     }

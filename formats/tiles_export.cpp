@@ -39,7 +39,8 @@ void checkTarget(const fs::path& out, bool archive) {
     std::error_code ec;
     const fs::file_status st = fs::status(out, ec);
     const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
-    if (!fs::is_directory(parent)) throw InputError(out.string() + ": its folder does not exist");
+    // a failed write (status 1), as for every other output (status 2 until stop 46)
+    if (!fs::is_directory(parent)) throw std::runtime_error(out.string() + ": its folder does not exist");
     if (!fs::exists(st)) return;
     if (archive) {
         if (!fs::is_regular_file(st)) throw InputError(out.string() + ": exists and is not a file");

@@ -126,12 +126,24 @@ TEST(Stats, CorruptSidecarIsOneLineNamingIt) {
     }
     // A level the report's nodes cannot reach (-1 read as 2^32 - 1: SIGSEGV; 2^31 - 1: std::bad_alloc).
     const std::string head = R"({"stages":[],"peak_rss_bytes":1,"input_triangles":1,"wall_seconds":1,"cpu_seconds":1,"output_bytes":1,)";
-    for (const char* level : {"-1", "2147483647", "1"}) {
+    for (const std::string level : {"-1", "2147483647", "1"}) {
         writeSidecar(f.db, head + R"("nodes":[{"block":0,"node":0,"level":)" + level +
                                R"(,"triangles":1,"texels":0,"error_one_sided":0,"error_mean":0,"error_max":0,"baked":false,"bake_psnr_db":0}]})");
         RunResult r = runHlod({"stats", f.db.string()});
         EXPECT_EQ(r.exitCode, 2) << level << ": " << r.err;
-        EXPECT_NE(r.err.find(".build.json: node 0 has level "), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(level == "-1" ? ".build.json: \"level\" must be a whole number from 0 to 4294967295"
+                                           : ".build.json: node 0 has level "),
+                  std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+    // A count that is negative, fractional or beyond its type (-1 printed as 2^64 - 1 until stop 46).
+    const std::string counts = R"({"stages":[],"peak_rss_bytes":1,"wall_seconds":1,"cpu_seconds":1,"output_bytes":1,)";
+    for (const std::string bad : {R"("input_triangles":-1})", R"("input_triangles":2.5})", R"("input_triangles":1e30})",
+                                  R"("input_triangles":1,"nodes_per_level":[3,-1]})"}) {
+        writeSidecar(f.db, counts + bad);
+        RunResult r = runHlod({"stats", f.db.string()});
+        EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.err;
+        EXPECT_NE(r.err.find("\" must be a whole number from 0 to 18446744073709551615"), std::string::npos) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
     // A FIFO (blocked the open for good) or a folder in the report's place.

@@ -253,6 +253,12 @@ TEST_F(ExportTiles, ReplacesAnEarlierExportOnly) {
         EXPECT_EQ(r.err, "hlod export tiles: " + name + ": not a file or folder name\n");
     }
 
+    for (const bool archive : {false, true}) {  // a failed write, status 1 like every output's (2 until stop 46)
+        const std::string nowhere = dir.file("no-such-folder/t");
+        r = archive ? runHlod({"export", "tiles", db, "-o", nowhere, "--3tz"}) : runHlod({"export", "tiles", db, "-o", nowhere});
+        EXPECT_EQ(r.exitCode, 1) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod export tiles: " + nowhere + ": its folder does not exist\n");
+    }
     RunResult missing = runHlod({"export", "tiles", dir.file("none.hlod"), "-o", dir.file("x")});
     EXPECT_EQ(missing.exitCode, 2);
     EXPECT_EQ(missing.err, "hlod export tiles: " + dir.file("none.hlod") + ": no such file\n");

@@ -57,9 +57,10 @@ std::vector<std::vector<std::string>> databaseCommands(const std::string& db, co
             {"export", "tiles", db, "-o", out + ".tiles"}};
 }
 
-// The name errors are prefixed with: the subcommand, and its sub-subcommand for `hlod export`.
+// The name errors are prefixed with: the subcommand, and its sub-subcommand for `hlod export` and
+// `hlod synth`.
 std::string commandName(const std::vector<std::string>& args) {
-    return args[0] == "export" ? args[0] + " " + args[1] : args[0];
+    return args[0] == "export" || args[0] == "synth" ? args[0] + " " + args[1] : args[0];
 }
 
 TEST_F(Conventions, MissingOrUnreadableDatabaseIsStatusTwo) {
@@ -97,7 +98,10 @@ TEST_F(Conventions, BadOptionIsStatusTwoWithOneLine) {
     for (const auto& args : commands) {
         const RunResult r = runHlod(args);
         EXPECT_EQ(r.exitCode, 2) << args[0] << ": " << r.err;
-        expectOneErrorLine(r, "hlod: ");
+        // the subcommand it concerns (each was "hlod: " until stop 46), or the word that is none
+        expectOneErrorLine(r, args[0] == "no-such-subcommand" ? "hlod: 'no-such-subcommand' is not a subcommand (see --help)"
+                              : args[0] == "export" && args[1] == "obj" ? "hlod export: "
+                                                                       : "hlod " + commandName(args) + ": ");
     }
 }
 
@@ -232,7 +236,7 @@ TEST_F(Conventions, NumberOptionsRefuseNanInfinityAndNegativeCounts) {
                 const RunResult r = runHlod(args);
                 const std::string what = base[0] + " " + std::string(m[1]) + " " + value;
                 EXPECT_EQ(r.exitCode, 2) << what << ": " << r.err;
-                expectOneErrorLine(r, "hlod: ");
+                expectOneErrorLine(r, "hlod " + commandName(base) + ": ");
                 EXPECT_NE(r.err.find(m[1]), std::string::npos) << what << ": " << r.err;
                 EXPECT_NE(r.err.find(value), std::string::npos) << what << ": " << r.err;
                 EXPECT_EQ(r.err.find("Could not convert"), std::string::npos) << what << ": " << r.err;
@@ -251,15 +255,15 @@ TEST_F(Conventions, AbsurdNumbersAreStatusTwoNotACrashOrAHang) {
     std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     const std::string out = dir.file("absurd.path");
     std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
-        {{"build", obj, "-o", dir.file("j.hlod"), "-j", "99999"}, "hlod: --jobs: Value 99999 not in range 0 to 1024"},
-        {{"path", db, "-o", out, "--duration", "1e300"}, "hlod: --duration: value '1e300': expected a finite number in [0, 86400]"},
+        {{"build", obj, "-o", dir.file("j.hlod"), "-j", "99999"}, "hlod build: --jobs: Value 99999 not in range 0 to 1024"},
+        {{"path", db, "-o", out, "--duration", "1e300"}, "hlod path: --duration: value '1e300': expected a finite number in [0, 86400]"},
         {{"path", db, "-o", out, "--key-interval", "1e-9"}, "hlod path: a path of "},
         {{"path", db, "-o", out, "--speed", "1e-300"}, "hlod path: a path of "},
-        {{"play", db, "--path", path, "--model-overhead-ms", "1e300"}, "hlod: --model-overhead-ms: value '1e300': expected"},
-        {{"play", db, "--path", path, "--overhead-ms", "1e300"}, "hlod: --overhead-ms: value '1e300': expected"},
-        {{"compare", db, "--path", path, "--v-time", "1e300"}, "hlod: --v-time: value '1e300': expected"},
+        {{"play", db, "--path", path, "--model-overhead-ms", "1e300"}, "hlod play: --model-overhead-ms: value '1e300': expected"},
+        {{"play", db, "--path", path, "--overhead-ms", "1e300"}, "hlod play: --overhead-ms: value '1e300': expected"},
+        {{"compare", db, "--path", path, "--v-time", "1e300"}, "hlod compare: --v-time: value '1e300': expected"},
         // the help said [0, 4] while the generator refused 0 after the parse (until stop 44)
-        {{"synth", "city", "-o", dir.file("zc"), "--scale", "0"}, "hlod: --scale: value '0': expected a finite number in (0, 4]"},
+        {{"synth", "city", "-o", dir.file("zc"), "--scale", "0"}, "hlod synth city: --scale: value '0': expected a finite number in (0, 4]"},
         // both batches are grids of 2 triangles: fitLine failed after the measurements (until stop 44)
         {{"calibrate", "-o", dir.file("k.conf"), "--triangles", "1", "2"},
          "hlod calibrate: --triangles: every batch is a grid of 2 triangles; fitting a line needs two sizes (give counts further apart)"}};
@@ -272,7 +276,7 @@ TEST_F(Conventions, AbsurdNumbersAreStatusTwoNotACrashOrAHang) {
         std::vector<std::string> empty = args;
         empty.push_back("");
         const std::string option = args.back() == "-o" ? "--output" : args.back();
-        cases.push_back({empty, "hlod: " + option + ": an empty path (see --help)"});
+        cases.push_back({empty, "hlod " + commandName(args) + ": " + option + ": an empty path (see --help)"});
     }
     for (const std::string blocks : {"-1:3", "0:1:2", "0:4294967297", " 0:1"})  // no wrap-around, no truncation
         cases.push_back({{"build", obj, "-o", dir.file("j.hlod"), "--shard", "--blocks", blocks},

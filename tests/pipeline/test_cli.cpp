@@ -177,7 +177,7 @@ TEST(Cli, MergeNeverWritesIntoItsShardsAndBlocksNeedShard) {
     EXPECT_FALSE(std::filesystem::exists(dir.file("s/new.hlod")));
     const RunResult blocks = runHlod({"build", dir.file("t.ply"), "-o", dir.file("part.hlod"), "--blocks", "0:1"});
     EXPECT_EQ(blocks.exitCode, 2);
-    EXPECT_EQ(blocks.err, "hlod: --blocks requires --shard (see --help)\n");
+    EXPECT_EQ(blocks.err, "hlod build: --blocks requires --shard (see --help)\n");
     EXPECT_FALSE(std::filesystem::exists(dir.file("part.hlod")));
 }
 

@@ -83,11 +83,11 @@ TEST_F(Cli, MemoryBelowHlod0AndOptionsWithoutTheirPartnerAreUsageErrors) {
         {{"compare", db, "--path", path, "--policies", "thesis", "--preload", "--memory", "1", "--no-plots", "-o",
           (dir / "c").string()},
          "hlod compare: --preload needs every node in memory: "},
-        {{"play", db, "--path", path, "--sync-loads", "5"}, "hlod: --sync-loads requires --sync-loader"},
-        {{"play", db, "--path", path, "--sync-loader", "--every", "3"}, "hlod: --every requires --frames-dir"},
+        {{"play", db, "--path", path, "--sync-loads", "5"}, "hlod play: --sync-loads requires --sync-loader"},
+        {{"play", db, "--path", path, "--sync-loader", "--every", "3"}, "hlod play: --every requires --frames-dir"},
         {{"play", db, "--path", path, "--sync-loader", "--color-by-level"}, "hlod play: --color-by-level needs --renderer gl"},
         {{"play", db, "--path", path, "--sync-loader", "--frames-dir", (dir / "png").string()}, "hlod play: --frames-dir needs --renderer gl"},
-        {{"merge", "", "-o", (dir / "m.hlod").string()}, "hlod: SHARDS: an empty path"}};
+        {{"merge", "", "-o", (dir / "m.hlod").string()}, "hlod merge: SHARDS: an empty path"}};
     for (const auto& [args, message] : cases) {
         const RunResult r = runHlod(args);
         EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
