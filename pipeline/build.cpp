@@ -128,7 +128,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         const double step = options.draco.positionStep > 0 ? options.draco.positionStep : in.positionStep;
         const std::string precision = floatPrecisionWarning(input, raw.bounds, step);
         if (!precision.empty()) raw.stats.warnings.push_back(precision);
-        in.grid = grid, in.bounds = raw.bounds;
+        in.grid = grid, in.bounds = raw.bounds, in.inputTriangles = raw.triangles.size();
         if (raw.positions.spilled()) fixMmapThreshold();  // arrays held, then freed: the threshold rose
         progress.beginStage("split", raw.triangles.size());
         try {
@@ -430,7 +430,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
         if (stats[b].degenerateDropped)
             progress.message(inputs.blocks[b].file + ": dropped " + std::to_string(stats[b].degenerateDropped) +
                              " degenerate triangles");
-        summary.inputTriangles += stats[b].inputTriangles;
+        summary.inputTriangles += stats[b].inputTriangles;  // a block's, after the grid cuts
         if (summary.nodesPerLevel.size() < stats[b].nodesPerLevel.size()) summary.nodesPerLevel.resize(stats[b].nodesPerLevel.size());
         for (size_t l = 0; l < stats[b].nodesPerLevel.size(); ++l) summary.nodesPerLevel[l] += stats[b].nodesPerLevel[l];
         const BlockStats& st = stats[b];
@@ -440,6 +440,9 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
                                      st.fidelity[i].samples, st.fidelity[i].squaredError});
     }
     summary.textureProblems.assign(problems.begin(), problems.end());
+    // The whole input's count as read (the blocks' sum counts a triangle the grid cut once per piece:
+    // +0.5 % on Lucy 1.6 M, +4 % on Lucy 100k in blocks of 20,000, until stop 46); a shard's, its blocks'.
+    if (first == 0 && last == blockCount && inputs.inputTriangles) summary.inputTriangles = inputs.inputTriangles;
     ShardInfo shard{blockCount, {}, buildMeta(input, blockOptions)};
     for (uint32_t b = first; b < last; ++b) shard.blocks.push_back(b);
     writeShardInfo(recordDir, shard);

@@ -209,7 +209,7 @@ ShardInfo readShardInfo(const std::string& dir) {
     } catch (const InputError&) {
         throw;
     } catch (const std::exception& e) {
-        throw InputError(file + ": corrupt shard description (" + e.what() + ")");
+        throw InputError(file + ": corrupt shard description (" + jsonProblem(e.what()) + ")");
     }
 }
 

@@ -3,6 +3,8 @@
 #define TINYGLTF_IMPLEMENTATION
 #include "pipeline/read_gltf_load.h"
 
+#include "formats/json_text.h"
+
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -116,9 +118,8 @@ tinygltf::Model loadGltfModel(const uint8_t* bytes, size_t size, bool binary, co
     if (!files.refused.empty()) throw InputError(files.refused);
     if (!ok) {
         std::string why = err.substr(0, err.find('\n'));
-        if (const size_t at = why.find("[json.exception."); at != std::string::npos)  // nlohmann's tag, not a sentence
-            why = (why.compare(at, 28, "[json.exception.parse_error.") == 0 ? "not JSON: " : "") + why.substr(0, at) +
-                  why.substr(std::min(why.find("] ", at) + 2, why.size()));
+        if (why.find("[json.exception.parse_error.") != std::string::npos) why = "not JSON: " + why;
+        why = jsonProblem(why);  // nlohmann's tag, not a sentence
         throw InputError(path + ": corrupt glTF (" + why + ")");
     }
     decodeMeshoptViews(model, meshopt, path);

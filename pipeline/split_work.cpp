@@ -154,6 +154,7 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
     manifest["bounds"] = in.grid ? boxJson(in.bounds) : Ordered(nullptr);
     manifest["lattice"] = {{"position_bits", options.draco.positionBits}, {"position_step", in.positionStep}};
     manifest["block_count"] = in.blocks.size();
+    manifest["input_triangles"] = in.inputTriangles;
     SplitSummary summary{static_cast<uint32_t>(in.blocks.size()), 0};
     progress.beginStage("checksum", in.blocks.size(), "blocks");
     Ordered blocks = Ordered::array();
@@ -208,7 +209,7 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
         std::ifstream in(file);
         j = json::parse(in);
     } catch (const std::exception& e) {
-        throw InputError(file + ": corrupt manifest (" + e.what() + ")");
+        throw InputError(file + ": corrupt manifest (" + jsonProblem(e.what()) + ")");
     }
     if (!j.is_object() || !j.contains("format") || j["format"] != kSplitFormat)
         throw InputError(file + ": not a " + kSplitFormat + " manifest (split the input again with this hlod)");
@@ -266,6 +267,10 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
         for (const json& p : j.at("texture_problems")) w.inputs.textureProblems.push_back({p.at("what").get<std::string>(), p.at("material").get<std::string>()});
         const size_t count = j.at("block_count");
         if (count != j.at("blocks").size()) throw std::runtime_error("block_count differs from the blocks listed");
+        if (j.contains("input_triangles")) {  // absent: a split before stop 46
+            if (!j["input_triangles"].is_number_unsigned()) throw std::runtime_error("input_triangles is not a whole number");
+            w.inputs.inputTriangles = j["input_triangles"].get<uint64_t>();
+        }
         for (const json& b : j.at("blocks")) {
             const std::string name = b.at("file").get<std::string>();
             const bool piece = b.at("piece").get<bool>();
@@ -279,7 +284,7 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
     } catch (const InputError&) {
         throw;
     } catch (const std::exception& e) {
-        throw InputError(file + ": corrupt manifest (" + e.what() + ")");
+        throw InputError(file + ": corrupt manifest (" + jsonProblem(e.what()) + ")");
     }
     if (options.strict && !w.inputs.textureProblems.empty())
         throw InputError(w.inputs.textureProblems.front().what + " (--strict)");

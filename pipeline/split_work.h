@@ -37,6 +37,7 @@ struct SplitInputs {
     Box3f bounds{};                   // of a single-mesh input
     double positionStep = 0;          // one position lattice for the grid's blocks; 0 = per block
     std::vector<TextureProblem> textureProblems;  // of a single-mesh input
+    uint64_t inputTriangles = 0;  // read from a single-mesh input, before the grid cuts; 0: the blocks' sum
 };
 
 // build.cpp: the blocks of `input` (a folder: one per mesh file, by name; one mesh: read and split

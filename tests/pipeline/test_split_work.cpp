@@ -49,7 +49,7 @@ void expectSplitShardsMergeEqualOneBuild(TempDir& dir, const std::string& input,
 
 TEST(SplitWork, SingleMeshShardsFromTheWorkFolderEqualOneBuild) {
     TempDir dir;
-    writePly(dir.file("t.ply"), terrain(60).mesh, true);
+    writePly(dir.file("t.ply"), terrain(61).mesh, true);  // no grid line on a vertex row: cuts
     expectSplitShardsMergeEqualOneBuild(dir, dir.file("t.ply"), {"--block-triangles", "1500"}, "3");
     std::ifstream in(dir.file("work/manifest.json"));
     const nlohmann::json m = nlohmann::json::parse(in);
@@ -63,7 +63,17 @@ TEST(SplitWork, SingleMeshShardsFromTheWorkFolderEqualOneBuild) {
         EXPECT_TRUE(fs::exists(dir.file("work/" + b.at("file").get<std::string>())));
         triangles += b.at("triangles").get<uint64_t>();
     }
-    EXPECT_GE(triangles, 7200u);  // 2 x 60 x 60, plus the triangles the grid cuts
+    EXPECT_GT(triangles, 7442u);  // 2 x 61 x 61, plus the triangles the grid cuts
+    // "Input triangles" are the input's, not the cut blocks' sum (which they were until stop 46), for a
+    // build from the mesh and from the work folder alike; the manifest carries the count.
+    EXPECT_EQ(m.at("input_triangles").get<uint64_t>(), 7442u);
+    for (const std::string& input : {dir.file("t.ply"), dir.file("work")}) {
+        const RunResult r = runHlod({"build", input, "-o", dir.file("whole.hlod"), "--block-triangles", "1500"});
+        ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+        EXPECT_NE(r.out.find("summary: 7442 input triangles,"), std::string::npos) << r.out;
+        std::ifstream report(dir.file("whole.hlod.build.json"));
+        EXPECT_EQ(nlohmann::json::parse(report).at("input_triangles").get<uint64_t>(), 7442u);
+    }
 }
 
 // A file name that is not UTF-8 (Latin-1 "café") travels through the build report, the work
@@ -215,6 +225,16 @@ TEST(SplitWork, BadWorkFoldersAreOneLineAndStatusTwo) {
         writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(text.begin(), text.end()));
         expectRefused(dir, build, dir.file("work/manifest.json") + ": corrupt manifest (" + reason + ")");
     }
+    nlohmann::json negative = good;  // a count no split writes
+    negative["input_triangles"] = -1;
+    std::string changedText = negative.dump();
+    writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(changedText.begin(), changedText.end()));
+    expectRefused(dir, build, dir.file("work/manifest.json") + ": corrupt manifest (input_triangles is not a whole number)");
+    nlohmann::json missing = good;  // nlohmann's "[json.exception.out_of_range.403] " was shown until stop 46
+    missing.erase("block_count");
+    changedText = missing.dump();
+    writeFile(dir.file("work/manifest.json"), std::vector<uint8_t>(changedText.begin(), changedText.end()));
+    expectRefused(dir, build, dir.file("work/manifest.json") + ": corrupt manifest (key 'block_count' not found)\n");
     // An output inside the work folder would replace what it reads (exit 0 and a ruined folder before).
     writeFile(dir.file("work/manifest.json"), manifest);
     for (const std::string& out : {dir.file("work/manifest.json"), dir.file("work/cells/cell_0.piece"), dir.file("work/x.hlod")})
