@@ -351,6 +351,22 @@ TEST(Inputs, AFarModelWhoseTrianglesAllCollapseSaysWhy) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
+// A model thinner than the position lattice's steps (a 100,000 x 1 strip: a step of 4 at 14 bits) is
+// stored flat: a warning says so and how to keep it (status 0, no word, "valid" until stop 46); a finer
+// step keeps it, without the warning.
+TEST(Inputs, AModelThinnerThanTheLatticeIsWarnedOf) {
+    TempDir dir;
+    std::ofstream(dir.file("strip.obj")) << "v 0 0 0\nv 100000 0 0\nv 100000 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    const RunResult flat = runHlod({"build", dir.file("strip.obj"), "-o", dir.file("flat.hlod")});
+    ASSERT_EQ(flat.exitCode, 0) << flat.outAndErr();
+    EXPECT_NE(flat.outAndErr().find("warning: " + dir.file("strip.obj") + ": the position lattice flattens 2 of its 2 triangles "
+                                    "(100.0 %) to lines or points"),
+              std::string::npos) << flat.outAndErr();
+    const RunResult kept = runHlod({"build", dir.file("strip.obj"), "-o", dir.file("kept.hlod"), "--draco-position-step", "0.25"});
+    ASSERT_EQ(kept.exitCode, 0) << kept.outAndErr();
+    EXPECT_EQ(kept.outAndErr().find("flattens"), std::string::npos) << kept.outAndErr();
+}
+
 // --offset subtracts in double before the floats: the far model keeps every triangle (without it,
 // vertices 0.1 apart collapse onto 0.5 steps), no warning, META offset and the tileset record it;
 // `hlod split --offset` carries it to the shard builds, which refuse another; a bad value is a usage error.
