@@ -381,12 +381,26 @@ void convert(const uint8_t* bytes, size_t size, bool binary, const std::string& 
              RawMesh& raw, EmbeddedImages& images) {
     const tinygltf::Model model = loadGltfModel(bytes, size, binary, path, options, images);
     Context cx{model, path, options, raw, addGltfMaterials(model, images, path, options, raw), true, true, false, 0, {}};
-    for (const Material& m : raw.materials) cx.keepTexcoords = cx.keepTexcoords || m.image || !m.texturePath.empty();
+    std::map<uint32_t, std::string> withoutUvs;  // textured materials a primitive uses without its TEXCOORD_n
     visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix&, int) {
         if (!isTriangles(prim)) return;
         cx.keepNormals = cx.keepNormals && attributeOf(prim, "NORMAL") >= 0;
         cx.keepColors = cx.keepColors && attributeOf(prim, "COLOR_0") >= 0;
+        const size_t g = static_cast<size_t>(prim.material);
+        if (prim.material < 0 || g >= cx.materials.materialOfGltf.size()) return;
+        const Material& m = raw.materials[cx.materials.materialOfGltf[g]];
+        const std::string uvName = "TEXCOORD_" + std::to_string(cx.materials.uvOfGltf[g].set);
+        if ((m.image || !m.texturePath.empty()) && attributeOf(prim, uvName.c_str()) < 0)
+            withoutUvs.emplace(cx.materials.materialOfGltf[g], "material " + std::to_string(g) + " needs " + uvName);
     });
+    // The textures rule (README "Textures: one rule"): every UV at 0 painted the surface one texel's
+    // colour, with status 0 even with --strict, until stop 46.
+    for (const auto& [index, needs] : withoutUvs) {
+        Material& m = raw.materials[index];
+        raw.stats.textureProblems.push_back({path + ": " + needs + " for its texture, which a primitive using it lacks", m.name});
+        m.texturePath.clear(), m.image.reset();
+    }
+    for (const Material& m : raw.materials) cx.keepTexcoords = cx.keepTexcoords || m.image || !m.texturePath.empty();
     visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix& m, int instance) { addPrimitive(cx, prim, m, instance); });
     if (cx.skippedPrimitives)
         raw.stats.warnings.push_back(path + ": " + std::to_string(cx.skippedPrimitives) + " primitives that are not triangles skipped");

@@ -139,6 +139,25 @@ TEST(ReadObj, AByteOrderMarkBeforeTheFirstKeyword) {
     EXPECT_EQ(readMesh(dir.file("big.obj")).piece.mesh.triangleCount(), 200u);
 }
 
+// A textured material on a mesh where some face has no `vt`: an unusable texture under the textures
+// rule (a warning apart from it, which --strict let pass, until stop 46).
+TEST(ReadObj, FacesWithoutTextureCoordinatesMakeTheTextureUnusable) {
+    TempDir dir;
+    writeFile(dir.file("a.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+    std::ofstream(dir.file("b.mtl")) << "newmtl m\nKd 1 1 1\nmap_Kd a.png\n";
+    std::ofstream(dir.file("b.obj")) << "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                        "usemtl m\nf 1/1 2/2 3/3\nf 1 3 4\n";
+    const SourceMesh s = readMesh(dir.file("b.obj"));
+    const std::string what = dir.file("b.obj") + ": texture '" + std::filesystem::canonical(dir.file("a.png")).string() +
+                             "' cannot be mapped: not every face has texture coordinates";
+    ASSERT_EQ(s.stats.textureProblems.size(), 1u);
+    EXPECT_EQ(s.stats.textureProblems[0].what, what);
+    EXPECT_TRUE(s.materials[s.piece.materials[0]].texturePath.empty());
+    const RunResult strict = runHlod({"build", dir.file("b.obj"), "-o", dir.file("b.hlod"), "--strict"});
+    EXPECT_EQ(strict.exitCode, 2) << strict.outAndErr();
+    EXPECT_EQ(strict.err, "hlod build: " + what + " (--strict)\n");
+}
+
 // The OBJ specification's line continuation: a `\` at a line's end (before blanks or a CR) joins
 // the next line, across the reader's 4 KiB first read too; a comment ending in `\` (a Windows
 // folder), whole or after the data, does not swallow the line after it.
