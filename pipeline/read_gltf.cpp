@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cmath>
+#include <algorithm>
 #include <map>
 #include <cstring>
 
@@ -362,6 +363,9 @@ void visitScene(const Context& cx, Visit visit) {
     const tinygltf::Model& model = cx.model;
     const Matrix identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (model.defaultScene >= 0 && scene >= static_cast<int>(model.scenes.size()))  // all root nodes until stop 46
+        throw InputError(cx.path + ": corrupt glTF (scene " + std::to_string(scene) + " does not exist; " +
+                         std::to_string(model.scenes.size()) + " scenes)");
     checkStrictTrees(cx, scene);
     int visits = 0;
     if (scene < static_cast<int>(model.scenes.size())) {
@@ -374,6 +378,20 @@ void visitScene(const Context& cx, Visit visit) {
             if (c >= 0 && static_cast<size_t>(c) < isChild.size()) isChild[static_cast<size_t>(c)] = true;
     for (size_t n = 0; n < model.nodes.size(); ++n)
         if (!isChild[n]) visitNode(cx, static_cast<int>(n), identity, 0, visit, visits);
+}
+
+// Primitives whose morph targets (glTF 2.0 §3.7.2.2) a non-zero default weight of their mesh or of a
+// node using it would move: built at their base positions (ignored without a word until stop 46).
+size_t morphedPrimitives(const tinygltf::Model& model) {
+    const auto weighted = [](const std::vector<double>& w) { return std::any_of(w.begin(), w.end(), [](double x) { return x != 0; }); };
+    size_t morphed = 0;
+    for (size_t i = 0; i < model.meshes.size(); ++i) {
+        bool moved = weighted(model.meshes[i].weights);
+        for (const tinygltf::Node& node : model.nodes) moved = moved || (node.mesh == static_cast<int>(i) && weighted(node.weights));
+        if (moved)
+            for (const tinygltf::Primitive& prim : model.meshes[i].primitives) morphed += !prim.targets.empty();
+    }
+    return morphed;
 }
 
 // Parses `bytes` (read_gltf_load.cpp) and appends its triangles to `raw` (not sealed).
@@ -402,6 +420,9 @@ void convert(const uint8_t* bytes, size_t size, bool binary, const std::string& 
     }
     for (const Material& m : raw.materials) cx.keepTexcoords = cx.keepTexcoords || m.image || !m.texturePath.empty();
     visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix& m, int instance) { addPrimitive(cx, prim, m, instance); });
+    if (const size_t morphed = morphedPrimitives(model))
+        raw.stats.warnings.push_back(path + ": " + std::to_string(morphed) +
+                                     " primitives have weighted morph targets, which hlod does not apply: built at their base positions");
     if (cx.skippedPrimitives)
         raw.stats.warnings.push_back(path + ": " + std::to_string(cx.skippedPrimitives) + " primitives that are not triangles skipped");
     raw.sharedIndices = true;

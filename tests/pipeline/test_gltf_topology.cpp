@@ -1,6 +1,8 @@
 // glTF primitives as triangle strips and fans (glTF 2.0 §3.7.2.1, "Topology types"): read as the
 // triangle lists they stand for, with the list's facing, indexed or not; a strip's joining
-// triangles (a repeated vertex) left out; points and lines still skipped with a warning.
+// triangles (a repeated vertex) left out; points and lines still skipped with a warning. What the
+// reader does not apply is said: morph targets with a weight (a warning), a scene that does not exist
+// (refused).
 #include "helpers.h"
 
 #include "pipeline/tiny_gltf_config.h"
@@ -89,6 +91,41 @@ TEST(GltfTopology, PointsAndLinesAreSkippedWithAWarning) {
     EXPECT_EQ(m.piece.mesh.triangleCount(), 1u);
     ASSERT_EQ(m.stats.warnings.size(), 1u);
     EXPECT_NE(m.stats.warnings[0].find("3 primitives that are not triangles skipped"), std::string::npos) << m.stats.warnings[0];
+}
+
+// Until stop 46 a weighted morph target was dropped without a word and `"scene": 5` of one scene read
+// every root node.
+TEST(GltfTopology, WeightedMorphTargetsAreWarnedOfAndAMissingSceneIsRefused) {
+    TempDir dir;
+    const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    for (const double weight : {0.0, 1.0}) {
+        tinygltf::Model model;
+        model.asset.version = "2.0";
+        model.buffers.resize(1);
+        tinygltf::Primitive prim;
+        prim.attributes["POSITION"] = addData(model, positions, kFloat, TINYGLTF_TYPE_VEC3, 3);
+        prim.targets.push_back({{"POSITION", addData(model, std::vector<float>{0, 0, 10, 0, 0, 10, 0, 0, 10}, kFloat, TINYGLTF_TYPE_VEC3, 3)}});
+        model.meshes.resize(1);
+        model.meshes[0].primitives.push_back(prim);
+        model.meshes[0].weights = {weight};
+        singleNodeScene(model);
+        const std::string path = dir.file("morph.gltf");
+        tinygltf::TinyGLTF writer;
+        ASSERT_TRUE(writer.WriteGltfSceneToFile(&model, path, false, true, true, false));
+        const SourceMesh m = readGltf(path);
+        EXPECT_EQ(m.piece.mesh.triangleCount(), 1u);
+        if (weight == 0) {
+            EXPECT_TRUE(m.stats.warnings.empty());
+            model.defaultScene = 5;
+            ASSERT_TRUE(writer.WriteGltfSceneToFile(&model, dir.file("scene.gltf"), false, true, true, false));
+            EXPECT_EQ(errorOf([&] { readGltf(dir.file("scene.gltf")); }),
+                      dir.file("scene.gltf") + ": corrupt glTF (scene 5 does not exist; 1 scenes)");
+            continue;
+        }
+        ASSERT_EQ(m.stats.warnings.size(), 1u);
+        EXPECT_EQ(m.stats.warnings[0], path + ": 1 primitives have weighted morph targets, which hlod does not apply: built at "
+                                              "their base positions");
+    }
 }
 
 }  // namespace
