@@ -274,7 +274,12 @@ void addCompare(CLI::App& app, int& status) {
         ->check(finiteIn(0, kMaxFrameMs));
     addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);
-    sub->callback([a, &status] { status = runGuarded("compare", [&] { return runCompare(*a); }); });
+    sub->callback([a, sub, &status] {
+        status = runGuarded("compare", [&] {
+            checkLoaderOptions(*sub, a->loader);
+            return runCompare(*a);
+        });
+    });
 }
 
 }  // namespace hlod::cli

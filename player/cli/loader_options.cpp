@@ -6,6 +6,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <stdexcept>
+#include <string>
+
 namespace hlod::cli {
 
 void addLoaderOptions(CLI::App& sub, PlayerOptions& o, std::string& loader, std::string& onMiss) {
@@ -15,7 +18,7 @@ void addLoaderOptions(CLI::App& sub, PlayerOptions& o, std::string& loader, std:
         ->check(CLI::IsMember({"thesis", "vm", "demand", "incore"}));
     sub.add_option("--on-miss", onMiss,
                    "a wanted node not loaded: parent (draw the loaded parent, never wait; default) or wait (the "
-                   "frame waits for its fetch: the disk model's time with --sync-loader)")
+                   "frame waits for its fetch: the disk model's time under play's --sync-loader)")
         ->check(CLI::IsMember({"parent", "wait"}));
     sub.add_option("--disk-seek-ms", o.disk.seekMs, "disk model: ms per node fetched")->check(finiteAtLeast(0));
     sub.add_option("--disk-mbs", o.disk.bandwidthMBs, "disk model: stored MB/s")->check(finitePositive());
@@ -31,8 +34,16 @@ void addLoaderOptions(CLI::App& sub, PlayerOptions& o, std::string& loader, std:
     sub.add_option("--vm-bins", o.vm.binsPerTolerance, "vm: bins per epsilon (Fig. 5: 10; at most 100)")
         ->check(finiteAboveAtMost(0, 100));
     sub.add_option("--vm-margin-deg", o.vm.marginDegrees,
-                   "vm: prefetch frustum half-angle = render's + this + angular speed x --lookahead")
+                   "vm: prefetch frustum half-angle = render's + this + angular speed x the lookahead (play's "
+                   "--lookahead, 0.5 s)")
         ->check(finiteAtLeast(0));
+}
+
+// The vm loader's settings given with another loader were accepted and ignored (until stop 46).
+void checkLoaderOptions(const CLI::App& sub, const std::string& loader) {
+    if (loader == "vm") return;
+    for (const char* name : {"--vm-tolerance", "--vm-delta", "--vm-bins", "--vm-margin-deg"})
+        if (sub.count(name) > 0) throw std::invalid_argument(std::string(name) + " needs --loader vm");
 }
 
 void appendLoaderInfo(std::vector<std::pair<std::string, std::string>>& info, const PlayerOptions& o) {

@@ -240,7 +240,12 @@ void addPlay(CLI::App& app, int& status) {
         ->check(CLI::Range(1, 16384));
     addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);
-    sub->callback([a, &status] { status = runGuarded("play", [&] { return runPlay(*a); }); });
+    sub->callback([a, sub, &status] {
+        status = runGuarded("play", [&] {
+            checkLoaderOptions(*sub, a->loader);
+            return runPlay(*a);
+        });
+    });
 }
 
 }  // namespace hlod::cli

@@ -37,6 +37,8 @@ void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>&
 // The loader options (--loader, --on-miss, --disk-*, --vm-*; player/LOADERS.md); the names of
 // the loader and of the miss rule go to `loader` and `onMiss` (loaderKindByName, onMissByName).
 void addLoaderOptions(CLI::App& sub, PlayerOptions& options, std::string& loader, std::string& onMiss);
+// Throws std::invalid_argument (usage) when a vm setting is given with another --loader.
+void checkLoaderOptions(const CLI::App& sub, const std::string& loader);
 // The disk model's figures (and the vm loader's settings) as "# key: value" lines of a run.
 void appendLoaderInfo(std::vector<std::pair<std::string, std::string>>& info, const PlayerOptions& options);
 // `hlod compare DB --path P --policies a,b,...`: one path through several selection policies,

@@ -213,7 +213,12 @@ void addView(CLI::App& app, int& status) {
     sub->add_option("--up", args->up, "up axis of the model (default: the one the database records; z for a database without one)")
         ->check(CLI::IsMember({"y", "z"}));
     addConstantOptions(*sub, args->constants);
-    sub->callback([args, &status] { status = runGuarded("view", [&] { return runView(*args); }); });
+    sub->callback([args, sub, &status] {
+        status = runGuarded("view", [&] {
+            checkLoaderOptions(*sub, args->loader);
+            return runView(*args);
+        });
+    });
 }
 
 }  // namespace hlod::cli
