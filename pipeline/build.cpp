@@ -385,7 +385,12 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     const std::string recordDir = staging ? staging->path : (fs::path(temp.path) / "records").string();
     fs::create_directories(recordDir);
 
-    const int cores = options.jobs > 0 ? options.jobs : tbb::info::default_concurrency();
+    // At most the threads the machine runs at once (its cores, as TBB counts them): a larger -j only
+    // admitted more blocks at once to the memory gate, and TBB printed its own warning (until stop 46).
+    const int cores = options.jobs > 0 ? std::min(options.jobs, tbb::info::default_concurrency()) : tbb::info::default_concurrency();
+    if (options.jobs > cores)
+        progress.message("note: -j " + std::to_string(options.jobs) + " is more than the " + std::to_string(cores) +
+                         " threads this machine runs at once; " + std::to_string(cores) + " used");
     std::vector<BlockStats> stats(blockCount);
     MemoryGate gate(options.memoryLimit);
     TextureStore textures((fs::path(temp.path) / "textures").string());  // each texture file decoded once, read by rectangles

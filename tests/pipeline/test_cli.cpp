@@ -27,6 +27,12 @@ TEST(Cli, BuildPrintsConstantsSummaryAndWritesSidecar) {
     EXPECT_GE(j.at("stages").size(), 3u);
     const RunResult v = runHlod({"validate", dir.file("t.hlod")});
     EXPECT_EQ(v.exitCode, 0) << v.outAndErr();
+    // More threads than the machine runs: a note, not TBB's own warning (until stop 46), the same bytes.
+    const RunResult many = runHlod({"build", dir.file("t.ply"), "-o", dir.file("many.hlod"), "-j", "1024", "--set", "c_desiredTris=500"});
+    ASSERT_EQ(many.exitCode, 0) << many.outAndErr();
+    EXPECT_NE(many.out.find("note: -j 1024 is more than the "), std::string::npos) << many.out;
+    EXPECT_EQ(many.outAndErr().find("TBB"), std::string::npos) << many.outAndErr();
+    EXPECT_EQ(readFile(dir.file("many.hlod")), readFile(dir.file("t.hlod")));
 }
 
 // The build runs with its heap on transparent huge pages where the kernel offers them, re-executed
