@@ -110,6 +110,7 @@ public:
         if (const size_t cut = continuation(carry); cut != std::string_view::npos) carry.resize(cut);
         // The last line: after the last newline, or (nothing after it) the one a final `\` continued.
         if (!carry.empty()) line({carry.data(), carry.data() + carry.size(), carry.size() == joined ? number : ++number});
+        checkAhead();
         raw_.hasTexcoords = everyFaceHasTexcoords_ && raw_.texcoords.size() > 0;
         raw_.hasNormals = everyFaceHasNormals_ && raw_.normals.size() > 0;
         raw_.materials.push_back({"default", "", nullptr});
@@ -152,14 +153,28 @@ private:
         return v;
     }
 
-    // One index of a face corner: 1-based, or negative = relative to the elements so far.
-    uint32_t index(const Line& l, std::string_view t, size_t count) {
+    // One index of a face corner: 1-based, or negative = relative to the elements so far. `kind`:
+    // 0 vertex, 1 texture coordinate, 2 normal.
+    uint32_t index(const Line& l, std::string_view t, size_t count, int kind) {
         long long v = 0;
         const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
         if (ec != std::errc() || end != t.data() + t.size() || v == 0) corrupt(l, "bad face index '" + shown(t) + "'");
         const long long resolved = v > 0 ? v - 1 : static_cast<long long>(count) + v;
         if (resolved < 0 || resolved >= 0xFFFFFFFFll) corrupt(l, "face index " + std::to_string(v) + " out of range");
+        Ahead& a = ahead_[kind];
+        if (static_cast<size_t>(resolved) >= count && (a.line == 0 || resolved > a.index)) a = {resolved, l.number};
         return static_cast<uint32_t>(resolved);
+    }
+
+    // A face may name an element defined further down; the largest such index must exist at the end
+    // (until stop 46 a later check named the fanned triangle and a 0-based vertex, without the line).
+    void checkAhead() const {
+        const size_t counts[3] = {raw_.positionCount(), raw_.texcoords.size() / 2, raw_.normals.size() / 3};
+        static constexpr const char* kNames[3] = {"vertices", "texture coordinates", "normals"};
+        for (int k = 0; k < 3; ++k)
+            if (ahead_[k].line && static_cast<size_t>(ahead_[k].index) >= counts[k])
+                throw InputError(path_ + ":" + std::to_string(ahead_[k].line) + ": face index " + std::to_string(ahead_[k].index + 1) +
+                                 " names one of " + std::to_string(counts[k]) + " " + kNames[k]);
     }
 
     void face(Line& l) {
@@ -169,13 +184,13 @@ private:
             const size_t s1 = c.find('/'), s2 = s1 == c.npos ? c.npos : c.find('/', s1 + 1);
             const int k = corners < 3 ? corners : 2;
             if (corners >= 3) p[1] = p[2], t[1] = t[2], n[1] = n[2];  // fan: (0, k-1, k)
-            p[k] = index(l, c.substr(0, s1), raw_.positionCount());
+            p[k] = index(l, c.substr(0, s1), raw_.positionCount(), 0);
             const std::string_view vt = s1 == c.npos ? std::string_view() : c.substr(s1 + 1, s2 == c.npos ? c.npos : s2 - s1 - 1);
             const std::string_view vn = s2 == c.npos ? std::string_view() : c.substr(s2 + 1);
             if (vt.empty()) everyFaceHasTexcoords_ = false;
-            else t[k] = index(l, vt, raw_.texcoords.size() / 2);
+            else t[k] = index(l, vt, raw_.texcoords.size() / 2, 1);
             if (vn.empty()) everyFaceHasNormals_ = false;
-            else n[k] = index(l, vn, raw_.normals.size() / 3);
+            else n[k] = index(l, vn, raw_.normals.size() / 3, 2);
             if (corners >= 2) {
                 RawTriangle tri{{p[0], p[1], p[2]}, {t[0], t[1], t[2]}, {n[0], n[1], n[2]}, material_};
                 raw_.addTriangle(tri);
@@ -277,6 +292,11 @@ private:
     const ReadOptions& options_;
     std::map<std::string, uint32_t> byName_;
     std::set<std::string> undefined_;  // names of `usemtl` lines no library defines, reported once
+    struct Ahead {
+        long long index = 0;  // 0-based
+        size_t line = 0;      // 0: none
+    };
+    Ahead ahead_[3];  // vertex, texture coordinate, normal
     uint32_t material_ = kNone;
     bool everyFaceHasTexcoords_ = true, everyFaceHasNormals_ = true, everyVertexHasColor_ = true, lastLine_ = false;
 };

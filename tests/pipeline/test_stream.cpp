@@ -226,8 +226,10 @@ TEST(ReadObjStream, CorruptNumbersAndTruncatedLinesAreRefused) {
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n", "face index -7 out of range"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2", "t.obj:5: truncated or corrupt OBJ (face with fewer than 3 vertices)"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1", "t.obj:4: truncated or corrupt OBJ (missing number)"},
-        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", "triangle 1 uses vertex 8 but there are only 3"},
-        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/5\n", "uses texture coordinate 4 but there are only 1"},
+        // the face's line and the index as written (a fanned triangle's 0-based vertex until stop 46)
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", "t.obj:5: face index 9 names one of 3 vertices"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/5\n", "t.obj:5: face index 5 names one of 1 texture coordinates"},
+        {"f 1 2 4\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", "t.obj:1: face index 4 names one of 3 vertices"},
     };
     for (const auto& [text, message] : cases) {
         std::ofstream(dir.file("t.obj")) << text;
