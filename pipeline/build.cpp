@@ -377,7 +377,10 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     fixMmapThreshold();
     const uint32_t blockCount = static_cast<uint32_t>(inputs.blocks.size());
     const uint32_t first = std::min(request.firstBlock, blockCount), last = std::min(request.lastBlock, blockCount);
-    if (first >= last) throw std::invalid_argument("no blocks selected (input has " + std::to_string(blockCount) + ")");
+    if (first >= last)  // a range past the end is cut to it (a workflow may ask for more than there are)
+        throw std::invalid_argument(request.input + ": --blocks " + std::to_string(request.firstBlock) + ":" +
+                                    std::to_string(request.lastBlock) + " selects none of its " + std::to_string(blockCount) +
+                                    " blocks");
 
     // A shard is written into a staging folder next to it and renamed into place when complete.
     std::optional<StagingFolder> staging;

@@ -229,7 +229,7 @@ void addBuild(CLI::App& app, int& status) {
                   "measure each leaf's stored textures against the source texels they copy (PSNR per level in the "
                   "build report; `hlod stats` shows it)");
     CLI::Option* shard = sub->add_flag("--shard", a->request.shard, "write a shard folder (merge shards with `hlod merge`)");
-    sub->add_option("--blocks", a->blocks, "with --shard: build only blocks FIRST:LAST (LAST excluded)")
+    sub->add_option("--blocks", a->blocks, "with --shard: build only blocks FIRST:LAST (LAST excluded; cut to the blocks there are)")
         ->needs(shard);  // a database of some blocks failed after the whole build (until stop 44)
     sub->add_option("--temp-dir", o.tempDir, "folder for temporary files (default: next to the output)")->check(nonEmptyPath());
     sub->add_flag("--allow-outside-input", o.read.allowOutsideInput,

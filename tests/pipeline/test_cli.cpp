@@ -185,6 +185,11 @@ TEST(Cli, MergeNeverWritesIntoItsShardsAndBlocksNeedShard) {
     EXPECT_EQ(blocks.exitCode, 2);
     EXPECT_EQ(blocks.err, "hlod build: --blocks requires --shard (see --help)\n");
     EXPECT_FALSE(std::filesystem::exists(dir.file("part.hlod")));
+    // A range past the last block: one line naming the input ("no blocks selected" until stop 46).
+    const RunResult none = runHlod({"build", dir.file("t.ply"), "-o", dir.file("none"), "--shard", "--blocks", "57:114"});
+    EXPECT_EQ(none.exitCode, 2) << none.outAndErr();
+    EXPECT_EQ(none.err.rfind("hlod build: " + dir.file("t.ply") + ": --blocks 57:114 selects none of its ", 0), 0u) << none.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("none")));
 }
 
 }  // namespace
