@@ -448,6 +448,19 @@ TEST(Progress, JsonLines) {
     EXPECT_EQ(j[1].at("eta_s"), 15);
     EXPECT_EQ(j[2].at("message"), "warning: a \"quoted\" name");
     EXPECT_EQ(j[3].at("end"), true);
+    // Work past the estimated total raises it: done never exceeds total.
+    progress.beginStage("build", 100);
+    clock.now = 10;
+    progress.advance(150);
+    progress.poll();
+    progress.endStage();
+    const std::vector<std::string> more = linesOf(out.str());
+    ASSERT_EQ(more.size(), 7u) << out.str();
+    for (size_t i = 5; i < 7; ++i) {
+        const nlohmann::json k = nlohmann::json::parse(more[i]);
+        EXPECT_EQ(k.at("done"), 150) << more[i];
+        EXPECT_EQ(k.at("total"), 150) << more[i];
+    }
 }
 
 TEST(Progress, ABuildIntoAPipePrintsStageLines) {
