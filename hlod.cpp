@@ -32,7 +32,9 @@ int main(int argc, char** argv) {
     if (hlod::cli::kGlibcMalloc) hlod::cli::reexecWithHugePages(argv);  // formats/cli/huge_pages.h
     hlod::removeTemporariesOnInterrupt();  // Ctrl-C leaves no temporaries (formats/interrupt.h); before any thread
     CLI::App app{"hlod: out-of-core HLOD databases for huge scanned 3D models (build, inspect, play)"};
-    app.set_version_flag("--version", std::string("hlod ") + HLOD_VERSION);
+    app.name("hlod");  // "Usage: hlod build ...", not the binary's path
+    app.set_help_flag("-h,--help", "print this help and exit");  // lower case, as every help text; subcommands copy it
+    app.set_version_flag("--version", std::string("hlod ") + HLOD_VERSION, "print the version and exit");
     app.require_subcommand(1);
     // One line, like every other error, prefixed with the subcommand it concerns ("hlod:" alone
     // until stop 46); a first word that names no subcommand is said to be one.

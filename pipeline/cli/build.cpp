@@ -196,26 +196,28 @@ void addBuild(CLI::App& app, int& status) {
                     "balanced (default: triangle-count quantiles avoiding dense surfaces) or even (evenly spaced, "
                     "empty pieces dropped)")
         ->check(CLI::IsMember({"balanced", "even"}));
-    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088, whatever the memory limit)")
+    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default and 0: 671,088, whatever the memory limit)")
         ->check(wholeNumber(o.blockTriangles));
-    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)")
+    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles; 0: not given)")
         ->check(finiteAtLeast(0));
     sub->add_option("--memory-limit", o.memoryLimit, "working-set bound, e.g. 512M, 2G (default 1G)")
         ->transform(CLI::AsSizeValue(false))
         ->transform(wholeNumber(o.memoryLimit));  // inserted before the size transform: "-1" is refused, not wrapped
     sub->add_option("--draco-position-bits", o.draco.positionBits,
-                    "Draco position bits over the largest block (one lattice for all nodes, FORMAT.md)")
+                    "Draco position bits over the largest block (one lattice for all nodes, FORMAT.md; default " +
+                        std::to_string(DracoOptions{}.positionBits) + ")")
         ->check(CLI::Range(kMinPositionBits, kMaxPositionBits));
     sub->add_option("--draco-texcoord-bits", o.draco.texcoordBits,
                     "Draco texture coordinate bits for every node; 0 (default): per node, a quarter texel of its own texture")
         ->check(CLI::Range(0, kMaxTexcoordBits));
     sub->add_option("--draco-position-step", o.draco.positionStep,
-                    "position lattice step in input units, rounded down to a power of two (default: from the block grid; "
+                    "position lattice step in input units, rounded down to a power of two (default and 0: from the block grid; "
                     "a folder input gets one per block unless this is given)")
         ->check(finiteAtLeast(0));
-    sub->add_option("--draco-level", o.draco.compressionLevel, "Draco compression level 0..10")->check(CLI::Range(0, 10));
+    sub->add_option("--draco-level", o.draco.compressionLevel, "Draco compression level 0..10 (default " + std::to_string(DracoOptions{}.compressionLevel) + ")")->check(CLI::Range(0, 10));
     sub->add_option("--jpeg-quality", o.jpegQuality,
-                    "JPEG quality of node textures (at most a JPEG source's own; pipeline/TEXTURE_SIZE.md)")
+                    "JPEG quality of node textures (at most a JPEG source's own; pipeline/TEXTURE_SIZE.md; default " +
+                        std::to_string(BuildOptions{}.jpegQuality) + ")")
         ->check(CLI::Range(1, 100));
     sub->add_option_function<std::string>(
            "--jpeg-chroma",

@@ -44,9 +44,9 @@ void addSplit(CLI::App& app, int& status) {
     sub->add_option("INPUT", a->input, "mesh file, or folder of meshes (one block per file, ordered by name)")->required();
     sub->add_option("-o,--output", a->work, "work folder to write (absent, empty, or an earlier work folder)")
         ->required()->check(nonEmptyPath());
-    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default 671,088)")
+    sub->add_option("--block-triangles", o.blockTriangles, "target triangles per block of a single mesh (default and 0: 671,088)")
         ->check(wholeNumber(o.blockTriangles));
-    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles)")
+    sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles; 0: not given)")
         ->check(finiteAtLeast(0));
     sub->add_option("--memory-limit", o.memoryLimit, "bound on the split's buffers, e.g. 512M, 2G (default 1G)")
         ->transform(CLI::AsSizeValue(false))

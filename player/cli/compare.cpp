@@ -256,7 +256,7 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_flag("!--no-plots", a->plots, "skip the gnuplot PNGs");
     sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path, at most 1,000,000)")
         ->check(wholeNumber(a->maxFrames));
-    sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half)")
+    sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half; default 100)")
         ->check(wholeNumber(a->warmup));
     sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none)")
         ->check(wholeNumber(a->player.memoryBudget));

@@ -189,7 +189,7 @@ void addPlay(CLI::App& app, int& status) {
                   "switch to children only when all of them are loaded (thesis §5.2)");
     sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path, at most 1,000,000)")
         ->check(wholeNumber(a->maxFrames));
-    sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions (at most half)")
+    sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions (at most half; default 100)")
         ->check(wholeNumber(a->warmup));
     sub->add_flag("--sync-loader", a->syncLoader,
                   "step the loader in the render thread: exactly repeatable and as fast as the CPU allows "

@@ -303,6 +303,10 @@ TEST_F(Conventions, HelpAndVersionAreStatusZero) {
         EXPECT_EQ(r.exitCode, 0) << cmd;
         ASSERT_FALSE(r.out.empty()) << cmd;
         EXPECT_TRUE(std::islower(static_cast<unsigned char>(r.out[0]))) << cmd << ": " << r.out;  // one help style
+        // every option's text too (CLI11's "Print this help message and exit" until stop 46), and the
+        // tool's name, not the binary's path, in the usage line
+        EXPECT_NE(r.out.find("  -h,--help                   print this help and exit\n"), std::string::npos) << cmd;
+        EXPECT_NE(r.out.find("Usage: hlod " + cmd + " "), std::string::npos) << cmd << ": " << r.out;
         if (std::find(withDb.begin(), withDb.end(), cmd) != withDb.end()) {
             EXPECT_NE(r.out.find("  DB TEXT REQUIRED            database file (.hlod)"), std::string::npos) << cmd;
         }
