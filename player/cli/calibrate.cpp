@@ -72,7 +72,7 @@ void addCalibrate(CLI::App& app, int& status) {
     sub->add_option("--frames", args->calibration.frames, "frames per batch (median kept)")
         ->capture_default_str()
         ->check(CLI::Range(1, 1000));
-    sub->add_option("--triangles", args->calibration.triangleCounts, "triangle counts of the batches")
+    sub->add_option("--triangles", args->calibration.triangleCounts, "triangle counts of the batches, 2 to 64 of them")
         ->check(CLI::Range(1u, 20000000u))
         ->expected(2, 64);
     sub->callback([args, &status] { status = runGuarded("calibrate", [&] { return runCalibrate(*args); }); });

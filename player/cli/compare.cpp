@@ -253,7 +253,8 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_flag("--preload", a->preload, "decode and upload every node at start, never evict (everything resident)");
     sub->add_option("-o,--output", a->prefix, "write PREFIX.txt, .csv, .json, -frames.csv, -frame-time.png, -triangles.png, -gap.png")
         ->check(nonEmptyPath());
-    sub->add_flag("!--no-plots", a->plots, "skip the gnuplot PNGs");
+    bool* plots = &a->plots;  // a plain flag: CLI11 shows a negated one as "--no-plots{false}"
+    sub->add_flag_callback("--no-plots", [plots] { *plots = false; }, "skip the gnuplot PNGs");
     sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path, at most 1,000,000)")
         ->check(wholeNumber(a->maxFrames));
     sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half; default 100)")
