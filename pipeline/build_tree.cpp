@@ -437,7 +437,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     stats.inputTriangles = block.mesh.triangleCount();
     BlockTextures textures(materials, options.textures, options.strict, stats.textureProblems, progress);
     Piece welded = weldPiece(block, options.draco.positionStep / 2);  // weld.cpp: chunk borders become interior
-    wrapUvCharts(welded, materials);                                   // wrap_uvs.cpp: charts into the texture's [0, 1]
+    stats.straddling = wrapUvCharts(welded, materials);                // wrap_uvs.cpp: charts into the texture's [0, 1]
     const double rootFactor = static_cast<double>(welded.mesh.triangleCount()) / c.desiredTris;  // §3.2 hlod0
     std::vector<uint32_t> parentOf;
     if (options.mode == BuildMode::BottomUp) {

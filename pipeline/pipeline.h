@@ -386,7 +386,7 @@ struct TextureFidelity {
 };
 
 struct BlockStats {
-    uint64_t inputTriangles = 0, flattened = 0;  // flattened by the position lattice (lattice_flattened.h)
+    uint64_t inputTriangles = 0, flattened = 0, straddling = 0;  // lattice_flattened.h; wrapUvCharts
     std::vector<float> geometricErrors;  // per local node: max of its own measure and its children's
     std::vector<SurfaceError> measured;  // per local node: its own measure (0 for leaves)
     std::vector<uint8_t> baked;          // per local node: simplified geometry only, texture baked

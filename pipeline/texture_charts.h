@@ -17,8 +17,9 @@ namespace hlod {
 std::vector<uint32_t> uvCharts(const MeshData& mesh, uint32_t& count);
 
 // wrap_uvs.cpp: each chart of a textured material whose UVs lie in another period of the texture
-// than [0, 1] (Material::uvPeriod) moved into [0, 1] by whole periods: the same texels.
-void wrapUvCharts(Piece& piece, const std::vector<Material>& materials);
+// than [0, 1] (Material::uvPeriod) moved into [0, 1] by whole periods (mirrored in a mirrored
+// period): the same texels. Returns the charts left as they are because they straddle a period's edge.
+uint32_t wrapUvCharts(Piece& piece, const std::vector<Material>& materials);
 
 struct TexturedChart {
     MeshData mesh;  // one chart's triangles, UVs rewritten onto `texels`

@@ -4,9 +4,11 @@
 // option `-clamp on|off` (off, i.e. repeat, by default; Wavefront MTL specification). Node atlases
 // copy the blocks a chart reaches on the texture's own grid (texture.cpp) and the player samples
 // them clamped, so a chart drawn from a repeat of the texture (UVs in [k, k + 1]) is moved by -k,
-// which samples the same texels: REPEAT repeats every 1, MIRRORED_REPEAT every 2. A chart that
-// straddles a period's edge would need its triangles cut there; it stays as it is (its UVs then
-// read the texture's border blocks, as before this pass), as does one under CLAMP_TO_EDGE.
+// which samples the same texels: REPEAT repeats every 1, MIRRORED_REPEAT every 2, its odd periods
+// mirrored (u in [2j + 1, 2j + 2] reads 2j + 2 - u; until stop 46 they were sampled clamped). A
+// chart that straddles a period's edge would need its triangles cut there; it stays as it is (its
+// UVs then read the texture's border blocks, as before this pass) and is counted, so the build can
+// say so; one under CLAMP_TO_EDGE stays as it is, as its sampler says.
 #include "pipeline/texture_charts.h"
 
 #include <cmath>
@@ -15,19 +17,26 @@ namespace hlod {
 
 namespace {
 
-// The whole periods to subtract from an axis whose coordinates span [lo, hi]: 0 when the span
-// lies in [0, 1] already, does not fit into one period's [0, 1] window, or does not repeat.
-double shiftOf(double lo, double hi, float period) {
-    if (period <= 0 || (lo >= 0 && hi <= 1)) return 0;
-    const double k = std::floor(lo / period) * period;
-    return hi - k <= 1 ? k : 0;
+// An axis's map into [0, 1]: u' = sign u + offset. The identity when the span [lo, hi] lies in
+// [0, 1] already or the texture does not repeat; `straddles` when the span crosses a period's edge.
+struct AxisMap {
+    double sign = 1, offset = 0;
+    bool straddles = false;
+};
+
+AxisMap axisMap(double lo, double hi, float period) {
+    if (period <= 0 || (lo >= 0 && hi <= 1)) return {};
+    const double k = std::floor(lo / period) * period;  // the period's start
+    if (hi - k <= 1) return {1, -k, false};
+    if (period == 2 && lo - k >= 1 && hi - k <= 2) return {-1, k + 2, false};  // MIRRORED_REPEAT's mirrored half
+    return {1, 0, true};
 }
 
 }  // namespace
 
-void wrapUvCharts(Piece& piece, const std::vector<Material>& materials) {
+uint32_t wrapUvCharts(Piece& piece, const std::vector<Material>& materials) {
     MeshData& mesh = piece.mesh;
-    if (mesh.texcoords.empty()) return;
+    if (mesh.texcoords.empty()) return 0;
     uint32_t count = 0;
     const std::vector<uint32_t> chart = uvCharts(mesh, count);
     std::vector<const Material*> materialOf(count, nullptr);  // welded: a chart's vertices serve one material
@@ -39,13 +48,18 @@ void wrapUvCharts(Piece& piece, const std::vector<Material>& materials) {
             const double c = mesh.texcoords[2 * v + a];
             lo[2 * chart[v] + a] = std::fmin(lo[2 * chart[v] + a], c), hi[2 * chart[v] + a] = std::fmax(hi[2 * chart[v] + a], c);
         }
-    std::vector<double> shift(2 * size_t(count), 0);
+    std::vector<AxisMap> map(2 * size_t(count));
+    uint32_t straddling = 0;
     for (uint32_t c = 0; c < count; ++c)
-        if (const Material* m = materialOf[c]; m && (m->image || !m->texturePath.empty()))
-            for (int a = 0; a < 2; ++a) shift[2 * c + a] = shiftOf(lo[2 * c + a], hi[2 * c + a], m->uvPeriod[a]);
+        if (const Material* m = materialOf[c]; m && (m->image || !m->texturePath.empty())) {
+            for (int a = 0; a < 2; ++a) map[2 * c + a] = axisMap(lo[2 * c + a], hi[2 * c + a], m->uvPeriod[a]);
+            straddling += map[2 * c].straddles || map[2 * c + 1].straddles;
+        }
     for (size_t v = 0; v < mesh.vertexCount(); ++v)
         for (int a = 0; a < 2; ++a)
-            if (const double k = shift[2 * chart[v] + a]; k != 0) mesh.texcoords[2 * v + a] = static_cast<float>(mesh.texcoords[2 * v + a] - k);
+            if (const AxisMap& k = map[2 * chart[v] + a]; k.sign != 1 || k.offset != 0)
+                mesh.texcoords[2 * v + a] = static_cast<float>(k.sign * mesh.texcoords[2 * v + a] + k.offset);
+    return straddling;
 }
 
 }  // namespace hlod

@@ -1,6 +1,6 @@
 // UV charts in another period of a repeating texture are moved into [0, 1] (pipeline/wrap_uvs.cpp):
-// by whole periods of their material's wrap (REPEAT 1, MIRRORED_REPEAT 2), never a chart that
-// straddles a period's edge, one of a clamped or untextured material; OBJ's `-clamp on` and glTF's
+// by whole periods of their material's wrap (REPEAT 1, MIRRORED_REPEAT 2, mirrored in its odd
+// periods), never a chart that straddles a period's edge (counted: the build warns), one of a clamped or untextured material; OBJ's `-clamp on` and glTF's
 // samplers are read; a scan whose charts sit in other periods builds the database of the same scan
 // with its UVs in [0, 1].
 #include "helpers.h"
@@ -31,6 +31,7 @@ TEST(WrapUvs, ChartsInAnotherPeriodMoveIntoTheTexture) {
     struct Case {
         uint32_t material;
         float u0, v0, u1, v1;  // before, and expected after
+        float du = 0.25f;      // the chart's u step after: -0.25 where mirrored
     };
     const std::vector<Case> cases = {
         {0, 1.25f, 0.25f, 0.25f, 0.25f},      // one period to the right
@@ -39,17 +40,18 @@ TEST(WrapUvs, ChartsInAnotherPeriodMoveIntoTheTexture) {
         {0, 0.25f, 0.5f, 0.25f, 0.5f},        // inside: stays
         {1, 1.25f, 1.25f, 1.25f, 1.25f},      // clamped: stays
         {2, 2.25f, -1.75f, 0.25f, 0.25f},     // mirrored: two periods right, one mirrored pair up
-        {2, 1.25f, 0.25f, 1.25f, 0.25f},      // mirrored once: the texels run the other way, stays
+        {2, 1.25f, 0.25f, 0.75f, 0.25f, -0.25f},  // the mirrored period: u -> 2 - u (clamped until stop 46)
+        {2, -0.75f, 2.25f, 0.75f, 0.25f, -0.25f}, // a mirrored period to the left, two periods up
         {3, 1.25f, 0.25f, 1.25f, 0.25f},      // untextured: stays
     };
     Piece p;
     for (const Case& c : cases) addChart(p, c.material, c.u0, c.v0);
-    wrapUvCharts(p, materials);
+    EXPECT_EQ(wrapUvCharts(p, materials), 1u);  // the chart straddling u = 1 (the clamped one is as its sampler says)
     for (size_t i = 0; i < cases.size(); ++i) {
         const float* uv = &p.mesh.texcoords[6 * i];
         EXPECT_EQ(uv[0], cases[i].u1) << i;
         EXPECT_EQ(uv[1], cases[i].v1) << i;
-        EXPECT_EQ(uv[2], cases[i].u1 + 0.25f) << i;  // the whole chart by the same shift
+        EXPECT_EQ(uv[2], cases[i].u1 + cases[i].du) << i;  // the whole chart by the same map
         EXPECT_EQ(uv[5], cases[i].v1 + 0.25f) << i;
     }
 }
@@ -80,6 +82,24 @@ TEST(WrapUvs, AScanInAnotherPeriodBuildsTheSameDatabase) {
     EXPECT_EQ(build(shifted, "atlas.png", "shifted.hlod"), reference);
     EXPECT_NE(build(shifted, "-clamp on atlas.png", "clamped.hlod"), reference);
     EXPECT_EQ(readMesh(dir.file("t.obj")).materials.at(0).uvPeriod[0], 0.0f);
+}
+
+// Charts tiling their texture twice (UVs 0..2, REPEAT; the terrain's two materials, two charts) cannot be moved into [0, 1]: the build says so
+// (it read the border texels without a word until stop 46); the same chart in [0, 1] does not warn.
+TEST(WrapUvs, AChartCrossingAPeriodsEdgeIsWarnedOf) {
+    TempDir dir;
+    writeFile(dir.file("atlas.png"), encodeTexture(noisyImage(64), Codec::Png).bytes);
+    Piece tiled = dyadicTerrain();
+    writeObj(dir.file("inside.obj"), tiled, "atlas.png");
+    for (float& c : tiled.mesh.texcoords) c *= 2;
+    writeObj(dir.file("tiled.obj"), tiled, "atlas.png");
+    const RunResult inside = runHlod({"build", dir.file("inside.obj"), "-o", dir.file("inside.hlod")});
+    ASSERT_EQ(inside.exitCode, 0) << inside.outAndErr();
+    EXPECT_EQ(inside.out.find("UV charts cross"), std::string::npos) << inside.out;
+    const RunResult r = runHlod({"build", dir.file("tiled.obj"), "-o", dir.file("tiled.hlod")});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_NE(r.out.find("warning: " + dir.file("tiled.obj") + ": 2 UV charts cross an edge of their repeating texture"),
+              std::string::npos) << r.out;
 }
 
 // A glTF texture's sampler: REPEAT without one, else its wrapS and wrapT.
