@@ -186,8 +186,7 @@ void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const st
 }
 
 SourceMesh readMesh(const std::string& path, const ReadOptions& options) {
-    std::string ext = fs::path(path).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string ext = meshExtension(path);
     if (!fs::exists(path)) throw InputError(path + ": no such file");
     if (ext == ".ply") return readPly(path, options);
     if (ext == ".obj") return readObj(path, options);

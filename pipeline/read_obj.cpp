@@ -233,6 +233,11 @@ private:
                 {m.name, m.diffuse_texname.empty() ? "" : resolveReference(path_, folder_, m.diffuse_texname, "texture", options_),
                  nullptr});
             if (m.diffuse_texopt.clamp) raw_.materials.back().uvPeriod[0] = raw_.materials.back().uvPeriod[1] = 0;  // map_Kd -clamp on
+            const tinyobj::texture_option_t& o = m.diffuse_texopt;  // ignored without a word until stop 46
+            if (!m.diffuse_texname.empty() && (o.scale[0] != 1 || o.scale[1] != 1 || o.origin_offset[0] != 0 || o.origin_offset[1] != 0))
+                raw_.stats.warnings.push_back(file + ": material '" + m.name +
+                                              "': map_Kd -s/-o (texture scale and offset) are not applied; its texture "
+                                              "coordinates are used as written");
         }
     }
 

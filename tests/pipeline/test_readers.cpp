@@ -158,6 +158,27 @@ TEST(ReadObj, FacesWithoutTextureCoordinatesMakeTheTextureUnusable) {
     EXPECT_EQ(strict.err, "hlod build: " + what + " (--strict)\n");
 }
 
+// `map_Kd -s`/`-o` (the texture's scale and offset, MTL specification) are not applied: a warning says
+// so (ignored without a word until stop 46); the defaults (-s 1 1 1, -o 0 0 0) give none.
+TEST(ReadObj, TextureScaleAndOffsetOptionsAreWarnedOf) {
+    TempDir dir;
+    writeFile(dir.file("a.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
+    std::ofstream(dir.file("b.obj")) << "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
+    for (const std::string options : {"-s 0.5 1 1", "-o 0 0.25 0", "-s 1 1 1 -o 0 0 0"}) {
+        std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd " << options << " a.png\n";
+        const SourceMesh m = readMesh(dir.file("b.obj"));
+        EXPECT_FALSE(m.materials[m.piece.materials[0]].texturePath.empty()) << options;
+        if (options.find("-s 1 1 1") == 0) {
+            EXPECT_TRUE(m.stats.warnings.empty()) << options;
+            continue;
+        }
+        ASSERT_EQ(m.stats.warnings.size(), 1u) << options;
+        EXPECT_EQ(m.stats.warnings[0], std::filesystem::canonical(dir.file("b.mtl")).string() +
+                                           ": material 'm': map_Kd -s/-o (texture scale and offset) are not applied; its "
+                                           "texture coordinates are used as written");
+    }
+}
+
 // The OBJ specification's line continuation: a `\` at a line's end (before blanks or a CR) joins
 // the next line, across the reader's 4 KiB first read too; a comment ending in `\` (a Windows
 // folder), whole or after the data, does not swallow the line after it.
