@@ -111,6 +111,7 @@ public:
         // The last line: after the last newline, or (nothing after it) the one a final `\` continued.
         if (!carry.empty()) line({carry.data(), carry.data() + carry.size(), carry.size() == joined ? number : ++number});
         checkAhead();
+        warnUnknown();
         raw_.hasTexcoords = everyFaceHasTexcoords_ && raw_.texcoords.size() > 0;
         raw_.hasNormals = everyFaceHasNormals_ && raw_.normals.size() > 0;
         raw_.materials.push_back({"default", "", nullptr});
@@ -288,7 +289,29 @@ private:
                     {path_ + ":" + std::to_string(l.number) + ": material '" + name + "' is defined in no material library", name});
         } else if (keyword == "mtllib") {
             materialLibrary(l);
+        } else if (!keyword.empty() && keyword[0] != '#' && !kIgnored.count(keyword) && unknown_.count++ == 0) {
+            unknown_.line = l.number, unknown_.keyword = shown(keyword);
         }
+    }
+
+    // The statements of the OBJ specification hlod does not draw (groups, smoothing, free-form
+    // geometry, points and lines, display attributes): skipped as the specification allows. Any
+    // other first word is counted and said once (skipped without a word until stop 46: an `F` line
+    // lost its face).
+    static inline const std::set<std::string_view> kIgnored = {
+        "o",     "g",    "s",     "vp",    "l",     "p",      "cstype",   "deg",      "bmat",       "step",      "curv",  "curv2",
+        "surf",  "parm", "trim",  "hole",  "scrv",  "sp",     "end",      "con",      "mg",         "lod",       "usemap", "maplib",
+        "bevel", "c_interp", "d_interp", "shadow_obj", "trace_obj", "ctech", "stech", "call", "csh"};
+    struct Unknown {
+        uint64_t count = 0;
+        size_t line = 0;
+        std::string keyword;
+    } unknown_;
+
+    void warnUnknown() {
+        if (unknown_.count)
+            raw_.stats.warnings.push_back(path_ + ":" + std::to_string(unknown_.line) + ": " + std::to_string(unknown_.count) +
+                                          " lines skipped whose first word is no OBJ statement (the first: '" + unknown_.keyword + "')");
     }
 
     const std::string& path_;

@@ -179,6 +179,18 @@ TEST(ReadObj, TextureScaleAndOffsetOptionsAreWarnedOf) {
     }
 }
 
+// A line whose first word is no OBJ statement (`F` for `f`, control bytes) is counted and said once
+// with the first one's line (skipped without a word until stop 46); the statements hlod does not draw
+// (groups, smoothing) and comments are skipped quietly.
+TEST(ReadObj, LinesOfNoStatementAreWarnedOfOnce) {
+    TempDir dir;
+    std::ofstream(dir.file("j.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n# c\ng part\ns 1\no thing\nf 1 2 3\nF 2 4 3\n\x01\x02 x\n";
+    const SourceMesh m = readMesh(dir.file("j.obj"));
+    EXPECT_EQ(m.piece.mesh.triangleCount(), 1u);
+    ASSERT_EQ(m.stats.warnings.size(), 1u);
+    EXPECT_EQ(m.stats.warnings[0], dir.file("j.obj") + ":10: 2 lines skipped whose first word is no OBJ statement (the first: 'F')");
+}
+
 // The OBJ specification's line continuation: a `\` at a line's end (before blanks or a CR) joins
 // the next line, across the reader's 4 KiB first read too; a comment ending in `\` (a Windows
 // folder), whole or after the data, does not swallow the line after it.
