@@ -1,14 +1,16 @@
 // OBJ + MTL input: many materials and texture atlases (map_Kd), as photogrammetry produces.
 // The OBJ is parsed here line by line in one streaming pass into a RawMesh (v with optional
-// r g b, vt, vn, f with v/vt/vn, v//vn and negative indices, polygons fanned, usemtl, mtllib; a `\` at
-// a line's end continues it), because a scan can be
+// r g b, vt, vn, f with v/vt/vn, v//vn and negative indices, polygons cut by their shape
+// (polygon.h), usemtl, mtllib; a `\` at a line's end continues it), because a scan can be
 // larger than memory and every number must be checked: tinyobjloader reads whole files and turns
 // an unparsable number into 0. The MTL files are parsed by tinyobjloader (LoadMtl).
 #include "pipeline/pipeline.h"
+#include "pipeline/polygon.h"
 
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +21,7 @@
 #include <memory>
 #include <set>
 #include <utility>
+#include <vector>
 
 namespace hlod {
 namespace {
@@ -179,25 +182,40 @@ private:
     }
 
     void face(Line& l) {
-        uint32_t p[3] = {}, t[3] = {}, n[3] = {};
-        int corners = 0;
-        for (std::string_view c = token(l); !c.empty(); c = token(l), ++corners) {
+        corners_.clear();
+        for (std::string_view c = token(l); !c.empty(); c = token(l)) {
             const size_t s1 = c.find('/'), s2 = s1 == c.npos ? c.npos : c.find('/', s1 + 1);
-            const int k = corners < 3 ? corners : 2;
-            if (corners >= 3) p[1] = p[2], t[1] = t[2], n[1] = n[2];  // fan: (0, k-1, k)
-            p[k] = index(l, c.substr(0, s1), raw_.positionCount(), 0);
+            Corner corner;
+            corner.p = index(l, c.substr(0, s1), raw_.positionCount(), 0);
             const std::string_view vt = s1 == c.npos ? std::string_view() : c.substr(s1 + 1, s2 == c.npos ? c.npos : s2 - s1 - 1);
             const std::string_view vn = s2 == c.npos ? std::string_view() : c.substr(s2 + 1);
             if (vt.empty()) everyFaceHasTexcoords_ = false;
-            else t[k] = index(l, vt, raw_.texcoords.size() / 2, 1);
+            else corner.t = index(l, vt, raw_.texcoords.size() / 2, 1);
             if (vn.empty()) everyFaceHasNormals_ = false;
-            else n[k] = index(l, vn, raw_.normals.size() / 3, 2);
-            if (corners >= 2) {
-                RawTriangle tri{{p[0], p[1], p[2]}, {t[0], t[1], t[2]}, {n[0], n[1], n[2]}, material_};
-                raw_.addTriangle(tri);
-            }
+            else corner.n = index(l, vn, raw_.normals.size() / 3, 2);
+            corners_.push_back(corner);
         }
-        if (corners < 3) corrupt(l, "face with fewer than 3 vertices");
+        if (corners_.size() < 3) corrupt(l, "face with fewer than 3 vertices");
+        // A polygon's positions, when read already (a face may name later vertices: fanned), cut it
+        // by its shape (polygon.h); a triangle is itself.
+        bool known = corners_.size() > 3;
+        for (const Corner& c : corners_) known = known && c.p < raw_.positionCount();
+        triangles_.clear();
+        if (known) {
+            points_.resize(corners_.size());
+            for (size_t i = 0; i < corners_.size(); ++i) {
+                float xyz[3];
+                raw_.positions.read(3 * size_t(corners_[i].p), 3, xyz);
+                points_[i] = {xyz[0], xyz[1], xyz[2]};
+            }
+            triangulatePolygon(points_, triangles_);
+        } else {
+            for (uint32_t k = 2; k < corners_.size(); ++k) triangles_.push_back({0, k - 1, k});
+        }
+        for (const auto& [a, b, c] : triangles_) {
+            const Corner &x = corners_[a], &y = corners_[b], &z = corners_[c];
+            raw_.addTriangle({{x.p, y.p, z.p}, {x.t, y.t, z.t}, {x.n, y.n, z.n}, material_});
+        }
     }
 
     // `mtllib A B`: libraries A and B, or the one library `A B` when only that file exists (a
@@ -325,6 +343,12 @@ private:
         size_t line = 0;      // 0: none
     };
     Ahead ahead_[3];  // vertex, texture coordinate, normal
+    struct Corner {
+        uint32_t p = 0, t = 0, n = 0;
+    };
+    std::vector<Corner> corners_;  // of the face being read, and its triangles (reused)
+    std::vector<std::array<double, 3>> points_;
+    std::vector<std::array<uint32_t, 3>> triangles_;
     uint32_t material_ = kNone;
     bool everyFaceHasTexcoords_ = true, everyFaceHasNormals_ = true, everyVertexHasColor_ = true, lastLine_ = false;
 };

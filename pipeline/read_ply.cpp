@@ -1,12 +1,14 @@
 // PLY input (ascii, binary little/big endian): positions, per-vertex normals, texture
 // coordinates (u/v, s/t, texture_u/texture_v, or per face: a `texcoord` list, as MeshLab and
 // Agisoft Metashape write them) and colours when present; `comment TextureFile` names the
-// texture, several of them one each, chosen per face by `texnumber`; polygons are fanned into
-// triangles. Read in one buffered pass into a RawMesh (in memory, or spilled to disk for a large
+// texture, several of them one each, chosen per face by `texnumber`; polygons are cut into
+// triangles by their shape (polygon.h). Read in one buffered pass into a RawMesh (in memory, or spilled to disk for a large
 // single input); every short read is reported as a truncated file.
 #include "pipeline/pipeline.h"
+#include "pipeline/polygon.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -250,11 +252,13 @@ int findList(const PlyElement& e, std::initializer_list<const char*> names) {
     return -1;
 }
 
-// One face's polygon, fanned into triangles: its vertices, its texture coordinates (2 per vertex,
+// One face's polygon, cut into triangles (polygon.h): its vertices, its texture coordinates (2 per vertex,
 // or none) and its material.
 struct PlyFace {
     std::vector<uint32_t> vertices, texcoords;  // texcoords: indices into raw.texcoords (the vertices' without face UVs)
     std::vector<float> uvs;
+    std::vector<std::array<double, 3>> points;          // the polygon's positions (reused)
+    std::vector<std::array<uint32_t, 3>> triangles;     // its triangles, as corner indices
     uint32_t material = 0;
 };
 
@@ -283,10 +287,25 @@ void addFace(RawMesh& raw, PlyFace& face, bool faceUvs, uint64_t number, const s
             raw.addTexcoord(face.uvs[2 * k] + 0.0f, 1.0f - face.uvs[2 * k + 1] + 0.0f, name);  // + 0: -0 welds with +0
         }
     }
-    for (size_t k = 2; k < face.vertices.size(); ++k) {
+    // A polygon is cut by its shape (polygon.h); its vertices precede it (a face index beyond them
+    // fails later, in toSourceMesh, and is fanned here).
+    face.triangles.clear();
+    bool known = face.vertices.size() > 3;
+    for (uint32_t v : face.vertices) known = known && v < raw.positionCount();
+    if (known) {
+        face.points.resize(face.vertices.size());
+        for (size_t i = 0; i < face.vertices.size(); ++i) {
+            float xyz[3];
+            raw.positions.read(3 * size_t(face.vertices[i]), 3, xyz);
+            face.points[i] = {xyz[0], xyz[1], xyz[2]};
+        }
+        triangulatePolygon(face.points, face.triangles);
+    } else {
+        for (uint32_t k = 2; k < face.vertices.size(); ++k) face.triangles.push_back({0, k - 1, k});
+    }
+    for (const std::array<uint32_t, 3>& corners : face.triangles) {
         RawTriangle t{};
         t.material = face.material;
-        const size_t corners[3] = {0, k - 1, k};
         for (int c = 0; c < 3; ++c) {
             t.position[c] = t.normal[c] = face.vertices[corners[c]];
             t.texcoord[c] = texcoords[corners[c]];

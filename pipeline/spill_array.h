@@ -65,6 +65,20 @@ public:
         if (to > from) madvise(static_cast<char*>(map_) + from, to - from, MADV_DONTNEED);
     }
 
+    // Elements [first, first + n) into `out`, while appending too (a reader looking back at what it
+    // read: a polygon's corners): from memory, the map, or the spilled file and the unwritten chunk.
+    void read(size_t first, size_t n, T* out) const {
+        if (!file_ || map_) return static_cast<void>(std::memcpy(out, data() + first, n * sizeof(T)));
+        const size_t written = size_ - buffer_.size();
+        for (size_t i = first; i < first + n; ++i) {
+            if (i >= written) {
+                out[i - first] = buffer_[i - written];
+            } else if (pread(fileno(file_), &out[i - first], sizeof(T), static_cast<off_t>(i * sizeof(T))) != sizeof(T)) {
+                throw std::runtime_error(path_ + ": read failed (" + std::strerror(errno) + ")");
+            }
+        }
+    }
+
     size_t size() const { return size_; }
     const T* data() const { return file_ ? static_cast<const T*>(map_) : buffer_.data(); }
     const T& operator[](size_t i) const { return data()[i]; }
