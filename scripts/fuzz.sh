@@ -34,7 +34,10 @@ if [ ! -f build-fuzz/build.ninja ]; then
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHLOD_FUZZ=ON \
     -DHLOD_TESTS=OFF -DHLOD_BENCH=OFF >/dev/null
 fi
-cmake --build build-fuzz -j "${JOBS:-$(nproc)}" --target "${targets[@]/#/fuzz_}" fuzz_corpus >/dev/null
+# Quiet when it builds; the build's own lines when it does not (a link error failed the script
+# without a word until stop 46).
+cmake --build build-fuzz -j "${JOBS:-$(nproc)}" --target "${targets[@]/#/fuzz_}" fuzz_corpus > build-fuzz/build.log 2>&1 ||
+  { tail -n 40 build-fuzz/build.log; echo "fuzz: the build failed (log build-fuzz/build.log)"; exit 1; }
 for target in "${targets[@]}"; do
   [ -d "build-fuzz/corpus/$target" ] || { build-fuzz/tests/fuzz/fuzz_corpus build-fuzz/corpus; break; }
 done
