@@ -238,9 +238,6 @@ void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t ind
             options.draco.positionStep > 0 ? options.draco.positionStep : positionLatticeStep(bounds, options.draco.positionBits);
         if (std::string w = floatPrecisionWarning(source.file, bounds, step); !w.empty()) mesh.stats.warnings.push_back(std::move(w));
     }
-    const double step = options.draco.positionStep > 0 ? options.draco.positionStep
-                                                       : positionLatticeStep(pieceBounds(mesh.piece.mesh), options.draco.positionBits);
-    const uint64_t flattened = latticeFlattened(mesh.piece.mesh, step);  // the step buildBlock uses
     const uint64_t workingSet = blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh), options.constants.desiredTris);
     const GateTicket ticket(gate, workingSet);
     // The block's nodes run on 1 + extra.nodes threads (build_tree.cpp), each extra one on a
@@ -269,7 +266,6 @@ void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t ind
     records.finish();
     malloc_trim(0);  // a worker thread's heap keeps a finished block's memory otherwise (glibc arenas)
     stats.degenerateDropped = mesh.stats.degenerateDropped;
-    stats.flattened = flattened;
     stats.warnings = mesh.stats.warnings;
     stats.textureProblems.insert(stats.textureProblems.begin(), mesh.stats.textureProblems.begin(), mesh.stats.textureProblems.end());
 }

@@ -25,6 +25,7 @@
 // --error-cap (errorCeiling below, pipeline/TREE.md): a node may stop short of its factor where
 // reaching it would make it far coarser than a reference error.
 #include "pipeline/blob_spill.h"
+#include "pipeline/lattice_flattened.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/tbb_sync.h"
 #include "pipeline/texture_charts.h"
@@ -435,6 +436,7 @@ BlockStats buildBlock(const Piece& block, const std::vector<Material>& materials
     const Constants& c = options.constants;
     BlockStats stats;
     stats.inputTriangles = block.mesh.triangleCount();
+    stats.flattened = latticeFlattened(block.mesh, options.draco.positionStep);  // on the block's lattice, fixed above
     BlockTextures textures(materials, options.textures, options.strict, stats.textureProblems, progress);
     Piece welded = weldPiece(block, options.draco.positionStep / 2);  // weld.cpp: chunk borders become interior
     stats.straddling = wrapUvCharts(welded, materials);                // wrap_uvs.cpp: charts into the texture's [0, 1]

@@ -384,13 +384,14 @@ void visitScene(const Context& cx, Visit visit) {
 // node using it would move: built at their base positions (ignored without a word until stop 46).
 size_t morphedPrimitives(const tinygltf::Model& model) {
     const auto weighted = [](const std::vector<double>& w) { return std::any_of(w.begin(), w.end(), [](double x) { return x != 0; }); };
+    std::vector<bool> moved(model.meshes.size());
+    for (size_t i = 0; i < moved.size(); ++i) moved[i] = weighted(model.meshes[i].weights);
+    for (const tinygltf::Node& node : model.nodes)
+        if (node.mesh >= 0 && static_cast<size_t>(node.mesh) < moved.size() && weighted(node.weights)) moved[size_t(node.mesh)] = true;
     size_t morphed = 0;
-    for (size_t i = 0; i < model.meshes.size(); ++i) {
-        bool moved = weighted(model.meshes[i].weights);
-        for (const tinygltf::Node& node : model.nodes) moved = moved || (node.mesh == static_cast<int>(i) && weighted(node.weights));
-        if (moved)
+    for (size_t i = 0; i < moved.size(); ++i)
+        if (moved[i])
             for (const tinygltf::Primitive& prim : model.meshes[i].primitives) morphed += !prim.targets.empty();
-    }
     return morphed;
 }
 
