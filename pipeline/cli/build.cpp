@@ -158,6 +158,22 @@ void addOffsetOption(CLI::App* sub, std::array<double, 3>& offset) {
         ->check(xyz);
 }
 
+void addMemoryLimitOption(CLI::App* sub, uint64_t& limit, const std::string& what) {
+    // Checked after the size transform (a check runs after every transform): `--memory-limit 1`
+    // was a 1-byte bound until stop 47, accepted, and the build spilled everything to files.
+    const CLI::Validator floor(
+        [](std::string& bytes) {
+            return std::stoull(bytes) >= kMinMemoryLimit
+                       ? std::string()
+                       : bytes + " bytes is below the least, 16M; a size takes its unit, e.g. 512M, 2G";
+        },
+        "");
+    sub->add_option("--memory-limit", limit, what + ", e.g. 512M, 2G (default 1G, at least 16M)")
+        ->transform(CLI::AsSizeValue(false))
+        ->transform(wholeNumber(limit))  // inserted before the size transform: "-1" is refused, not wrapped
+        ->check(floor);
+}
+
 void addBuild(CLI::App& app, int& status) {
     auto a = std::make_shared<BuildArgs>();
     BuildOptions& o = a->request.options;
@@ -200,9 +216,7 @@ void addBuild(CLI::App& app, int& status) {
         ->check(wholeNumber(o.blockTriangles));
     sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles; 0: not given)")
         ->check(finiteAtLeast(0));
-    sub->add_option("--memory-limit", o.memoryLimit, "working-set bound, e.g. 512M, 2G (default 1G)")
-        ->transform(CLI::AsSizeValue(false))
-        ->transform(wholeNumber(o.memoryLimit));  // inserted before the size transform: "-1" is refused, not wrapped
+    addMemoryLimitOption(sub, o.memoryLimit, "working-set bound");
     sub->add_option("--draco-position-bits", o.draco.positionBits,
                     "Draco position bits over the largest block (one lattice for all nodes, FORMAT.md; default " +
                         std::to_string(DracoOptions{}.positionBits) + ")")

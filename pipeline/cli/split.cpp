@@ -48,9 +48,7 @@ void addSplit(CLI::App& app, int& status) {
         ->check(wholeNumber(o.blockTriangles));
     sub->add_option("--block-size", o.blockSize, "block side length in input units (overrides --block-triangles; 0: not given)")
         ->check(finiteAtLeast(0));
-    sub->add_option("--memory-limit", o.memoryLimit, "bound on the split's buffers, e.g. 512M, 2G (default 1G)")
-        ->transform(CLI::AsSizeValue(false))
-        ->transform(wholeNumber(o.memoryLimit));  // inserted before the size transform: "-1" is refused, not wrapped
+    addMemoryLimitOption(sub, o.memoryLimit, "bound on the split's buffers");
     sub->add_option("--draco-position-bits", o.draco.positionBits,
                     "Draco position bits the recorded lattice is for (a build with other bits recomputes it)")
         ->check(CLI::Range(kMinPositionBits, kMaxPositionBits));

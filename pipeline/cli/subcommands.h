@@ -4,6 +4,8 @@
 #include "formats/cli/command.h"
 
 #include <array>
+#include <cstdint>
+#include <string>
 
 namespace hlod {
 struct ProgressOptions;
@@ -26,5 +28,9 @@ void addSynth(CLI::App& app, int& status);
 void addProgressOptions(CLI::App* sub, ProgressOptions& progress);  // defined in build.cpp
 // --offset X,Y,Z (ReadOptions::offset), the same for build and split; defined in build.cpp.
 void addOffsetOption(CLI::App* sub, std::array<double, 3>& offset);
+// --memory-limit (BuildOptions::memoryLimit), the same for build and split, at least
+// kMinMemoryLimit; defined in build.cpp.
+constexpr uint64_t kMinMemoryLimit = uint64_t{16} << 20;
+void addMemoryLimitOption(CLI::App* sub, uint64_t& limit, const std::string& what);
 
 }  // namespace hlod::cli

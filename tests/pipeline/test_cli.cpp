@@ -73,6 +73,20 @@ TEST(Cli, BadInputIsOneLineAndNonZero) {
     EXPECT_NE(m.outAndErr().find("/nonexistent.obj: no such file"), std::string::npos) << m.outAndErr();
 }
 
+// A --memory-limit without its unit was a bound of that many bytes, accepted until stop 47 (the
+// build spilled everything and warned at its end): below 16M it is a usage error, for split too.
+TEST(Cli, MemoryLimitBelowTheLeastIsAUsageError) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(10).mesh, true);
+    for (const std::string sub : {"build", "split"}) {
+        const RunResult r = runHlod({sub, dir.file("t.ply"), "-o", dir.file("out"), "--memory-limit", "2"});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod " + sub + ": --memory-limit: 2 bytes is below the least, 16M; a size takes its unit, e.g. 512M, 2G (see --help)\n");
+        EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
+    }
+    EXPECT_EQ(runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--memory-limit", "16M"}).exitCode, 0);
+}
+
 TEST(Cli, ShardsAndMerge) {
     TempDir dir;
     writePly(dir.file("t.ply"), terrain(40).mesh, true);
