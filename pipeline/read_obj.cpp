@@ -5,6 +5,7 @@
 // larger than memory and every number must be checked: tinyobjloader reads whole files and turns
 // an unparsable number into 0. The MTL files are parsed by tinyobjloader (LoadMtl).
 #include "pipeline/pipeline.h"
+#include "pipeline/mtl_map.h"
 #include "pipeline/polygon.h"
 
 #include <tiny_obj_loader.h>
@@ -17,6 +18,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <map>
 #include <memory>
 #include <set>
@@ -242,18 +245,25 @@ private:
             return;
         }
         skipByteOrderMark(in);
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::istringstream mtl(text);
         std::map<std::string, int> ids;
         std::vector<tinyobj::material_t> materials;
         std::string warning, error;
-        tinyobj::LoadMtl(&ids, &materials, &in, &warning, &error);
+        tinyobj::LoadMtl(&ids, &materials, &mtl, &warning, &error);
+        // map_Kd read by mtl_map.h: tinyobjloader took the file of `map_Kd -o 0 0.25 a.png` for a
+        // third number (the material untextured without a word until stop 47).
+        const std::map<std::string, DiffuseMap> maps = diffuseMaps(text);
         for (const tinyobj::material_t& m : materials) {
-            byName_[std::string(trimmed(m.name))] = static_cast<uint32_t>(raw_.materials.size());
-            raw_.materials.push_back(
-                {m.name, m.diffuse_texname.empty() ? "" : resolveReference(path_, folder_, m.diffuse_texname, "texture", options_),
-                 nullptr});
-            if (m.diffuse_texopt.clamp) raw_.materials.back().uvPeriod[0] = raw_.materials.back().uvPeriod[1] = 0;  // map_Kd -clamp on
-            const tinyobj::texture_option_t& o = m.diffuse_texopt;  // ignored without a word until stop 46
-            if (!m.diffuse_texname.empty() && (o.scale[0] != 1 || o.scale[1] != 1 || o.origin_offset[0] != 0 || o.origin_offset[1] != 0))
+            const std::string name(trimmed(m.name));
+            const auto it = maps.find(name);
+            const DiffuseMap map = it == maps.end() ? DiffuseMap{} : it->second;
+            byName_[name] = static_cast<uint32_t>(raw_.materials.size());
+            raw_.materials.push_back({m.name, map.file.empty() ? "" : resolveReference(path_, folder_, map.file, "texture", options_), nullptr});
+            if (map.clamp) raw_.materials.back().uvPeriod[0] = raw_.materials.back().uvPeriod[1] = 0;  // map_Kd -clamp on
+            if (it != maps.end() && map.file.empty())  // options alone: the textures rule, not an untextured material without a word
+                raw_.stats.textureProblems.push_back({file + ": material '" + m.name + "': map_Kd names no texture file", m.name});
+            if (!map.file.empty() && (map.scale[0] != 1 || map.scale[1] != 1 || map.offset[0] != 0 || map.offset[1] != 0))
                 raw_.stats.warnings.push_back(file + ": material '" + m.name +
                                               "': map_Kd -s/-o (texture scale and offset) are not applied; its texture "
                                               "coordinates are used as written");

@@ -164,7 +164,9 @@ TEST(ReadObj, TextureScaleAndOffsetOptionsAreWarnedOf) {
     TempDir dir;
     writeFile(dir.file("a.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
     std::ofstream(dir.file("b.obj")) << "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
-    for (const std::string options : {"-s 0.5 1 1", "-o 0 0.25 0", "-s 1 1 1 -o 0 0 0"}) {
+    // "-o 0 0.25": the MTL specification lets v and w out; tinyobjloader took the file for w (the
+    // texture lost without a word until stop 47).
+    for (const std::string options : {"-s 0.5 1 1", "-o 0 0.25 0", "-o 0 0.25", "-s 2 -o 0 0.25", "-s 1 1 1 -o 0 0 0"}) {
         std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd " << options << " a.png\n";
         const SourceMesh m = readMesh(dir.file("b.obj"));
         EXPECT_FALSE(m.materials[m.piece.materials[0]].texturePath.empty()) << options;
@@ -177,6 +179,13 @@ TEST(ReadObj, TextureScaleAndOffsetOptionsAreWarnedOf) {
                                            ": material 'm': map_Kd -s/-o (texture scale and offset) are not applied; its "
                                            "texture coordinates are used as written");
     }
+    // Options without a file: an unusable texture (the textures rule), not an untextured material without a word.
+    std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd -o 0 0.25\n";
+    const SourceMesh none = readMesh(dir.file("b.obj"));
+    EXPECT_TRUE(none.materials[none.piece.materials[0]].texturePath.empty());
+    ASSERT_EQ(none.stats.textureProblems.size(), 1u);
+    EXPECT_EQ(none.stats.textureProblems[0].what, std::filesystem::canonical(dir.file("b.mtl")).string() +
+                                                      ": material 'm': map_Kd names no texture file");
 }
 
 // A line whose first word is no OBJ statement (`F` for `f`, control bytes) is counted and said once
