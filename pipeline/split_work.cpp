@@ -177,10 +177,16 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
             image = "materials/" + std::to_string(m) + ".image";
             writeImage((fs::path(staging.path) / image).string(), *material.image);
         }
-        materials.push_back({{"name", material.name},
-                             {"texture", inWork(staging.path, material.texturePath)},
-                             {"image", image},
-                             {"uv_period", {material.uvPeriod[0], material.uvPeriod[1]}}});
+        Ordered entry = {{"name", material.name},
+                         {"texture", inWork(staging.path, material.texturePath)},
+                         {"image", image},
+                         {"uv_period", {material.uvPeriod[0], material.uvPeriod[1]}}};
+        // A texture file the shards read where the split found it: checked by them (none until stop 47,
+        // so shards built after it changed merged into a database of both versions).
+        if (!material.texturePath.empty())
+            entry["texture_file"] = {{"bytes", fs::file_size(material.texturePath)},
+                                     {"xxh3", fileChecksum(material.texturePath, material.texturePath)}};
+        materials.push_back(std::move(entry));
     }
     manifest["materials"] = std::move(materials);
     Ordered problems = Ordered::array();
@@ -216,6 +222,12 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
     SplitWork w;
     int splitBits = 0;
     std::vector<std::pair<uint64_t, std::string>> expected;  // per block: bytes, XXH3-64
+    struct TextureFile {
+        std::string path;
+        uint64_t bytes;
+        std::string xxh3, material;
+    };
+    std::vector<TextureFile> textures;
     try {
         w.input = j.at("input").get<std::string>();
         w.up = {j.at("up").at("axis").get<std::string>(), j.at("up").at("reason").get<std::string>()};
@@ -262,6 +274,9 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
                 material.image = std::make_shared<const Image>(readImage(path, path));
             }
             for (int a = 0; a < 2; ++a) material.uvPeriod[a] = m.at("uv_period").at(a).get<float>();
+            if (m.contains("texture_file") && !material.texturePath.empty())  // absent: a split before stop 47
+                textures.push_back({material.texturePath, m["texture_file"].at("bytes").get<uint64_t>(),
+                                    m["texture_file"].at("xxh3").get<std::string>(), material.name});
             w.inputs.materials.push_back(std::move(material));
         }
         for (const json& p : j.at("texture_problems")) w.inputs.textureProblems.push_back({p.at("what").get<std::string>(), p.at("material").get<std::string>()});
@@ -299,6 +314,14 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
         if (bytes != expected[b].first || (b >= first && b < last && fileChecksum(path, path) != expected[b].second))
             throw InputError(path + ": block " + std::to_string(b) + " of " + work +
                              " differs from its manifest (corrupt or changed since the split; split again)");
+    }
+    for (const TextureFile& t : textures) {
+        std::error_code ec;
+        const uint64_t bytes = fs::file_size(t.path, ec);
+        if (ec || bytes != t.bytes || fileChecksum(t.path, t.path) != t.xxh3)
+            throw InputError(t.path + ": texture of material '" + t.material + "' of " + work +
+                             (ec ? " is missing (moved or deleted since the split; split again)"
+                                 : " differs from the split's (changed or corrupt since; split again)"));
     }
     return w;
 }

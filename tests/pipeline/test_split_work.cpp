@@ -101,12 +101,29 @@ TEST(SplitWork, NamesThatAreNotUtf8AndFoldersOthersCanRead) {
     EXPECT_GT(parsed, 0u);
 }
 
+// One line "hlod build: FILE: problem" and exit status 2, no shard written.
+void expectRefused(const TempDir& dir, const std::vector<std::string>& args, const std::string& problem) {
+    const RunResult r = runHlod(args);
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_NE(r.err.find(problem), std::string::npos) << problem << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir.file("shard/shard.json")));
+}
+
 TEST(SplitWork, TexturedObjAndFolderInputsEqualOneBuild) {
     TempDir dir;
     fs::create_directories(dir.file("scan"));
     writeObj(dir.file("scan/t.obj"), terrain(40, 100, true), "atlas.png");
     writeFile(dir.file("scan/atlas.png"), encodeTexture(testImage(64, 64), Codec::Png).bytes);
     expectSplitShardsMergeEqualOneBuild(dir, dir.file("scan/t.obj"), {"--block-triangles", "800"}, "2");
+    // A texture changed or removed after the split: a shard refuses it (until stop 47 it was read as
+    // it then was, so shards built before and after merged into a database of both versions).
+    const std::string atlas = fs::canonical(dir.file("scan/atlas.png")).string();
+    writeFile(dir.file("scan/atlas.png"), encodeTexture(testImage(64, 32), Codec::Png).bytes);
+    expectRefused(dir, {"build", dir.file("work"), "-o", dir.file("shard"), "--shard"},
+                  atlas + ": texture of material 'mat0' of " + dir.file("work") + " differs from the split's (changed or corrupt since; split again)");
+    fs::remove(atlas);
+    expectRefused(dir, {"build", dir.file("work"), "-o", dir.file("shard"), "--shard"}, atlas + ": texture of material 'mat0' of " + dir.file("work") + " is missing (moved or deleted since the split; split again)");
 
     TempDir folder;
     for (const char* name : {"a", "b", "c"}) writePly(folder.file(std::string(name) + ".ply"), terrain(20).mesh, false);
@@ -156,15 +173,6 @@ TEST(SplitWork, SplitAndMergeSpeakProgressJson) {
     ASSERT_EQ(m.exitCode, 0) << m.outAndErr();
     EXPECT_EQ(m.out.rfind(R"({"stage": "write", "done": 0)", 0), 0u) << m.out;
     EXPECT_NE(m.out.find(R"("end": true})"), std::string::npos) << m.out;
-}
-
-// One line "hlod build: FILE: problem" and exit status 2, no shard written.
-void expectRefused(const TempDir& dir, const std::vector<std::string>& args, const std::string& problem) {
-    const RunResult r = runHlod(args);
-    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
-    EXPECT_NE(r.err.find(problem), std::string::npos) << problem << "\n" << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_FALSE(fs::exists(dir.file("shard/shard.json")));
 }
 
 TEST(SplitWork, BadWorkFoldersAreOneLineAndStatusTwo) {
