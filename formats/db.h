@@ -156,7 +156,7 @@ struct NodeInput {
     std::vector<EncodedBlob> blobs;
 };
 
-// Write side. Writes to "PATH.tmp-PID-XXXXXX" in the same directory (an existing PATH that is not a
+// Write side. Writes to "PATH.tmp-hlodSPACE-PID-XXXXXX" in the same directory (an existing PATH that is not a
 // regular file is refused, checkReplaceable), then fsync + rename in
 // finish(). Destroying an unfinished writer removes the temporary file, so a killed or
 // failed writer never leaves a file that opens as a database at PATH.

@@ -41,7 +41,7 @@ struct TilesReport {
 };
 
 // Writes the tileset to `out` (a folder, or with options.archive a .3tz file), atomically: it is
-// written as OUT.tmp-PID-XXXXXX next to `out` (tileset.json last) and renamed onto `out` at the end, so
+// written as OUT.tmp-hlodSPACE-PID-XXXXXX next to `out` (tileset.json last) and renamed onto `out` at the end, so
 // a failed export leaves nothing at `out` that looks complete. An earlier export at `out` is
 // replaced; a non-empty folder that is not one is refused (InputError). A blob that fails its
 // checksum or does not decode throws FormatError.

@@ -7,7 +7,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <xxhash.h>
+
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -15,18 +18,45 @@
 #include <cstring>
 #include <filesystem>
 #include <optional>
+#include <string_view>
 #include <stdexcept>
 #include <utility>
 
 namespace hlod {
 
-std::string temporaryPattern(const std::string& prefix) { return prefix + "-" + std::to_string(getpid()) + "-XXXXXX"; }
+namespace {
+
+// This machine and PID namespace, as 8 hex digits (XXH3-64 of the host name and the namespace's
+// inode): a PID means a process only where it was taken. Runs on other hosts sharing a folder (NFS,
+// Slurm) or in other containers sharing a volume deleted each other's live temporaries until stop 47.
+const std::string& processSpace() {
+    static const std::string space = [] {
+        char host[256] = {};
+        ::gethostname(host, sizeof host - 1);
+        struct stat ns {};
+        const std::string key = std::string(host) + "/" + (::stat("/proc/self/ns/pid", &ns) == 0 ? std::to_string(ns.st_ino) : "");
+        char hex[9];
+        std::snprintf(hex, sizeof hex, "%08llx", static_cast<unsigned long long>(XXH3_64bits(key.data(), key.size()) & 0xffffffffu));
+        return std::string(hex);
+    }();
+    return space;
+}
+
+bool mkstempLetters(std::string_view text) {
+    return text.size() == 6 && std::all_of(text.begin(), text.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)); });
+}
+
+}  // namespace
+
+std::string temporaryPattern(const std::string& prefix, long pid) {
+    return prefix + "-hlod" + processSpace() + "-" + std::to_string(pid) + "-XXXXXX";
+}
 
 void removeStaleTemporaries(const std::string& prefix) {
     namespace fs = std::filesystem;
     const fs::path p(prefix);
     const fs::path folder = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-    const std::string start = p.filename().string() + "-";
+    const std::string start = p.filename().string() + "-hlod" + processSpace() + "-";
     std::error_code ec;
     for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string name = it->path().filename().string();
@@ -35,8 +65,10 @@ void removeStaleTemporaries(const std::string& prefix) {
         const char* last = name.data() + name.size() - 7;  // "-XXXXXX" made by mkstemp / mkdtemp
         long pid = 0;
         const auto [ptr, error] = std::from_chars(first, last, pid);
-        if (error != std::errc() || ptr != last || *last != '-' || pid <= 0) continue;
+        if (error != std::errc() || ptr != last || *last != '-' || pid <= 0 || !mkstempLetters({last + 1, 6})) continue;
         if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // running (or not ours to ask)
+        struct stat st {};
+        if (::lstat(it->path().c_str(), &st) != 0 || st.st_uid != ::geteuid()) continue;  // another user's
         std::error_code ignored;
         fs::remove_all(it->path(), ignored);
     }

@@ -1,7 +1,10 @@
 // Temporary files and folders that a run killed by SIGKILL cannot remove itself: each is named
-// PREFIX-PID-XXXXXX (mkstemp / mkdtemp), and the next run that makes one with the same PREFIX
-// removes those whose PID no longer runs (README "Reliability"). A PID reused by an unrelated
-// process keeps its stale temporary until that process ends.
+// PREFIX-hlodSPACE-PID-XXXXXX (mkstemp / mkdtemp; SPACE: 8 hex digits naming this host and PID
+// namespace), and the next run in the same SPACE that makes one with the same PREFIX removes those
+// of its user whose PID no longer runs (README "Reliability"). A PID reused by an unrelated process
+// keeps its stale temporary until that process ends; another host's or container's are left to it.
+// Until stop 47 the names were PREFIX-PID-XXXXXX, and a user's `hlod-build-2023-backup` folder (or
+// an input named `DB.tmp-2024-v1.ply`) was swept as a killed run's.
 #pragma once
 
 #include <fstream>
@@ -10,12 +13,15 @@
 #include <optional>
 #include <string>
 
+#include <unistd.h>
+
 namespace hlod {
 
-// "PREFIX-PID-XXXXXX" for this process, ready for mkstemp / mkdtemp.
-std::string temporaryPattern(const std::string& prefix);
-// Removes FOLDER/NAME-PID-* (files or folders) where PREFIX = FOLDER/NAME and PID is not a
-// running process; errors are ignored (another run may remove them at the same time).
+// "PREFIX-hlodSPACE-PID-XXXXXX" for this process (or `pid`, a test's stale one), ready for mkstemp / mkdtemp.
+std::string temporaryPattern(const std::string& prefix, long pid = ::getpid());
+// Removes FOLDER/NAME-hlodSPACE-PID-XXXXXX (files or folders) of this user, where PREFIX =
+// FOLDER/NAME, SPACE is this process's and PID is not a running process; errors are ignored
+// (another run may remove them at the same time).
 void removeStaleTemporaries(const std::string& prefix);
 
 // An output PATH that exists must be a regular file (or a symbolic link to one, which the output
@@ -50,7 +56,7 @@ std::optional<std::string> foreignEntry(const std::string& folder,
 void createOutputFolder(const std::string& folder, const std::string& what);
 
 // A text output (a camera path, the statistics CSV, a JSON summary, compare's tables) written as
-// PATH.tmp-PID-XXXXXX next to PATH and renamed onto it by commit(), so a failed write, a PATH that
+// PATH.tmp-hlodSPACE-PID-XXXXXX next to PATH and renamed onto it by commit(), so a failed write, a PATH that
 // cannot be replaced (checkReplaceable: refused before anything is written) or an interrupted run leaves neither a half-written PATH nor the
 // temporary (the destructor removes an uncommitted one; the next writer of PATH, a killed one's).
 // Errors throw std::runtime_error "PATH: cannot write WHAT (reason)".
@@ -71,7 +77,7 @@ private:
 };
 void writeTextFile(const std::string& path, const std::string& what, const std::string& text);
 
-// A staging folder next to `target` (TARGET.tmp-PID-XXXXXX), renamed to it (or its files moved
+// A staging folder next to `target` (TARGET.tmp-hlodSPACE-PID-XXXXXX), renamed to it (or its files moved
 // into it) by its user's publish() when complete (then `kept`), removed otherwise (an interrupted
 // run's at the signal, formats/interrupt.h; a killed run's by the next run's): a killed split,
 // shard build or synth leaves no half-written TARGET.

@@ -1,5 +1,5 @@
 // `hlod export tiles` as a function (formats/export_tiles.h): every node's GLB, then tileset.json,
-// into OUT.tmp-PID-XXXXXX next to OUT, renamed onto OUT at the end (swapped with an earlier export
+// into OUT.tmp-hlodSPACE-PID-XXXXXX next to OUT, renamed onto OUT at the end (swapped with an earlier export
 // in one renameat2(RENAME_EXCHANGE)), like the database writer's atomic rename (FORMAT.md §Atomic
 // writing): a failed or killed export never leaves at OUT a tileset that looks complete, and the
 // next export to OUT removes a killed one's temporary (formats/temp_files.h).
@@ -92,7 +92,7 @@ TilesReport exportTiles(const Database& db, const std::string& outPath, const Ti
     checkTarget(out, options.archive);
     refuseOutputOverInputs(out.string(), {db.path()});
     const Skeleton& s = db.skeleton();
-    const StagingFolder staging(out.string());  // OUT.tmp-PID-XXXXXX, 0755; removed at the end (after an exchange: the old OUT)
+    const StagingFolder staging(out.string());  // OUT.tmp-hlodSPACE-PID-XXXXXX, 0755; removed at the end (after an exchange: the old OUT)
     const fs::path folder = staging.path;
     fs::create_directory(folder / "tiles");
 
@@ -113,7 +113,7 @@ TilesReport exportTiles(const Database& db, const std::string& outPath, const Ti
     report.tilesetBytes = json.size();
 
     if (options.archive) {
-        std::string name = temporaryPattern(out.string() + ".tmp");  // OUT.tmp-PID-XXXXXX: swept like the folder
+        std::string name = temporaryPattern(out.string() + ".tmp");  // OUT.tmp-hlodSPACE-PID-XXXXXX: swept like the folder
         const int fd = createTemporary(name, false);
         if (fd < 0) throw std::runtime_error(out.string() + ": cannot create a temporary file beside it");
         ::fchmod(fd, 0644);  // mkstemp's 0600 would hide the archive from other readers

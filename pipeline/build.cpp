@@ -353,7 +353,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     if (request.shard) refuseOutputOverInputs(request.output, {request.input});  // a folder: replaceableShard below
     else checkOutputFile(request.output, "database", {request.input});  // before hours of work, not at the end
     checkOutputFile(buildReportPath(request.output), "build report", {request.input});  // written last, beside it
-    options.read.output = request.output;  // nor any file the input refers to
+    options.read.outputs = {request.output, buildReportPath(request.output)};  // nor any file the input refers to
     validateConstants(options.constants, kUsedByBuild);
     checkBuildOptions(options);
     if (request.shard) checkReplaceableShard(request.output);
@@ -361,6 +361,13 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     if (isSplitWork(request.input)) {
         refuseOutputInsideFolder(request.output, request.input);  // -o WORK/manifest.json ruined it (until stop 44)
         work = openSplitWork(request.input, options, request.firstBlock, request.lastBlock);
+        // The files the work folder names by path: a folder input's meshes, a mesh's textures
+        // (overwritten by `-o` without a word until stop 47; a direct build refuses them).
+        for (const std::string& output : options.read.outputs) {
+            for (const BlockSource& b : work->inputs.blocks)
+                if (!b.isPiece) refuseOutputOverInputs(output, {b.file});
+            for (const Material& m : work->inputs.materials) refuseOutputOverInputs(output, {m.texturePath});
+        }
     }
     const std::string input = work ? work->input : request.input;
     const UpChoice up = work ? work->up : chooseUpAxis(input, options.up);

@@ -125,8 +125,8 @@ std::string resolveReference(const std::string& input, const std::string& folder
     if (std::error_code unknown; !fs::exists(resolved, unknown))
         if (const fs::path found = windowsFallback(base, reference); !found.empty()) resolved = fs::weakly_canonical(found, error);
     if (error) fail("cannot be resolved (" + error.message() + ")", false);
-    if (!options.output.empty() && fs::equivalent(resolved, options.output, error))
-        fail("is the output of this run (" + options.output + "; refused)", false);
+    for (const std::string& output : options.outputs)
+        if (fs::equivalent(resolved, output, error)) fail("is the output of this run (" + output + "; refused)", false);
     if (options.allowOutsideInput) return resolved.string();
     const auto b = std::mismatch(base.begin(), base.end(), resolved.begin(), resolved.end()).first;
     if (b != base.end())

@@ -116,9 +116,10 @@ struct ReadOptions {
     // (`hlod build --offset`): a model far from the origin keeps its detail (README "Far from the
     // origin"); the database records it as META `offset`.
     std::array<double, 3> offset{};
-    // The file the run writes (runBuild sets it to the database): a reference that resolves to it
-    // is refused, so a build never replaces its own texture or MTL library.
-    std::string output;
+    // The files the run writes (runBuild sets them: the database and its build report): a reference
+    // that resolves to one is refused, so a build never replaces its own texture or MTL library
+    // (the report replaced an MTL named `DB.build.json` until stop 47).
+    std::vector<std::string> outputs;
 };
 void parsePly(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
 void parseObj(const std::string& path, RawMesh& raw, const ReadOptions& options = {});
@@ -174,7 +175,7 @@ void checkTextures(std::vector<Material>& materials, bool hasTexcoords, const st
 // returned resolved; unless options.allowOutsideInput, an absolute path, a '..' component or a
 // path that resolves (after symlinks) outside `folder` throws InputError
 // "INPUT: KIND 'REFERENCE' ... (refused; --allow-outside-input allows it)"; one that is
-// options.output throws InputError whatever the options. A reference that does not exist as
+// one of options.outputs throws InputError whatever the options. A reference that does not exist as
 // written is looked for as Windows tools mean it (backslash separators, any case, an absolute
 // Windows path's name beside the input; input.cpp), inside the same confinement.
 std::string resolveReference(const std::string& input, const std::string& folder, const std::string& reference,

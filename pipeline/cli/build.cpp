@@ -94,7 +94,8 @@ void printSummary(const std::string& db, const BuildSummary& s, double wall, dou
 int runBuildCommand(BuildArgs& a) {
     const auto start = std::chrono::steady_clock::now();
     BuildOptions& o = a.request.options;
-    refuseOutputOverInputs(a.request.output, {a.calibration, a.constants.configFile});  // the mesh: runBuild
+    for (const std::string& output : {a.request.output, buildReportPath(a.request.output)})  // the mesh: runBuild
+        refuseOutputOverInputs(output, {a.calibration, a.constants.configFile});
     applyConstantOptions(a.constants, o.constants, std::cout);
     if (!a.calibration.empty()) o.constants.textured = readCalibration(a.calibration).cTextured;
     o.simplifier = a.simplifier == "openmesh" ? Simplifier::OpenMesh : Simplifier::Meshopt;

@@ -3,6 +3,7 @@
 // exported mesh decoded with Draco against the database's triangle counts, blobs reused byte for
 // byte, the placement transform, the .3tz archive, and bad input (a corrupt blob, an output that
 // is not an earlier export) failing with one line and no tileset left behind.
+#include "formats/temp_files.h"
 #include "tileset_checks.h"
 
 #include "formats/db.h"
@@ -210,15 +211,23 @@ TEST_F(ExportTiles, ReplacesAnEarlierExportOnly) {
     ASSERT_EQ(again.exitCode, 0) << again.err;
     EXPECT_TRUE(readJson(out + "/tileset.json")["root"].contains("transform"));
 
-    // A killed export's temporary (OUT.tmp-PID-XXXXXX, PID no longer running; 999999999 is above
-    // any pid_max) is removed by the next export to OUT; a running one's is kept.
-    const std::string stale = out + ".tmp-999999999-abcdef", live = out + ".tmp-" + std::to_string(::getpid()) + "-abcdef";
+    // A killed export's temporary (OUT.tmp-hlodSPACE-PID-XXXXXX, PID no longer running; 999999999 is
+    // above any pid_max) is removed by the next export to OUT; a running one's is kept, and so is a
+    // user's file of a name alike (`OUT.tmp-2023-backup` was swept until stop 47).
+    const auto named = [](const std::string& prefix, long pid, const std::string& letters) {
+        std::string name = temporaryPattern(prefix, pid);
+        return name.replace(name.size() - 6, 6, letters);
+    };
+    const std::string stale = named(out + ".tmp", 999999999, "abcdef"), live = named(out + ".tmp", ::getpid(), "abcdef");
+    const std::string users = out + ".tmp-2023-backup";
+    fs::create_directories(users);
     fs::create_directories(stale + "/tiles");
     fs::create_directories(live);
     ASSERT_EQ(runHlod({"export", "tiles", db, "-o", out}).exitCode, 0);
     EXPECT_FALSE(fs::exists(stale));
     EXPECT_TRUE(fs::exists(live));
-    const std::string archive = dir.file("a.3tz"), staleArchive = archive + ".tmp-999999999-ghijkl";  // --3tz's is a file
+    EXPECT_TRUE(fs::exists(users));
+    const std::string archive = dir.file("a.3tz"), staleArchive = named(archive + ".tmp", 999999999, "ghijkl");  // --3tz's is a file
     writeFile(staleArchive, {'P', 'K'});
     ASSERT_EQ(runHlod({"export", "tiles", db, "--3tz", "-o", archive}).exitCode, 0);
     EXPECT_FALSE(fs::exists(staleArchive));

@@ -4,6 +4,7 @@
 
 #include "formats/cli/huge_pages.h"
 #include "formats/constants.h"
+#include "formats/temp_files.h"
 #include "tests/support/run_hlod.h"
 
 #include <nlohmann/json.hpp>
@@ -85,6 +86,47 @@ TEST(Cli, MemoryLimitBelowTheLeastIsAUsageError) {
         EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
     }
     EXPECT_EQ(runHlod({"build", dir.file("t.ply"), "-o", dir.file("t.hlod"), "--memory-limit", "16M"}).exitCode, 0);
+}
+
+// The build report DB.build.json is an output like the database: until stop 47 it replaced a
+// constants file or an MTL library of that name, exit 0.
+TEST(Cli, TheBuildReportNeverReplacesAnInput) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(10).mesh, true);
+    std::ofstream(dir.file("x.build.json")) << "c_desiredTris = 900\n";
+    const RunResult config = runHlod({"build", dir.file("t.ply"), "-o", dir.file("x"), "--config", dir.file("x.build.json")});
+    EXPECT_EQ(config.exitCode, 2) << config.outAndErr();
+    EXPECT_EQ(config.err, "hlod build: " + dir.file("x.build.json") + ": is also an input (" + dir.file("x.build.json") +
+                              "); write the output elsewhere\n");
+    std::ofstream(dir.file("m.obj")) << "mtllib out.build.json\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n";
+    std::ofstream(dir.file("out.build.json")) << "newmtl m\nKd 1 0 0\n";
+    const RunResult mtl = runHlod({"build", dir.file("m.obj"), "-o", dir.file("out")});
+    EXPECT_EQ(mtl.exitCode, 2) << mtl.outAndErr();
+    EXPECT_NE(mtl.err.find("material library 'out.build.json' is the output of this run"), std::string::npos) << mtl.err;
+    EXPECT_EQ(readFile(dir.file("x.build.json")).size(), 20u);
+    EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
+}
+
+// The sweep of killed runs' temporaries removes only names this host's and PID namespace's runs
+// make: until stop 47 a user's `hlod-build-2023-backup` folder beside the output and an input named
+// `DB.tmp-2024-v1.ply` were deleted as a killed run's (exit 0), and runs in other containers or
+// on other hosts sharing the folder deleted each other's live temporaries.
+TEST(Cli, TheSweepOfKilledRunsLeavesOtherFilesOfAlikeNames) {
+    TempDir dir;
+    std::filesystem::create_directories(dir.file("hlod-build-2023-backup"));
+    std::ofstream(dir.file("hlod-build-2023-backup/notes.txt")) << "mine\n";
+    writePly(dir.file("db.tmp-2024-v1.ply"), terrain(10).mesh, true);
+    const std::string otherHost = dir.file("hlod-build-hlod00000000-999999999-abcdef");
+    std::filesystem::create_directories(otherHost);
+    std::string ours = temporaryPattern(dir.file("hlod-build"), 999999999);
+    ours.replace(ours.size() - 6, 6, "abcdef");
+    std::filesystem::create_directories(ours);
+    const RunResult r = runHlod({"build", dir.file("db.tmp-2024-v1.ply"), "-o", dir.file("db")});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_TRUE(std::filesystem::exists(dir.file("hlod-build-2023-backup/notes.txt")));
+    EXPECT_TRUE(std::filesystem::exists(dir.file("db.tmp-2024-v1.ply")));
+    EXPECT_TRUE(std::filesystem::exists(otherHost));
+    EXPECT_FALSE(std::filesystem::exists(ours));  // a killed run's of this host: swept
 }
 
 TEST(Cli, ShardsAndMerge) {

@@ -118,6 +118,9 @@ TEST(SplitWork, TexturedObjAndFolderInputsEqualOneBuild) {
     expectSplitShardsMergeEqualOneBuild(dir, dir.file("scan/t.obj"), {"--block-triangles", "800"}, "2");
     // A texture changed or removed after the split: a shard refuses it (until stop 47 it was read as
     // it then was, so shards built before and after merged into a database of both versions).
+    // Nor may its output be one of the files the work folder names (a texture, a folder's mesh):
+    // they were overwritten, exit 0, until stop 47, as a direct build never allowed.
+    expectRefused(dir, {"build", dir.file("work"), "-o", dir.file("scan/atlas.png")}, dir.file("scan/atlas.png") + ": is also an input");
     const std::string atlas = fs::canonical(dir.file("scan/atlas.png")).string();
     writeFile(dir.file("scan/atlas.png"), encodeTexture(testImage(64, 32), Codec::Png).bytes);
     expectRefused(dir, {"build", dir.file("work"), "-o", dir.file("shard"), "--shard"},
@@ -130,6 +133,9 @@ TEST(SplitWork, TexturedObjAndFolderInputsEqualOneBuild) {
     fs::create_directories(folder.file("in"));
     for (const char* name : {"a", "b", "c"}) fs::rename(folder.file(std::string(name) + ".ply"), folder.file(std::string("in/") + name + ".ply"));
     expectSplitShardsMergeEqualOneBuild(folder, folder.file("in"), {}, "1");
+    const std::vector<uint8_t> mesh = readFile(folder.file("in/b.ply"));
+    expectRefused(folder, {"build", folder.file("work"), "-o", folder.file("in/b.ply")}, folder.file("in/b.ply") + ": is also an input");
+    EXPECT_EQ(readFile(folder.file("in/b.ply")), mesh);
 }
 
 // A texture's wrap travels in the manifest: charts exported a period away from a clamped texture
