@@ -35,6 +35,18 @@ void checkDirectory(const fs::path& dir) {
         throw std::runtime_error(dir.string() + ": exists and is not a directory");
 }
 
+// An existing DIR is written into only when it is empty (but for killed runs' staging folders)
+// or holds an earlier city (its city.json; the files beside it, camera paths, are kept): until
+// stop 47 a scan's folder got a city mixed into it, and a user's block_000.obj was replaced.
+void checkEarlierCity(const fs::path& dir) {
+    std::error_code ec;
+    if (fs::exists(dir / "city.json", ec)) return;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+        if (it->path().filename().string().rfind(".city.tmp-", 0) != 0)
+            throw std::invalid_argument(dir.string() + ": holds " + it->path().filename().string() +
+                                        " but no city.json (not an earlier city); not written into");
+}
+
 nlohmann::json manifest(const CityPlan& plan, const CityResult& result) {
     nlohmann::json blocks = nlohmann::json::array();
     for (const BlockRecord& r : result.blocks) {
@@ -125,6 +137,7 @@ CityResult generateCity(const CityOptions& options, const std::string& dir) {
     if (target.filename().empty()) target = target.parent_path();  // "out/": out itself
     std::error_code ec;
     const bool existed = fs::exists(target, ec);
+    if (existed) checkEarlierCity(target);
     if (!existed) fs::create_directories(target.parent_path(), ec);
     StagingFolder staging((existed ? target / ".city" : target).string());
     CityResult result;

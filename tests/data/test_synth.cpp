@@ -245,6 +245,24 @@ TEST(Synth, OutputPathThatIsAFileFailsWithItsName) {
     fs::remove(file);
 }
 
+// An existing folder is written into when empty or an earlier city (city.json), never a folder of
+// other files (a scan's: until stop 47 the city was mixed into it, and a user's block_000.obj replaced).
+TEST(Synth, WritesOnlyIntoAnEmptyFolderOrAnEarlierCity) {
+    const fs::path dir = tempDir("foreign");
+    fs::create_directories(dir);
+    std::ofstream(dir / "block_000.obj") << "v 0 0 0\n";
+    const hlod::test::RunResult r = hlod::test::runHlod({"synth", "city", "-o", dir.string(), "--scale", "0.002"});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_EQ(r.err, "hlod synth city: " + dir.string() + ": holds block_000.obj but no city.json (not an earlier city); not written into\n");
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+    fs::remove(dir / "block_000.obj");
+    ASSERT_EQ(hlod::test::runHlod({"synth", "city", "-o", dir.string(), "--scale", "0.002"}).exitCode, 0);
+    std::ofstream(dir / "walk.path") << "# a camera path beside the city\n";
+    ASSERT_EQ(hlod::test::runHlod({"synth", "city", "-o", dir.string(), "--scale", "0.002", "--seed", "5"}).exitCode, 0);
+    EXPECT_TRUE(fs::exists(dir / "walk.path"));
+    fs::remove_all(dir);
+}
+
 // A full disk (writes failing part-way: a 32 KiB file-size limit with SIGXFSZ ignored, so write()
 // returns EFBIG as it returns ENOSPC): one line with the reason, and the folder the run made is
 // gone (before stop 38 an empty folder stayed and the line gave no reason).
