@@ -21,7 +21,9 @@
 #include <array>
 #include <cmath>
 #include <algorithm>
+#include <limits>
 #include <map>
+#include <set>
 #include <cstring>
 
 namespace hlod {
@@ -261,6 +263,14 @@ int attributeOf(const tinygltf::Primitive& prim, const char* name) {
     return it == prim.attributes.end() ? -1 : it->second;
 }
 
+// Vertices are numbered in 32 bits (RawTriangle): past 2^32 - 1 the numbers wrapped onto earlier
+// vertices without a word until stop 47 (a 3 MB glTF of 65,537 instances of a 65,536-vertex mesh).
+void checkVertexCount(uint64_t vertices, const std::string& path) {
+    if (vertices > std::numeric_limits<uint32_t>::max())
+        throw InputError(path + ": " + std::to_string(vertices) + " vertices over its node instances, more than the " +
+                         std::to_string(std::numeric_limits<uint32_t>::max()) + " hlod numbers");
+}
+
 // The primitive's vertices in raw (added unless an earlier primitive of the same node instance
 // added the same accessors): its first index and count.
 std::pair<uint32_t, size_t> addVertices(Context& cx, const tinygltf::Primitive& prim, const Matrix& m, int instance) {
@@ -275,6 +285,7 @@ std::pair<uint32_t, size_t> addVertices(Context& cx, const tinygltf::Primitive& 
     const std::vector<float> pos = readFloats(cx, attr("POSITION"), 3, 3, "POSITION", width);
     const size_t count = pos.size() / 3;
     RawMesh& raw = cx.raw;
+    checkVertexCount(raw.positionCount() + count, cx.path);  // the tally before the read counts no UV copies
     const uint32_t base = static_cast<uint32_t>(raw.positionCount());
     for (size_t i = 0; i < count; ++i) {
         double p[3];
@@ -401,8 +412,13 @@ void convert(const uint8_t* bytes, size_t size, bool binary, const std::string& 
     const tinygltf::Model model = loadGltfModel(bytes, size, binary, path, options, images);
     Context cx{model, path, options, raw, addGltfMaterials(model, images, path, options, raw), true, true, false, 0, {}};
     std::map<uint32_t, std::string> withoutUvs;  // textured materials a primitive uses without its TEXCOORD_n
-    visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix&, int) {
+    std::set<std::pair<int, int>> instances;      // (POSITION accessor, node instance): the vertices added
+    uint64_t vertices = raw.positionCount();
+    visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix&, int instance) {
         if (!isTriangles(prim)) return;
+        const int position = attributeOf(prim, "POSITION");
+        if (position >= 0 && static_cast<size_t>(position) < model.accessors.size() && instances.insert({position, instance}).second)
+            vertices += model.accessors[static_cast<size_t>(position)].count;
         cx.keepNormals = cx.keepNormals && attributeOf(prim, "NORMAL") >= 0;
         cx.keepColors = cx.keepColors && attributeOf(prim, "COLOR_0") >= 0;
         const size_t g = static_cast<size_t>(prim.material);
@@ -419,6 +435,7 @@ void convert(const uint8_t* bytes, size_t size, bool binary, const std::string& 
         raw.stats.textureProblems.push_back({path + ": " + needs + " for its texture, which a primitive using it lacks", m.name});
         m.texturePath.clear(), m.image.reset();
     }
+    checkVertexCount(vertices, path);  // before any is read: each node instance adds its mesh's again
     for (const Material& m : raw.materials) cx.keepTexcoords = cx.keepTexcoords || m.image || !m.texturePath.empty();
     visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix& m, int instance) { addPrimitive(cx, prim, m, instance); });
     if (const size_t morphed = morphedPrimitives(model))

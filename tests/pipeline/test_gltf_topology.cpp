@@ -128,5 +128,32 @@ TEST(GltfTopology, WeightedMorphTargetsAreWarnedOfAndAMissingSceneIsRefused) {
     }
 }
 
+// Vertices are numbered in 32 bits: a valid 2 MB glTF placing a 65,536-vertex mesh 65,537 times
+// holds 2^32 + 65,536 of them, whose numbers wrapped onto earlier vertices without a word until
+// stop 47. Refused before any is read.
+TEST(GltfTopology, MoreVerticesOverItsInstancesThan32BitsNumberIsRefused) {
+    TempDir dir;
+    tinygltf::Model model;
+    model.asset.version = "2.0";
+    model.buffers.resize(1);
+    std::vector<float> positions(3 * 65536);
+    for (size_t i = 0; i < positions.size(); ++i) positions[i] = float(i % 251);
+    tinygltf::Primitive prim;
+    prim.attributes["POSITION"] = addData(model, positions, kFloat, TINYGLTF_TYPE_VEC3, 3);
+    model.meshes.resize(1);
+    model.meshes[0].primitives.push_back(prim);
+    model.scenes.resize(1);
+    model.defaultScene = 0;
+    for (int n = 0; n < 65537; ++n) {
+        model.nodes.emplace_back();
+        model.nodes.back().mesh = 0;
+        model.scenes[0].nodes.push_back(n);
+    }
+    const std::string path = dir.file("instances.gltf");
+    tinygltf::TinyGLTF writer;
+    ASSERT_TRUE(writer.WriteGltfSceneToFile(&model, path, false, true, false, false));
+    EXPECT_EQ(errorOf([&] { readGltf(path); }), path + ": 4295032832 vertices over its node instances, more than the 4294967295 hlod numbers");
+}
+
 }  // namespace
 }  // namespace hlod::test
