@@ -9,6 +9,7 @@
 // node's own texture (texcoordBitsForTexture).
 #include "pipeline/pipeline.h"
 #include "formats/errors.h"
+#include "formats/layout.h"
 
 #include "formats/metrics.h"
 
@@ -87,6 +88,14 @@ NodeRecord packNode(const std::vector<SubMesh>& parts, const std::vector<Image>&
     NodeInput& node = record.node;
     node.level = level;
     node.block = block;
+    // One geometry blob per material, and a texture before a textured one's: a node of more was
+    // refused only by the merge, after the whole build, as a "corrupt block record file" (until stop 47).
+    size_t blobs = 0;
+    for (const Image& t : textures) blobs += t.width > 0 ? 2 : 1;
+    if (blobs > layout::kMaxBlobsPerNode)
+        throw InputError("block " + std::to_string(block) + ": a level-" + std::to_string(level) + " node of " +
+                         std::to_string(parts.size()) + " materials needs " + std::to_string(blobs) + " blobs, more than the " +
+                         std::to_string(layout::kMaxBlobsPerNode) + " a node holds (formats/FORMAT.md)");
     std::vector<MeshData> meshes;
     meshes.reserve(parts.size());
     for (size_t i = 0; i < parts.size(); ++i) {

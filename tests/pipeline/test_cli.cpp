@@ -129,6 +129,25 @@ TEST(Cli, TheSweepOfKilledRunsLeavesOtherFilesOfAlikeNames) {
     EXPECT_FALSE(std::filesystem::exists(ours));  // a killed run's of this host: swept
 }
 
+// A node holds at most 65,536 blobs (one per material, a texture before a textured one's): more
+// failed only at the merge, after the whole build, as a "corrupt block record file" (until stop 47).
+TEST(Cli, ANodeOfMoreMaterialsThanItsBlobsHoldIsOneLine) {
+    TempDir dir;
+    std::ofstream obj(dir.file("m.obj")), mtl(dir.file("m.mtl"));
+    obj << "mtllib m.mtl\n";
+    constexpr int kMaterials = 65537;
+    for (int i = 0; i < kMaterials; ++i) obj << "v " << i % 300 << " " << i / 300 << " 0\nv " << i % 300 + 1 << " " << i / 300 << " 0\nv " << i % 300 << " " << i / 300 + 1 << " 0\n";
+    for (int i = 0; i < kMaterials; ++i) {
+        obj << "usemtl m" << i << "\nf " << 3 * i + 1 << " " << 3 * i + 2 << " " << 3 * i + 3 << "\n";
+        mtl << "newmtl m" << i << "\nKd 1 1 1\n";
+    }
+    obj.close(), mtl.close();
+    const RunResult r = runHlod({"build", dir.file("m.obj"), "-o", dir.file("m.hlod"), "--set", "c_desiredTris=100000", "-j", "1"});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_EQ(r.err, "hlod build: block 0: a level-0 node of 65537 materials needs 65537 blobs, more than the 65536 a node holds (formats/FORMAT.md)\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.file("m.hlod")));
+}
+
 TEST(Cli, ShardsAndMerge) {
     TempDir dir;
     writePly(dir.file("t.ply"), terrain(40).mesh, true);
