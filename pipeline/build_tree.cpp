@@ -24,6 +24,7 @@
 // simplifier's own error estimate to the children's, measuring no distance at all.
 // --error-cap (errorCeiling below, pipeline/TREE.md): a node may stop short of its factor where
 // reaching it would make it far coarser than a reference error.
+#include "formats/layout.h"
 #include "pipeline/blob_spill.h"
 #include "pipeline/lattice_flattened.h"
 #include "pipeline/pipeline.h"
@@ -49,6 +50,10 @@ namespace {
 
 // Smallest baked atlas: 64 x 64 texels (a coarse node of a small piece would otherwise get a few texels).
 constexpr uint64_t kMinBakeTexels = 64 * 64;
+// Largest: a quarter of the largest texture a blob may hold (layout::kMaxTextureSide squared), so
+// the packed atlas stays within its sides (uncapped until stop 47: ~4.3 G source texels under one
+// baked node made an atlas the encoder refused, failing the build; a reading of the code, not run).
+constexpr uint64_t kMaxBakeTexels = uint64_t(layout::kMaxTextureSide / 2) * (layout::kMaxTextureSide / 2);
 
 struct Pending {
     Piece piece;
@@ -107,7 +112,7 @@ double usedTexels(const MeshData& mesh, const Image& texture) {
 // "Integration": ~one source texel per baked texel, so its sub-samples do not alias). texelBudget
 // is the texels those triangles use in the downsampled textures, i.e. the source texels divided
 // by the node's factor (thesis §3.2: texture "down-sampled by this simplification factor", as
-// the cropped atlases of the other nodes are), at least kMinBakeTexels. An untextured piece is
+// the cropped atlases of the other nodes are), from kMinBakeTexels to kMaxBakeTexels. An untextured piece is
 // not baked (image empty): its node stays untextured.
 BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, double factor, BlockTextures& textures) {
     std::vector<TexturedChart> original;  // by material and UV chart, each with the texels it covers
@@ -125,7 +130,7 @@ BakedTexture bakeNode(const MeshData& simplified, const Piece& piece, double fac
         sources.push_back({&c.mesh, texture});
     }
     if (texels <= 0) return {};
-    return bakeTexture(simplified, sources, std::max<uint64_t>(kMinBakeTexels, static_cast<uint64_t>(texels)));
+    return bakeTexture(simplified, sources, std::clamp<uint64_t>(static_cast<uint64_t>(texels), kMinBakeTexels, kMaxBakeTexels));
 }
 
 // One node's output: its record (parentLocal set by the caller) and what BlockStats keeps of it.
