@@ -108,6 +108,13 @@ void refuseOutputInsideFolder(const std::string& output, const std::string& fold
         throw std::invalid_argument(output + ": is inside an input folder (" + folder + "); write the output elsewhere");
 }
 
+bool sameOutput(const std::string& a, const std::string& b) {
+    std::error_code ea, eb;
+    const auto p = std::filesystem::weakly_canonical(std::filesystem::absolute(a, ea), ea);
+    const auto q = std::filesystem::weakly_canonical(std::filesystem::absolute(b, eb), eb);
+    return ea || eb ? a == b : p == q;
+}
+
 bool isInsideFolder(const std::string& path, const std::string& folder) { return below(path, folder).value_or(false); }
 
 void checkOutputFile(const std::string& output, const std::string& what, std::initializer_list<std::string> inputs) {

@@ -37,6 +37,8 @@ void refuseOutputOverInputs(const std::string& output, std::initializer_list<std
 // elsewhere" when OUTPUT lies in FOLDER or below it (after symbolic links): a folder the run reads
 // as a whole (a split's work folder, a shard), whose files it would replace.
 void refuseOutputInsideFolder(const std::string& output, const std::string& folder);
+// Whether two output paths name one file (after symbolic links, existing or not).
+bool sameOutput(const std::string& a, const std::string& b);
 // Whether PATH lies below FOLDER, after symbolic links (false when either cannot be resolved).
 bool isInsideFolder(const std::string& path, const std::string& folder);
 // The checks of a file output, before a run's work: a name ending in '/' (a folder) refused,

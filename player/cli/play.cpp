@@ -21,6 +21,8 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <regex>
+#include <vector>
 
 namespace hlod::cli {
 namespace {
@@ -45,9 +47,25 @@ std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
     return std::make_unique<CostModelRenderer>(a.model);
 }
 
+// --frames-dir holds this run's frames alone: an earlier run's frame_NNNNNN.png go (20 frames of a
+// longer run stayed beside 5 new ones until stop 47), after a check that none of them is an input
+// of this run (the camera path or database under such a name was overwritten).
+void replaceEarlierFrames(const PlayArgs& a) {
+    namespace fs = std::filesystem;
+    static const std::regex frame(R"(frame_[0-9]{6,}\.png)");
+    std::vector<fs::path> earlier;
+    std::error_code ec;
+    for (fs::directory_iterator it(a.framesDir, ec), end; !ec && it != end; it.increment(ec))
+        if (std::regex_match(it->path().filename().string(), frame)) earlier.push_back(it->path());
+    for (const fs::path& f : earlier) refuseOutputOverInputs(f.string(), {a.db, a.path, a.calibration, a.constants.configFile});
+    for (const fs::path& f : earlier) fs::remove(f, ec);
+}
+
 int runPlay(PlayArgs& a) {
     checkOutputFile(a.stats, "statistics", {a.db, a.path, a.calibration, a.constants.configFile});  // before the run
     checkOutputFile(a.json == "-" ? "" : a.json, "summary", {a.db, a.path, a.calibration, a.constants.configFile});
+    if (!a.stats.empty() && !a.json.empty() && a.json != "-" && sameOutput(a.stats, a.json))  // the CSV was lost under the JSON until stop 47
+        throw std::invalid_argument("--stats and --json name the same file (" + a.json + ")");
     std::ostream& text = a.json == "-" ? std::cerr : std::cout;  // stdout holds the JSON alone
     Constants c;
     applyConstantOptions(a.constants, c, text);
@@ -57,6 +75,7 @@ int runPlay(PlayArgs& a) {
         a.player.overheadMs = calibration.fixedOverheadMs;
     }
     if (!a.framesDir.empty() && a.renderer != "gl") throw std::invalid_argument("--frames-dir needs --renderer gl");
+    if (!a.framesDir.empty()) replaceEarlierFrames(a);
     if (a.player.frameOptions.colorByLevel && a.renderer != "gl") throw std::invalid_argument("--color-by-level needs --renderer gl");
     if (a.every == 0) throw std::invalid_argument("--every must be at least 1");
     a.player.policyOptions = parsePolicySettings(a.policySettings);

@@ -57,7 +57,20 @@ TEST_F(HlodTool, PlayWithGlWritesLevelShadedFramesAndTheLogPlots) {
     ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
     size_t pngs = 0;
     for (const auto& entry : fs::directory_iterator(frames)) pngs += entry.path().extension() == ".png";
-    EXPECT_GT(pngs, 0u);
+    EXPECT_GT(pngs, 1u);
+    // A later run into the folder replaces the earlier run's frames (they stayed until stop 47), and
+    // refuses, before any is removed, a frame name that is one of its inputs (overwritten until then).
+    fs::copy_file(path, frames / "frame_000020.png", fs::copy_options::overwrite_existing);
+    r = runHlod({"play", db.string(), "--path", (frames / "frame_000020.png").string(), "--renderer", "gl", "--width", "32", "--height", "18",
+                 "--sync-loader", "--frames-dir", frames.string()});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_EQ(r.err.rfind("hlod play: " + (frames / "frame_000020.png").string() + ": is also an input", 0), 0u) << r.err;
+    r = runHlod({"play", db.string(), "--path", path.string(), "--renderer", "gl", "--width", "32", "--height", "18", "--sync-loader",
+                 "--frames-dir", frames.string(), "--every", "100000"});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    pngs = 0;
+    for (const auto& entry : fs::directory_iterator(frames)) pngs += entry.path().extension() == ".png";
+    EXPECT_EQ(pngs, 1u);  // frame 0 alone
     // a folder that cannot be made (a file in the way): the convention's one line, before any frame
     const std::string blocked = (dir_ / "fly.path" / "png").string();
     r = runHlod({"play", db.string(), "--path", path.string(), "--renderer", "gl", "--width", "32", "--height", "18", "--sync-loader", "--frames-dir", blocked});

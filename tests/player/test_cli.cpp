@@ -88,6 +88,9 @@ TEST_F(Cli, MemoryBelowHlod0AndOptionsWithoutTheirPartnerAreUsageErrors) {
         {{"play", db, "--path", path, "--sync-loader", "--color-by-level"}, "hlod play: --color-by-level needs --renderer gl"},
         {{"play", db, "--path", path, "--sync-loader", "--frames-dir", (dir / "png").string()}, "hlod play: --frames-dir needs --renderer gl"},
         {{"merge", "", "-o", (dir / "m.hlod").string()}, "hlod merge: SHARDS: an empty path"},
+        // the CSV was lost under the JSON until stop 47
+        {{"play", db, "--path", path, "--sync-loader", "--stats", (dir / "s.out").string(), "--json", (dir / "./s.out").string()},
+         "hlod play: --stats and --json name the same file ("},
         // accepted and ignored until stop 46
         {{"play", db, "--path", path, "--sync-loader", "--vm-delta", "50"}, "hlod play: --vm-delta needs --loader vm"},
         {{"compare", db, "--path", path, "--policies", "thesis", "--loader", "demand", "--vm-bins", "5", "--no-plots", "-o",
