@@ -6,10 +6,12 @@
 #include "pipeline/stats/stats.h"
 
 #include "formats/constants.h"
+#include "formats/errors.h"
 #include "formats/metrics.h"
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -91,6 +93,11 @@ Stats computeStats(const Database& db, bool forceThesis) {
     if (const std::string* v = sk.findMeta("tree.error")) s.treeError = *v;
     if (const std::string* v = sk.findMeta("tree.errorCap")) s.errorCap = *v;
     s.build = readBuildReport(buildReportPath(db.path()));
+    // Two builds racing to one -o could leave one's database beside the other's report, whose
+    // figures stats printed for it without a word (until stop 47).
+    if (std::error_code ec; s.build && s.build->outputBytes != std::filesystem::file_size(db.path(), ec) && !ec)
+        throw InputError(buildReportPath(db.path()) + ": the report of another build (of " + std::to_string(s.build->outputBytes) +
+                         " bytes; the database has " + std::to_string(std::filesystem::file_size(db.path())) + ")");
     s.city = findCityManifest(db.path(), sk);
     s.thesis = forceThesis || isThesisScale(s.city);
     return s;

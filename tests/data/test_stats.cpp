@@ -101,7 +101,8 @@ TEST(Stats, AgreesWithInspect) {
 TEST(Stats, ReadsTheBuildSidecar) {
     Fixture f("sidecar");
     writeSidecar(f.db, R"({"stages":[{"name":"read","seconds":1.5,"items":7},{"name":"simplify","seconds":2,"items":84}],
-        "peak_rss_bytes":1048576,"input_triangles":12345,"wall_seconds":4,"cpu_seconds":6,"output_bytes":99})");
+        "peak_rss_bytes":1048576,"input_triangles":12345,"wall_seconds":4,"cpu_seconds":6,"output_bytes":)" +
+                           std::to_string(fs::file_size(f.db)) + "}");
     stats::Stats s = stats::computeStats(Database::open(f.db.string()), false);
     ASSERT_TRUE(s.build.has_value());
     ASSERT_EQ(s.build->stages.size(), 2u);
@@ -113,6 +114,17 @@ TEST(Stats, ReadsTheBuildSidecar) {
     stats::printStats(text, s);
     EXPECT_NE(text.str().find("simplify"), std::string::npos);
     EXPECT_EQ(text.str().find("thesis vs ours"), std::string::npos);
+}
+
+// A report whose database size is not this database's: one line, exit 2 (two builds racing to one
+// -o left one's database beside the other's report, whose figures stats printed until stop 47).
+TEST(Stats, TheReportOfAnotherBuildIsRefused) {
+    Fixture f("other");
+    writeSidecar(f.db, R"({"stages":[],"peak_rss_bytes":1,"input_triangles":1,"wall_seconds":1,"cpu_seconds":1,"output_bytes":99})");
+    const RunResult r = runHlod({"stats", f.db.string()});
+    EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+    EXPECT_EQ(r.err, "hlod stats: " + f.db.string() + ".build.json: the report of another build (of 99 bytes; the database has " +
+                         std::to_string(fs::file_size(f.db)) + ")\n");
 }
 
 TEST(Stats, CorruptSidecarIsOneLineNamingIt) {
