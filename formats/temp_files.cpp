@@ -121,6 +121,15 @@ void checkOutputFile(const std::string& output, const std::string& what, std::in
     if (output.empty()) return;
     if (output.back() == '/')  // f.hlod/ failed at the end with "cannot create a temporary folder (Not a directory)"
         throw std::invalid_argument(output + ": names a folder (ends in '/'); the " + what + " is a file");
+    // The temporary beside it is named longer (temporaryPattern): a name the folder takes but not its
+    // temporary's failed only after the whole build (until stop 47).
+    const std::string name = std::filesystem::path(output).filename().string();
+    const std::filesystem::path parent = std::filesystem::path(output).parent_path();
+    const long limit = ::pathconf(parent.empty() ? "." : parent.c_str(), _PC_NAME_MAX);
+    const size_t longest = name.size() + temporaryPattern(".tmp", 9999999999L).size();
+    if (limit > 0 && longest > static_cast<size_t>(limit))
+        throw std::invalid_argument(output + ": its name of " + std::to_string(name.size()) + " bytes leaves no room for its temporary's (" +
+                                    std::to_string(longest) + " bytes; the folder takes " + std::to_string(limit) + ")");
     refuseOutputOverInputs(output, inputs);
     checkReplaceable(output, what);
 }

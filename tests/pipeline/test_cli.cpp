@@ -148,6 +148,20 @@ TEST(Cli, ANodeOfMoreMaterialsThanItsBlobsHoldIsOneLine) {
     EXPECT_FALSE(std::filesystem::exists(dir.file("m.hlod")));
 }
 
+// A name the folder takes but its temporary's does not: refused before the build (until stop 47
+// the whole build ran, then failed creating the temporary, or wrote the database and failed on its report).
+TEST(Cli, AnOutputNameWithoutRoomForItsTemporaryIsAUsageError) {
+    TempDir dir;
+    writePly(dir.file("t.ply"), terrain(10).mesh, true);
+    for (const size_t length : {230u, 220u}) {  // the database's temporary; the report's (DB.build.json's)
+        const std::string out = dir.file(std::string(length, 'd'));
+        const RunResult r = runHlod({"build", dir.file("t.ply"), "-o", out});
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_NE(r.err.find(": its name of "), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out));
+    }
+}
+
 TEST(Cli, ShardsAndMerge) {
     TempDir dir;
     writePly(dir.file("t.ply"), terrain(40).mesh, true);
