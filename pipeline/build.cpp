@@ -122,14 +122,15 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         if (raw.triangles.size() == 0) throw InputError(input + ": empty mesh (no valid triangles)");
         checkTextures(raw.materials, raw.hasTexcoords, input, raw.stats);
         enforceTextures(raw.stats.textureProblems, options);
-        checkModelExtent(input, raw.bounds);
-        const GridSpec grid = chooseGrid(raw.bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
-        checkPositionStep(input, gridCell(raw.bounds, grid), options.draco.positionStep);  // before the split's work
-        in.positionStep = gridPositionStep(raw.bounds, grid, options.draco.positionBits);
+        const Box3f bounds = usedBounds(raw);
+        checkModelExtent(input, bounds);
+        const GridSpec grid = chooseGrid(bounds, raw.triangles.size(), blockTarget(options), options.blockSize);
+        checkPositionStep(input, gridCell(bounds, grid), options.draco.positionStep);  // before the split's work
+        in.positionStep = gridPositionStep(bounds, grid, options.draco.positionBits);
         const double step = options.draco.positionStep > 0 ? options.draco.positionStep : in.positionStep;
-        const std::string precision = floatPrecisionWarning(input, raw.bounds, step);
+        const std::string precision = floatPrecisionWarning(input, bounds, step);
         if (!precision.empty()) raw.stats.warnings.push_back(precision);
-        in.grid = grid, in.bounds = raw.bounds, in.inputTriangles = raw.triangles.size();
+        in.grid = grid, in.bounds = bounds, in.inputTriangles = raw.triangles.size();
         if (raw.positions.spilled()) fixMmapThreshold();  // arrays held, then freed: the threshold rose
         progress.beginStage("split", raw.triangles.size());
         try {

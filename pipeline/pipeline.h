@@ -127,13 +127,13 @@ void parseGltf(const std::string& path, RawMesh& raw, const ReadOptions& options
 // Welds the corners (OBJ, and PLY with per-face UVs: by position/texcoord/normal index triple,
 // in first-use order) into an indexed SourceMesh and sanitizes it.
 SourceMesh toSourceMesh(const RawMesh& raw, const std::string& name);
-// The three corners of triangle t as vertices with every attribute of the layout; throws
-// InputError when an index is out of range. Returns false for a degenerate triangle.
+// The three corners of triangle t with every attribute of the layout; InputError for an index out of range; false: degenerate.
 struct Corner {
     float position[3], texcoord[2], normal[3];
     uint8_t color[4];
 };
 bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& name);
+Box3f usedBounds(const RawMesh& raw);  // of the positions triangles use: the grid's and lattice's (raw_mesh.cpp)
 // The read buffer of the PLY and OBJ parsers: the file's size (+1, at least 4 KiB), at most
 // 1 MiB, so that small files (and the fuzzers' many small inputs) do not pay for a large one.
 size_t readBufferBytes(std::FILE* file);

@@ -157,6 +157,28 @@ void RawMesh::seal() {
     if (hasNormals && normals.size() == 0) hasNormals = false;
 }
 
+// RawMesh::bounds holds every position read. One vertex no triangle used, far off (an outlier a
+// cleaning step left unreferenced), set the block grid and the position lattice until stop 47: a
+// 1.4 M-triangle grid with one stray vertex at 1e5 became one block, its lattice step as coarse.
+// RawMesh::bounds itself when every vertex is used (the bytes of every such database kept).
+Box3f usedBounds(const RawMesh& raw) {
+    const size_t n = raw.positionCount();
+    std::vector<bool> used(n);
+    size_t count = 0;
+    for (size_t t = 0; t < raw.triangles.size(); ++t)
+        for (const uint32_t p : raw.triangles[t].position)
+            if (p < n && !used[p]) used[p] = true, ++count;
+    if (count == n) return raw.bounds;
+    Box3f b{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};
+    for (size_t v = 0; v < n; ++v) {
+        if (!used[v]) continue;
+        const float* p = &raw.positions[3 * v];
+        b.min = {std::min(b.min.x, p[0]), std::min(b.min.y, p[1]), std::min(b.min.z, p[2])};
+        b.max = {std::max(b.max.x, p[0]), std::max(b.max.y, p[1]), std::max(b.max.z, p[2])};
+    }
+    return b;
+}
+
 bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& name) {
     const RawTriangle& tri = raw.triangles[t];
     const size_t positions = raw.positionCount(), texcoords = raw.texcoords.size() / 2, normals = raw.normals.size() / 3;

@@ -9,6 +9,7 @@
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -147,6 +148,10 @@ Piece loadPiece(const std::string& file) {
             !get(f.get(), c.mesh.normals, h[3]) || !get(f.get(), c.mesh.colors, h[4]) ||
             !get(f.get(), c.mesh.indices, 3 * h[1]) || !get(f.get(), c.materials, h[1]))
             throw std::runtime_error(file + ": truncated temporary block file");
+        // A block's corners are numbered in 32 bits before the weld (they wrapped without a word until stop 47).
+        if (out.mesh.vertexCount() + c.mesh.vertexCount() > std::numeric_limits<uint32_t>::max())
+            throw InputError(file + ": a block of more than " + std::to_string(std::numeric_limits<uint32_t>::max()) +
+                             " corners (choose smaller blocks: --block-triangles)");
         const uint32_t base = static_cast<uint32_t>(out.mesh.vertexCount());
         for (uint32_t& i : c.mesh.indices) i += base;
         auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };

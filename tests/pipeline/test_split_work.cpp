@@ -110,6 +110,30 @@ void expectRefused(const TempDir& dir, const std::vector<std::string>& args, con
     EXPECT_FALSE(fs::exists(dir.file("shard/shard.json")));
 }
 
+// A vertex no triangle uses, far off, moves neither the grid nor the lattice (until stop 47 it set
+// both: a 1.4 M-triangle grid became one block).
+TEST(SplitWork, AnUnusedFarVertexMovesNeitherGridNorLattice) {
+    TempDir dir;
+    MeshData mesh = terrain(61).mesh;
+    writePly(dir.file("t.ply"), mesh, true);
+    mesh.positions.insert(mesh.positions.end(), {1e5f, 1e5f, 0.0f});
+    if (!mesh.normals.empty()) mesh.normals.insert(mesh.normals.end(), {0.0f, 0.0f, 1.0f});
+    if (!mesh.texcoords.empty()) mesh.texcoords.insert(mesh.texcoords.end(), {0.0f, 0.0f});
+    if (!mesh.colors.empty()) mesh.colors.insert(mesh.colors.end(), {0, 0, 0, 255});
+    writePly(dir.file("stray.ply"), mesh, true);
+    for (const char* name : {"t", "stray"})
+        ASSERT_EQ(runHlod({"split", dir.file(std::string(name) + ".ply"), "-o", dir.file(std::string(name) + "_work"), "--block-triangles", "2000"}).exitCode, 0);
+    const auto manifest = [&](const char* name) {
+        std::ifstream in(dir.file(std::string(name) + "_work/manifest.json"));
+        return nlohmann::json::parse(in);
+    };
+    const nlohmann::json a = manifest("t"), b = manifest("stray");
+    EXPECT_GT(a.at("block_count").get<int>(), 1);
+    EXPECT_EQ(a.at("grid"), b.at("grid"));
+    EXPECT_EQ(a.at("lattice"), b.at("lattice"));
+    EXPECT_EQ(a.at("block_count"), b.at("block_count"));
+}
+
 TEST(SplitWork, TexturedObjAndFolderInputsEqualOneBuild) {
     TempDir dir;
     fs::create_directories(dir.file("scan"));
