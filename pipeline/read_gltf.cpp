@@ -417,8 +417,8 @@ void convert(const uint8_t* bytes, size_t size, bool binary, const std::string& 
     visitScene(cx, [&](const tinygltf::Primitive& prim, const Matrix&, int instance) {
         if (!isTriangles(prim)) return;
         const int position = attributeOf(prim, "POSITION");
-        if (position >= 0 && static_cast<size_t>(position) < model.accessors.size() && instances.insert({position, instance}).second)
-            vertices += model.accessors[static_cast<size_t>(position)].count;
+        if (position >= 0 && instances.insert({position, instance}).second)
+            vertices += locate(cx, position, "POSITION").count;  // a count its buffer view holds
         cx.keepNormals = cx.keepNormals && attributeOf(prim, "NORMAL") >= 0;
         cx.keepColors = cx.keepColors && attributeOf(prim, "COLOR_0") >= 0;
         const size_t g = static_cast<size_t>(prim.material);
