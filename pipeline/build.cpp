@@ -23,6 +23,7 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -290,12 +291,22 @@ uint64_t expectedWork(const std::vector<BlockSource>& blocks, uint32_t first, ui
     return total;
 }
 
+// A path as one word of a POSIX shell: as it is when it needs no quoting, else in single quotes
+// (`hlod build my scan.ply` in META command read as two arguments until stop 47).
+std::string shellWord(const std::string& path) {
+    const auto safe = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("/._-+,:@%=", c) != nullptr; };
+    if (!path.empty() && std::all_of(path.begin(), path.end(), safe)) return path;
+    std::string quoted = "'";
+    for (const char c : path) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return quoted + "'";
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {
     const char* simplifier = o.simplifier == Simplifier::Meshopt ? "meshopt" : "openmesh";
     std::vector<std::pair<std::string, std::string>> meta = {{"tool", std::string("hlod ") + HLOD_VERSION}, {"input", input}};
-    std::string command = "hlod build " + input + " --simplifier " + simplifier + " --leaf-rule " +
+    std::string command = "hlod build " + shellWord(input) + " --simplifier " + simplifier + " --leaf-rule " +
                           leafRuleName(o.leafRule) + " --planes " + planesName(o.planes);
     command += o.blockSize > 0 ? " --block-size " + std::to_string(o.blockSize)
                                : " --block-triangles " + std::to_string(blockTarget(o));

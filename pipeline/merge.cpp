@@ -215,7 +215,10 @@ ShardInfo readShardInfo(const std::string& dir) {
 
 void mergeShards(const std::vector<std::string>& shardDirs, const std::string& output, double cTextured) {
     if (shardDirs.empty()) throw InputError("merge: no shards given");
-    for (const std::string& dir : shardDirs) refuseOutputInsideFolder(output, dir);
+    for (const std::string& dir : shardDirs) {
+        refuseOutputOverInputs(output, {dir});  // -o S0 of shard S0: "exists and is not a regular file", status 1, until stop 47
+        refuseOutputInsideFolder(output, dir);
+    }
     const ShardInfo first = readShardInfo(shardDirs[0]);
     if (first.blockCount == 0) throw InputError(shardDirs[0] + "/shard.json: corrupt shard description (0 blocks)");
     // Each listed block with its shard, sorted: the block count (unchecksummed) sizes nothing until

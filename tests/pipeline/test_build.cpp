@@ -217,6 +217,18 @@ TEST_F(TerrainBuild, MetaHoldsConstantsAndOptionsButNothingRunSpecific) {
     EXPECT_EQ(s.findMeta("command")->find("hlod-build-"), std::string::npos);  // no temporary paths
 }
 
+// META command is a shell command line: an input that needs quoting is quoted (`hlod build my
+// scan.ply` read as two arguments until stop 47).
+TEST(Build, MetaCommandQuotesAnInputThatNeedsIt) {
+    const auto command = [](const std::string& input) {
+        for (const auto& [key, value] : buildMeta(input, BuildOptions{}))
+            if (key == "command") return value;
+        return std::string();
+    };
+    EXPECT_EQ(command("/data/scan_01.ply").rfind("hlod build /data/scan_01.ply --simplifier ", 0), 0u);
+    EXPECT_EQ(command("my scan's.ply").rfind("hlod build 'my scan'\\''s.ply' --simplifier ", 0), 0u) << command("my scan's.ply");
+}
+
 TEST(Build, TexturedObjWithTwoMaterials) {
     TempDir dir;
     writeFile(dir.file("atlas.png"), encodeTexture(testImage(256, 256), Codec::Png).bytes);

@@ -270,6 +270,10 @@ TEST(Cli, MergeNeverWritesIntoItsShardsAndBlocksNeedShard) {
     }
     EXPECT_EQ(readFile(dir.file("s/shard.json")), info);
     EXPECT_FALSE(std::filesystem::exists(dir.file("s/new.hlod")));
+    // The shard folder itself: an input, status 2 ("exists and is not a regular file", 1, until stop 47).
+    const RunResult self = runHlod({"merge", dir.file("s"), "-o", dir.file("s")});
+    EXPECT_EQ(self.exitCode, 2) << self.outAndErr();
+    EXPECT_EQ(self.err, "hlod merge: " + dir.file("s") + ": is also an input (" + dir.file("s") + "); write the output elsewhere\n");
     const RunResult blocks = runHlod({"build", dir.file("t.ply"), "-o", dir.file("part.hlod"), "--blocks", "0:1"});
     EXPECT_EQ(blocks.exitCode, 2);
     EXPECT_EQ(blocks.err, "hlod build: --blocks requires --shard (see --help)\n");
