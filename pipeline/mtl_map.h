@@ -1,7 +1,7 @@
 // The diffuse texture statements of an MTL file (`map_Kd [options] FILE`), read as the MTL
 // specification writes them (Wavefront, "Material Library File (.mtl)", "Texture map
-// statements"): -o, -s and -t take u and optionally v and w; tinyobjloader, which reads the rest of
-// the file, takes three numbers and so swallowed the file of `map_Kd -o 0 0.25 a.png` (mtl_map.cpp).
+// statements"): -o, -s and -t take u and optionally v and w; tinyobjloader, which still reads the
+// materials, takes three numbers and so swallowed the file of `map_Kd -o 0 0.25 a.png` (mtl_map.cpp).
 #pragma once
 
 #include <map>
