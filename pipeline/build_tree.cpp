@@ -50,8 +50,8 @@ namespace {
 
 // Smallest baked atlas: 64 x 64 texels (a coarse node of a small piece would otherwise get a few texels).
 constexpr uint64_t kMinBakeTexels = 64 * 64;
-// Largest: a quarter of the largest texture a blob may hold (layout::kMaxTextureSide squared), so
-// the packed atlas stays within its sides (uncapped until stop 47: ~4.3 G source texels under one
+// Largest: a quarter of the area of the largest texture a blob may hold (layout::kMaxTextureSide
+// squared), so the packed atlas's area does (uncapped until stop 47: ~4.3 G source texels under one
 // baked node made an atlas the encoder refused, failing the build; a reading of the code, not run).
 constexpr uint64_t kMaxBakeTexels = uint64_t(layout::kMaxTextureSide / 2) * (layout::kMaxTextureSide / 2);
 

@@ -4,6 +4,7 @@
 // file's name, which runs to the line's end, as tinyobjloader reads it.
 #include "pipeline/mtl_map.h"
 
+#include <algorithm>
 #include <charconv>
 #include <vector>
 
@@ -71,7 +72,7 @@ std::map<std::string, DiffuseMap> diffuseMaps(std::string_view mtl) {
     std::map<std::string, DiffuseMap> maps;
     std::string material;
     for (size_t start = 0; start < mtl.size();) {
-        const size_t end = std::min(mtl.find('\n', start), mtl.size());
+        const size_t end = std::min(mtl.find_first_of("\r\n", start), mtl.size());  // CR, LF or CRLF, as tinyobjloader
         const std::string_view line = mtl.substr(start, end - start);
         start = end + 1;
         const std::vector<std::string_view> w = words(line);

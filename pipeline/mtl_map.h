@@ -18,7 +18,8 @@ struct DiffuseMap {
 };
 
 // Each material's last `map_Kd` statement, by the material's name as its `newmtl` line gives it
-// (blanks around it trimmed), as tinyobjloader reads the lines (no `\` continuation).
+// (blanks around it trimmed), as tinyobjloader reads the lines (ended by CR, LF or CRLF; no `\`
+// continuation).
 std::map<std::string, DiffuseMap> diffuseMaps(std::string_view mtl);
 
 }  // namespace hlod

@@ -168,7 +168,7 @@ Box3f usedBounds(const RawMesh& raw) {
     for (size_t t = 0; t < raw.triangles.size(); ++t)
         for (const uint32_t p : raw.triangles[t].position)
             if (p < n && !used[p]) used[p] = true, ++count;
-    if (count == n) return raw.bounds;
+    if (count == n || count == 0) return raw.bounds;  // none: every index out of range, which rawCorners says
     Box3f b{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};
     for (size_t v = 0; v < n; ++v) {
         if (!used[v]) continue;

@@ -8,9 +8,9 @@
 // Mirroring transforms reverse the winding back. The file is memory-mapped, not copied, and
 // converted into a RawMesh (raw_mesh.cpp), which `hlod build` spills to disk and streams to the
 // block grid as it does a PLY (parseGltf); readGltf welds it into a SourceMesh. Base-colour
-// textures: embedded images checked by stb_image (one that does not decode or claims too many
-// texels is a TextureProblem, its material untextured), then either decoded into memory or,
-// given ReadOptions::imageDir (as `hlod build` does), written still encoded to that folder and
+// textures: embedded images checked (one that does not decode or claims too many texels is a
+// TextureProblem, its material untextured), then either decoded into memory by stb_image or,
+// given ReadOptions::imageDir (as `hlod build` does), checked in strips of rows, written still encoded to that folder and
 // read later by rectangles like any texture file (never all atlases decoded at once); external
 // ones by path (loaded later by formats/image_io.h). External
 // images and buffers are confined to the input's folder (resolveReference). Every accessor is

@@ -80,8 +80,8 @@ std::string headerProblem(const uint8_t* bytes, int size) {
 // kMaxTextureTexels is not decoded. Such an image, or one stb_image cannot decode, is kept in
 // `unusable` instead of failing the whole file, and becomes a TextureProblem of each material
 // using it (addMaterials): the one rule for every unusable texture (README "Textures: one rule").
-// With a folder (ReadOptions::imageDir), a PNG or JPEG is kept encoded (keepEncoded), so no atlas stays
-// decoded; other formats are decoded into memory.
+// With a folder (ReadOptions::imageDir), a PNG or JPEG is checked in strips of rows and kept encoded
+// (keepEncoded), so no atlas is ever decoded whole; other formats are decoded into memory.
 bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int width, int height,
                       const unsigned char* bytes, int size, void* user) {
     auto& images = *static_cast<EmbeddedImages*>(user);

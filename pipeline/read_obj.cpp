@@ -257,7 +257,12 @@ private:
         for (const tinyobj::material_t& m : materials) {
             const std::string name(trimmed(m.name));
             const auto it = maps.find(name);
-            const DiffuseMap map = it == maps.end() ? DiffuseMap{} : it->second;
+            // A statement tinyobjloader read where mtl_map.h found none (lines it reads otherwise): its reading.
+            DiffuseMap map = it == maps.end() ? DiffuseMap{m.diffuse_texname} : it->second;
+            if (it == maps.end()) {
+                map.clamp = m.diffuse_texopt.clamp;
+                std::copy_n(m.diffuse_texopt.scale, 3, map.scale), std::copy_n(m.diffuse_texopt.origin_offset, 3, map.offset);
+            }
             byName_[name] = static_cast<uint32_t>(raw_.materials.size());
             raw_.materials.push_back({m.name, map.file.empty() ? "" : resolveReference(path_, folder_, map.file, "texture", options_), nullptr});
             if (map.clamp) raw_.materials.back().uvPeriod[0] = raw_.materials.back().uvPeriod[1] = 0;  // map_Kd -clamp on

@@ -150,8 +150,8 @@ Piece loadPiece(const std::string& file) {
             throw std::runtime_error(file + ": truncated temporary block file");
         // A block's corners are numbered in 32 bits before the weld (they wrapped without a word until stop 47).
         if (out.mesh.vertexCount() + c.mesh.vertexCount() > std::numeric_limits<uint32_t>::max())
-            throw InputError(file + ": a block of more than " + std::to_string(std::numeric_limits<uint32_t>::max()) +
-                             " corners (choose smaller blocks: --block-triangles)");
+            throw InputError("a block of more than " + std::to_string(std::numeric_limits<uint32_t>::max()) +
+                             " corners; choose smaller blocks (--block-triangles, --block-size)");
         const uint32_t base = static_cast<uint32_t>(out.mesh.vertexCount());
         for (uint32_t& i : c.mesh.indices) i += base;
         auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };

@@ -18,8 +18,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <regex>
+#include <set>
 
 #ifndef HLOD_VERSION
 #define HLOD_VERSION "0.0.0"
@@ -169,6 +171,7 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
     if (fs::is_empty(cells)) fs::remove(cells);  // a folder input: its blocks are its mesh files
     manifest["blocks"] = std::move(blocks);
     Ordered materials = Ordered::array();
+    std::map<std::string, Ordered> textureFiles;  // by path: a file several materials share is read once
     for (size_t m = 0; m < in.materials.size(); ++m) {
         const Material& material = in.materials[m];
         std::string image;
@@ -183,9 +186,16 @@ SplitSummary writeSplitWork(const std::string& input, const BuildOptions& option
                          {"uv_period", {material.uvPeriod[0], material.uvPeriod[1]}}};
         // A texture file the shards read where the split found it: checked by them (none until stop 47,
         // so shards built after it changed merged into a database of both versions).
-        if (!material.texturePath.empty())
-            entry["texture_file"] = {{"bytes", fs::file_size(material.texturePath)},
-                                     {"xxh3", fileChecksum(material.texturePath, material.texturePath)}};
+        if (!material.texturePath.empty()) {
+            auto [known, fresh] = textureFiles.try_emplace(material.texturePath);
+            if (fresh) {
+                std::error_code ec;
+                const uint64_t bytes = fs::file_size(material.texturePath, ec);
+                if (ec) throw InputError(material.texturePath + ": cannot read (" + ec.message() + ")");
+                known->second = {{"bytes", bytes}, {"xxh3", fileChecksum(material.texturePath, material.texturePath)}};
+            }
+            entry["texture_file"] = known->second;
+        }
         materials.push_back(std::move(entry));
     }
     manifest["materials"] = std::move(materials);
@@ -315,7 +325,9 @@ SplitWork openSplitWork(const std::string& work, BuildOptions& options, uint32_t
             throw InputError(path + ": block " + std::to_string(b) + " of " + work +
                              " differs from its manifest (corrupt or changed since the split; split again)");
     }
+    std::set<std::string> checked;  // a file several materials share is read once
     for (const TextureFile& t : textures) {
+        if (!checked.insert(t.path).second) continue;
         std::error_code ec;
         const uint64_t bytes = fs::file_size(t.path, ec);
         if (ec || bytes != t.bytes || fileChecksum(t.path, t.path) != t.xxh3)

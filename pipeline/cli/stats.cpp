@@ -31,6 +31,7 @@ void addStats(CLI::App& app, int& status) {
         status = runGuarded("stats", [&] {
             Database db = Database::open(args->path);
             stats::Stats s = stats::computeStats(db, args->thesis);
+            if (!s.staleReport.empty()) std::cerr << "warning: " << s.staleReport << "\n";
             if (args->json) std::cout << jsonText(stats::toJson(s), 2) << "\n";
             else stats::printStats(std::cout, s);
             return kExitOk;

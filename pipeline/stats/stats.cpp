@@ -6,7 +6,6 @@
 #include "pipeline/stats/stats.h"
 
 #include "formats/constants.h"
-#include "formats/errors.h"
 #include "formats/metrics.h"
 
 #include <algorithm>
@@ -93,11 +92,16 @@ Stats computeStats(const Database& db, bool forceThesis) {
     if (const std::string* v = sk.findMeta("tree.error")) s.treeError = *v;
     if (const std::string* v = sk.findMeta("tree.errorCap")) s.errorCap = *v;
     s.build = readBuildReport(buildReportPath(db.path()));
-    // Two builds racing to one -o could leave one's database beside the other's report, whose
-    // figures stats printed for it without a word (until stop 47).
-    if (std::error_code ec; s.build && s.build->outputBytes != std::filesystem::file_size(db.path(), ec) && !ec)
-        throw InputError(buildReportPath(db.path()) + ": the report of another build (of " + std::to_string(s.build->outputBytes) +
-                         " bytes; the database has " + std::to_string(std::filesystem::file_size(db.path())) + ")");
+    // A report beside a database it does not describe (two builds racing to one -o; a merge over an
+    // earlier build, which writes no report) is left out with a warning: its figures were printed
+    // for the database without a word until stop 47.
+    std::error_code ec;
+    const uint64_t bytes = std::filesystem::file_size(db.path(), ec);
+    if (s.build && !ec && s.build->outputBytes != bytes) {
+        s.staleReport = buildReportPath(db.path()) + ": the report of another build (of " + std::to_string(s.build->outputBytes) +
+                        " bytes; the database has " + std::to_string(bytes) + "), left out";
+        s.build.reset();
+    }
     s.city = findCityManifest(db.path(), sk);
     s.thesis = forceThesis || isThesisScale(s.city);
     return s;

@@ -94,6 +94,7 @@ struct Stats {
     uint64_t totalTriangles = 0;                                // over all nodes
     double desiredTris = 0;                                     // c_desiredTris of the build
     std::optional<BuildReport> build;
+    std::string staleReport;  // why DB.build.json was left out (the report of another build), or ""
     std::optional<CityManifest> city;
     bool thesis = false;
 };

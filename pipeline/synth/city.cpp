@@ -128,7 +128,7 @@ CityResult writeCity(const CityOptions& options, const CityPlan& plan, const std
 // The city is written in a staging folder and moved into DIR when complete: a run that fails (a
 // full disk, a folder it cannot write) or is interrupted leaves no partial city (an interrupted one
 // was a folder `hlod build` read as a city until stop 44); a failure is one line naming the file
-// and the reason, as every output of hlod. The staging folder is DIR/.city.tmp-PID-XXXXXX when DIR
+// and the reason, as every output of hlod. The staging folder is DIR/.city.tmp-hlodSPACE-PID-XXXXXX when DIR
 // exists (a mount point or a link to another filesystem: renames stay on it), else beside DIR.
 CityResult generateCity(const CityOptions& options, const std::string& dir) {
     CityPlan plan = planCity(options);

@@ -48,9 +48,10 @@ std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
 }
 
 // --frames-dir holds this run's frames alone: an earlier run's frame_NNNNNN.png go (20 frames of a
-// longer run stayed beside 5 new ones until stop 47), after a check that none of them is an input
-// of this run (the camera path or database under such a name was overwritten).
-void replaceEarlierFrames(const PlayArgs& a) {
+// longer run stayed beside 5 new ones until stop 47), removed once the run is ready to draw, after
+// a check before any work that none of them is an input of this run (a camera path or database
+// under such a name was overwritten).
+std::vector<std::filesystem::path> earlierFrames(const PlayArgs& a) {
     namespace fs = std::filesystem;
     static const std::regex frame(R"(frame_[0-9]{6,}\.png)");
     std::vector<fs::path> earlier;
@@ -58,7 +59,7 @@ void replaceEarlierFrames(const PlayArgs& a) {
     for (fs::directory_iterator it(a.framesDir, ec), end; !ec && it != end; it.increment(ec))
         if (std::regex_match(it->path().filename().string(), frame)) earlier.push_back(it->path());
     for (const fs::path& f : earlier) refuseOutputOverInputs(f.string(), {a.db, a.path, a.calibration, a.constants.configFile});
-    for (const fs::path& f : earlier) fs::remove(f, ec);
+    return earlier;
 }
 
 int runPlay(PlayArgs& a) {
@@ -75,7 +76,7 @@ int runPlay(PlayArgs& a) {
         a.player.overheadMs = calibration.fixedOverheadMs;
     }
     if (!a.framesDir.empty() && a.renderer != "gl") throw std::invalid_argument("--frames-dir needs --renderer gl");
-    if (!a.framesDir.empty()) replaceEarlierFrames(a);
+    const std::vector<std::filesystem::path> earlier = a.framesDir.empty() ? std::vector<std::filesystem::path>{} : earlierFrames(a);
     if (a.player.frameOptions.colorByLevel && a.renderer != "gl") throw std::invalid_argument("--color-by-level needs --renderer gl");
     if (a.every == 0) throw std::invalid_argument("--every must be at least 1");
     a.player.policyOptions = parsePolicySettings(a.policySettings);
@@ -96,6 +97,8 @@ int runPlay(PlayArgs& a) {
     a.player.onLoadFailure = [&db](const LoadFailure& f) { warnLoadFailure("play", db, f); };
     Player player(db, c, *renderer, a.player);
     if (!a.framesDir.empty()) createOutputFolder(a.framesDir, "PNG frames");
+    std::error_code ignored;  // a frame another run removed meanwhile
+    for (const std::filesystem::path& f : earlier) std::filesystem::remove(f, ignored);
 
     printConstants(text, c, kUsedByPlayer);
     std::vector<std::pair<std::string, std::string>> info = {

@@ -179,6 +179,10 @@ TEST(ReadObj, TextureScaleAndOffsetOptionsAreWarnedOf) {
                                            ": material 'm': map_Kd -s/-o (texture scale and offset) are not applied; its "
                                            "texture coordinates are used as written");
     }
+    // Lines ended by CR alone (old Mac tools), as tinyobjloader reads them.
+    std::ofstream(dir.file("b.mtl")) << "newmtl m\rKd 1 1 1\rmap_Kd -o 0 0.25 a.png\r";
+    const SourceMesh cr = readMesh(dir.file("b.obj"));
+    EXPECT_EQ(cr.materials[cr.piece.materials[0]].texturePath, std::filesystem::canonical(dir.file("a.png")).string());
     // Options without a file: an unusable texture (the textures rule), not an untextured material without a word.
     std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd -o 0 0.25\n";
     const SourceMesh none = readMesh(dir.file("b.obj"));
