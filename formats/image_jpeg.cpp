@@ -58,6 +58,7 @@ public:
         if (cinfo_.num_components != 1 && cinfo_.num_components != 3)
             throw ImageError("JPEG with " + std::to_string(cinfo_.num_components) + " components");
         width = cinfo_.image_width, height = cinfo_.image_height, channels = static_cast<uint32_t>(cinfo_.num_components);
+        if (multiScan_) wholeImageBytes = coefficientBytes();
     }
     void read(uint32_t count, uint32_t keep, uint8_t* out) override {
         if (!decode(count, keep, out)) throw ImageError(failure_.message);
@@ -65,11 +66,24 @@ public:
     }
 
 private:
+    // The whole-image coefficient arrays libjpeg's coefficient controller requests for a
+    // multi-scan file (jdcoefct.c: each component's blocks rounded up to its sampling factors).
+    uint64_t coefficientBytes() const {
+        const auto roundUp = [](uint64_t n, uint64_t m) { return (n + m - 1) / m * m; };
+        uint64_t blocks = 0;
+        for (int c = 0; c < cinfo_.num_components; ++c) {
+            const jpeg_component_info& component = cinfo_.comp_info[c];
+            blocks += roundUp(component.width_in_blocks, uint64_t(component.h_samp_factor)) *
+                      roundUp(component.height_in_blocks, uint64_t(component.v_samp_factor));
+        }
+        return blocks * sizeof(JBLOCK);
+    }
     bool header(const ImageSource& source) {
         if (setjmp(failure_.jump)) return false;
         if (source.file) jpeg_stdio_src(&cinfo_, source.file);
         else jpeg_mem_src(&cinfo_, source.bytes.data(), static_cast<unsigned long>(source.bytes.size()));
         jpeg_read_header(&cinfo_, TRUE);
+        multiScan_ = jpeg_has_multiple_scans(&cinfo_);
         return true;
     }
     bool decode(uint32_t count, uint32_t keep, uint8_t* out) {
@@ -106,7 +120,7 @@ private:
     JpegFailure failure_{};
     Decompress decompress_{failure_};
     jpeg_decompress_struct& cinfo_ = decompress_.cinfo;
-    bool started_ = false;
+    bool started_ = false, multiScan_ = false;
     std::vector<uint8_t> row_;
 };
 

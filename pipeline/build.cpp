@@ -197,20 +197,6 @@ SplitInputs findBlocks(const std::string& input, const BuildOptions& options, co
 
 namespace {
 
-// Source texels of the materials a block's triangles use (image headers only).
-uint64_t usedTexels(const SourceMesh& mesh) {
-    std::vector<bool> used(mesh.materials.size());
-    for (uint32_t m : mesh.piece.materials) used[m] = true;
-    uint64_t texels = 0;
-    for (size_t m = 0; m < used.size(); ++m) {
-        if (!used[m]) continue;
-        const Material& material = mesh.materials[m];
-        if (material.image) texels += uint64_t(material.image->width) * material.image->height;
-        else if (!material.texturePath.empty()) texels += textureTexels(material.texturePath);
-    }
-    return texels;
-}
-
 struct GateTicket {
     MemoryGate& gate;
     uint64_t bytes;
@@ -240,7 +226,9 @@ void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t ind
             options.draco.positionStep > 0 ? options.draco.positionStep : positionLatticeStep(bounds, options.draco.positionBits);
         if (std::string w = floatPrecisionWarning(source.file, bounds, step); !w.empty()) mesh.stats.warnings.push_back(std::move(w));
     }
-    const uint64_t workingSet = blockWorkingSet(mesh.piece.mesh.triangleCount(), usedTexels(mesh), options.constants.desiredTris);
+    const TextureHeader textures = usedTextures(mesh);
+    const uint64_t workingSet =
+        blockWorkingSet(mesh.piece.mesh.triangleCount(), textures.texels, options.constants.desiredTris, textures.wholeImageBytes);
     const GateTicket ticket(gate, workingSet);
     // The block's nodes run on 1 + extra.nodes threads (build_tree.cpp), each extra one on a
     // further working set of the block the gate grants beside what is in use (pipeline/MEMORY.md "Jobs").
@@ -411,7 +399,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
                          " threads this machine runs at once; " + std::to_string(cores) + " used");
     std::vector<BlockStats> stats(blockCount);
     MemoryGate gate(options.memoryLimit);
-    TextureStore textures((fs::path(temp.path) / "textures").string());  // each texture file decoded once, read by rectangles
+    TextureStore textures((fs::path(temp.path) / "textures").string(), options.memoryLimit);  // each file decoded once, read by rectangles
     BuildOptions blockOptions = options;  // a grid's blocks share one position lattice: no cracks between them
     blockOptions.textures = &textures;
     blockOptions.tempDir = temp.path;  // a bottom-up block's finished nodes wait there (blob_spill.h)

@@ -91,13 +91,29 @@ Image loadTexture(const std::string& path) {
     return image;
 }
 
-uint64_t textureTexels(const std::string& path) {
+TextureHeader textureHeader(const std::string& path) {
     try {
         const std::unique_ptr<ImageRows> input = openImageFile(path);
-        return absurd(*input).empty() ? static_cast<uint64_t>(input->width) * input->height : 0;
+        if (!absurd(*input).empty()) return {};
+        return {static_cast<uint64_t>(input->width) * input->height, input->wholeImageBytes};
     } catch (const ImageError&) {
-        return 0;
+        return {};
     }
+}
+
+TextureHeader usedTextures(const SourceMesh& mesh) {
+    std::vector<bool> used(mesh.materials.size());
+    for (uint32_t m : mesh.piece.materials) used[m] = true;
+    TextureHeader total;
+    for (size_t m = 0; m < used.size(); ++m) {
+        if (!used[m]) continue;
+        const Material& material = mesh.materials[m];
+        if (material.image) total.texels += uint64_t(material.image->width) * material.image->height;
+        if (material.image || material.texturePath.empty()) continue;
+        const TextureHeader header = textureHeader(material.texturePath);
+        total.texels += header.texels, total.wholeImageBytes = std::max(total.wholeImageBytes, header.wholeImageBytes);
+    }
+    return total;
 }
 
 namespace {

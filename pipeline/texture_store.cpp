@@ -316,18 +316,31 @@ Image downsampleTexture(const Image& source, double factor) {
     return scaledRegion(textureView(source, mips), w, h, 0, 0, w, h);
 }
 
+namespace {
+
+// A JPEG whose decoder holds all its coefficients (formats/image_io.h) above the memory limit.
+std::string wholeImageWarning(const std::string& path, const ImageRows& image, uint64_t limit) {
+    return "warning: " + path + ": a progressive (multi-scan) JPEG of " + std::to_string(image.width) + " x " +
+           std::to_string(image.height) + ": libjpeg holds all its coefficients while decoding it (" + formatBytes(image.wholeImageBytes) +
+           "), more than --memory-limit (" + formatBytes(limit) + "); `jpegtran -outfile BASELINE.jpg " + path +
+           "` (libjpeg-turbo-progs) writes the same texels as a baseline JPEG, decoded by strips";
+}
+
+}  // namespace
+
 struct TextureStore::Impl {
     struct Held {
         Image image;
         std::vector<Image> mips;
     };
     std::string dir;
+    uint64_t memoryLimit = 0;
     std::mutex mutex;
     std::map<std::string, std::shared_future<TextureSource>> sources;
     std::vector<int> files;
     std::vector<std::unique_ptr<Held>> images;  // without a folder
 
-    TextureSource decode(const std::string& path, size_t index) {
+    TextureSource decode(const std::string& path, size_t index, Progress* progress) {
         if (dir.empty()) {
             auto held = std::make_unique<Held>();
             held->image = loadTexture(path);
@@ -338,6 +351,7 @@ struct TextureStore::Impl {
             return source;
         }
         const std::unique_ptr<ImageRows> input = openTexture(path);
+        if (memoryLimit && input->wholeImageBytes > memoryLimit && progress) progress->message(wholeImageWarning(path, *input, memoryLimit));
         TextureSource source{input->width, input->height, input->channels >= 3 ? 3u : 1u, -1, 0, {{input->width, input->height, nullptr, 0}}};
         const std::string file = (std::filesystem::path(dir) / ("texture_" + std::to_string(index) + ".raw")).string();
         source.file = ::open(file.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
@@ -392,8 +406,8 @@ struct TextureStore::Impl {
     }
 };
 
-TextureStore::TextureStore(const std::string& dir) : impl_(std::make_unique<Impl>()) {
-    impl_->dir = dir;
+TextureStore::TextureStore(const std::string& dir, uint64_t memoryLimit) : impl_(std::make_unique<Impl>()) {
+    impl_->dir = dir, impl_->memoryLimit = memoryLimit;
     if (!dir.empty()) std::filesystem::create_directories(dir);
 }
 
@@ -418,7 +432,7 @@ TextureSource TextureStore::open(const std::string& path, Progress* progress) {
     }
     if (first) {
         try {
-            TextureSource source = impl_->decode(path, index);
+            TextureSource source = impl_->decode(path, index, progress);
             const std::vector<uint8_t> head = jpegFileHead(path);
             source.jpegQuality = jpegQuality(head), source.chroma420 = jpegChroma420(head);
             if (progress) progress->textureLoaded(uint64_t{source.width} * source.height);

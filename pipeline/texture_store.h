@@ -21,6 +21,15 @@ class ImageRows;  // formats/image_io.h
 // texel (InputError "PATH: corrupt texture (...)").
 std::unique_ptr<ImageRows> openTexture(const std::string& path);
 void readTextureRows(ImageRows& image, const std::string& path, uint32_t rows, uint32_t channels, uint8_t* out);
+// A texture file's texels and the bytes its decoder holds for the whole image (ImageRows::
+// wholeImageBytes), from its header alone; zeros when it cannot be read.
+struct TextureHeader {
+    uint64_t texels = 0, wholeImageBytes = 0;
+};
+TextureHeader textureHeader(const std::string& path);
+// The source texels of the materials a block's triangles use, and the most bytes one of their
+// texture files' decoders holds at once (image headers only).
+TextureHeader usedTextures(const SourceMesh& mesh);
 
 // texture_store.cpp: a texture read by rectangles, with its mip pyramid: level 0 the source,
 // level k + 1 the box-filtered halving of level k (mipSide per side), down to 1 x 1.
@@ -59,9 +68,11 @@ Image downsampleTexture(const Image& source, double factor);  // the whole image
 // file under `dir` and read back by rectangles; dir "" keeps them decoded in memory. Thread-safe:
 // open() decodes a file once whoever asks (the others wait for it), and a TextureSource is a
 // read-only description of the file (pread) or of images the store keeps until it is destroyed.
+// A file whose decoder holds more than `memoryLimit` bytes at once (a progressive JPEG's
+// coefficients; 0: no limit) is decoded with a warning through open()'s Progress.
 class TextureStore {
 public:
-    explicit TextureStore(const std::string& dir = "");
+    explicit TextureStore(const std::string& dir = "", uint64_t memoryLimit = 0);
     ~TextureStore();
     TextureStore(const TextureStore&) = delete;
     TextureStore& operator=(const TextureStore&) = delete;

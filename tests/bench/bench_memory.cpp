@@ -14,6 +14,7 @@
 // photogrammetry tools export), and builds that: the glTF path of issue #14.
 #include "formats/cli/huge_pages.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/texture_store.h"
 #include "tests/support/child_usage.h"
 #include "tests/support/chunked_scan.h"
 #include "tests/support/gltf_model.h"
@@ -45,7 +46,7 @@ uint64_t sourceTexels(const std::string& input) {
     uint64_t texels = 0;
     for (const auto& entry : fs::directory_iterator(fs::path(input).parent_path())) {
         const std::string ext = entry.path().extension().string();
-        if (ext == ".jpg" || ext == ".png") texels += textureTexels(entry.path().string());
+        if (ext == ".jpg" || ext == ".png") texels += textureHeader(entry.path().string()).texels;
     }
     return texels;
 }

@@ -16,6 +16,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 
 namespace hlod::test {
 namespace {
@@ -167,7 +168,7 @@ TEST(ImageIo, JpegAndPngFilesDecodeToWhatOpenImageIOGave) {
         EXPECT_EQ(got.height, expected.height);
         EXPECT_EQ(got.channels, expected.channels);
         EXPECT_TRUE(got.pixels == expected.pixels);
-        EXPECT_EQ(textureTexels(file), uint64_t(expected.width) * expected.height);
+        EXPECT_EQ(textureHeader(file).texels, uint64_t(expected.width) * expected.height);
     }
 }
 
@@ -277,7 +278,7 @@ TEST(ImageIo, OtherFormatsGoThroughThePlugin) {
         SCOPED_TRACE(name);
         writeWithOpenImageIO(dir.file(name), OIIO::ImageSpec(90, 130, 3, OIIO::TypeDesc::UINT8), texels.data());
         EXPECT_EQ(textureProblem(dir.file(name)), "");
-        EXPECT_EQ(textureTexels(dir.file(name)), 90u * 130u);
+        EXPECT_EQ(textureHeader(dir.file(name)).texels, 90u * 130u);
         const Image image = loadTexture(dir.file(name));
         EXPECT_TRUE(image.pixels == readWithOpenImageIO(dir.file(name)).pixels);
         EXPECT_TRUE(image.pixels == texels) << "lossless";
@@ -372,6 +373,67 @@ TEST(ImageIo, MissingPluginIsAOneLineErrorNamingTheTexture) {
     EXPECT_EQ(std::count(line.begin(), line.end(), '\n'), 1) << line;
     EXPECT_NE(line.find(dir.file("t.tga")), std::string::npos) << line;
     EXPECT_NE(line.find("needs the OpenImageIO plugin " + missing), std::string::npos) << line;
+}
+
+// A progressive JPEG's decoder holds every block's coefficients (128 bytes a block: jdcoefct.c's
+// arrays) until its last row, a baseline one nothing beyond its rows. A block's gate counts the
+// largest of its textures'; the texture store warns of one above the memory limit, once however
+// many blocks use it, and decodes it as any other (until stop 48 nothing said so).
+TEST(ImageIo, AProgressiveJpegsCoefficientsCountAndAreWarnedOfAboveTheLimit) {
+    TempDir dir;
+    const auto write = [&](const std::string& name, uint32_t w, uint32_t h, const char* subsampling, int progressive) {
+        OIIO::ImageSpec spec(int(w), int(h), 3, OIIO::TypeDesc::UINT8);
+        spec.attribute("Compression", "jpeg:83");
+        spec.attribute("jpeg:subsampling", subsampling);
+        spec.attribute("jpeg:progressive", progressive);
+        writeWithOpenImageIO(dir.file(name), spec, busyTexels(w, h, 3).data());
+        return dir.file(name);
+    };
+    // 77 x 45: 10 x 6 blocks; at 4:2:0 Cb and Cr 5 x 3 each.
+    EXPECT_EQ(textureHeader(write("b.jpg", 77, 45, "4:4:4", 0)).wholeImageBytes, 0u);
+    EXPECT_EQ(textureHeader(write("p444.jpg", 77, 45, "4:4:4", 1)).wholeImageBytes, 3u * 60 * 128);
+    EXPECT_EQ(textureHeader(write("p420.jpg", 77, 45, "4:2:0", 1)).wholeImageBytes, (60u + 2 * 15) * 128);
+    SourceMesh mesh;
+    for (const char* name : {"b.jpg", "p444.jpg", "p420.jpg"}) {
+        mesh.materials.emplace_back();
+        mesh.materials.back().name = name, mesh.materials.back().texturePath = dir.file(name);
+    }
+    mesh.piece.materials = {0, 2, 0};
+    EXPECT_EQ(usedTextures(mesh).texels, 2u * 77 * 45);
+    EXPECT_EQ(usedTextures(mesh).wholeImageBytes, 90u * 128) << "the largest of the used ones";
+    mesh.piece.materials.push_back(1);
+    EXPECT_EQ(usedTextures(mesh).wholeImageBytes, 180u * 128);
+
+    std::ostringstream log;
+    {
+        ProgressOptions quiet;
+        quiet.thread = false;
+        Progress progress(log, quiet);
+        TextureStore store(dir.file("store"), 20000);  // between p420's 11,520 and p444's 23,040 bytes
+        for (const char* name : {"b.jpg", "p420.jpg", "p444.jpg", "p444.jpg"}) {
+            const TextureSource source = store.open(dir.file(name), &progress);
+            std::vector<uint8_t> rows(size_t(77) * 45 * 3);
+            source.rows(0, 45, 0, 77, rows.data());
+            EXPECT_TRUE(rows == loadTexture(dir.file(name)).pixels) << name;
+        }
+    }
+    EXPECT_EQ(log.str(), "warning: " + dir.file("p444.jpg") +
+                             ": a progressive (multi-scan) JPEG of 77 x 45: libjpeg holds all its coefficients while decoding it "
+                             "(0.0 MiB), more than --memory-limit (0.0 MiB); `jpegtran -outfile BASELINE.jpg " +
+                             dir.file("p444.jpg") + "` (libjpeg-turbo-progs) writes the same texels as a baseline JPEG, decoded by strips\n");
+
+    // The build: a 2048² progressive atlas (24 MiB of coefficients) under --memory-limit 16M, shared by
+    // four blocks: one warning, and the database.
+    writeObj(dir.file("m.obj"), terrain(40, 100, true), "big.jpg");
+    write("big.jpg", 2048, 2048, "4:4:4", 1);
+    const RunResult r = runHlod({"build", dir.file("m.obj"), "-o", dir.file("m.hlod"), "--memory-limit", "16M", "--block-triangles", "800"});
+    EXPECT_EQ(r.exitCode, 0) << r.outAndErr();
+    const std::string all = r.outAndErr(), warning = dir.file("big.jpg") + ": a progressive (multi-scan) JPEG of 2048 x 2048";
+    EXPECT_NE(all.find(warning + ": libjpeg holds all its coefficients while decoding it (24.0 MiB), more than --memory-limit (16.0 MiB)"),
+              std::string::npos)
+        << all;
+    EXPECT_EQ(all.find(warning), all.rfind(warning)) << "once";
+    EXPECT_TRUE(std::filesystem::exists(dir.file("m.hlod")));
 }
 
 }  // namespace
