@@ -137,4 +137,28 @@ Camera sampleCameraPath(const CameraPath& path, double time, double aspect) {
     return cam;
 }
 
+double shareFasterThan(const CameraPath& path, double speed, double until) {
+    double fast = 0, all = 0;
+    for (size_t k = 1; k < path.keys.size() && path.keys[k - 1].time < until; ++k) {
+        const CameraKey &a = path.keys[k - 1], &b = path.keys[k];
+        const double span = std::min(b.time, until) - a.time;
+        const double length = std::hypot(b.position[0] - a.position[0], b.position[1] - a.position[1], b.position[2] - a.position[2]);
+        all += span;
+        if (b.time > a.time && length > speed * (b.time - a.time)) fast += span;
+    }
+    return all > 0 ? fast / all : 0;
+}
+
+void fitClipPlanes(Camera& camera, const Box3f& model) {
+    const float lo[3] = {model.min.x, model.min.y, model.min.z}, hi[3] = {model.max.x, model.max.y, model.max.z};
+    double far2 = 0, outside2 = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double e = camera.position[i], farthest = std::max(std::abs(e - lo[i]), std::abs(e - hi[i]));
+        const double outside = e < lo[i] ? lo[i] - e : e > hi[i] ? e - hi[i] : 0;
+        far2 += farthest * farthest, outside2 += outside * outside;
+    }
+    camera.farPlane = std::max(1.01 * std::sqrt(far2), 1e-6);
+    camera.nearPlane = std::max(0.5 * std::sqrt(outside2), camera.farPlane * 1e-5);
+}
+
 }  // namespace hlod

@@ -45,6 +45,16 @@ void writeCameraPathFile(const std::string& path, const CameraPath& cameraPath);
 // Position and field of view interpolated linearly, orientation by slerp; clamped at the ends.
 Camera sampleCameraPath(const CameraPath& path, double time, double aspect = 16.0 / 9.0);
 
+// The share of the path's time from its first key to `until` spent moving faster than `speed`
+// (units per second); a cut (two keys 1 ms apart) takes its millisecond.
+double shareFasterThan(const CameraPath& path, double speed, double until);
+
+// Clip planes that hold the whole `model` box from the camera, whatever its units: far beyond the
+// box's farthest corner; near half the distance to the box from outside it, else far / 1e5 (the
+// ratio `hlod view` kept). Until stop 48 play and compare kept 0.1 and 10,000 database units: a
+// city in millimetres seen from beyond 10 m, or a 20 cm scan seen from closer than 10 cm, drew nothing.
+void fitClipPlanes(Camera& camera, const Box3f& model);
+
 // Line and Zigzag: the linear and zigzag camera paths of Hernández & Beneš (Robin Hood, §6
 // Fig. 2, Table 2), across the model at walking speed (player/CAMERA_PATH.md).
 enum class PathKind { Walk, Drive, Fly, Erratic, Line, Zigzag };

@@ -4,6 +4,7 @@
 // §4.2: v_time (estimated vs measured frame time) and the hlod0 share.
 #include "player/player.h"
 
+#include "player/camera_path.h"
 #include "player/loader.h"
 #include "player/front.h"
 #include "player/node_source.h"
@@ -21,20 +22,25 @@ namespace {
 
 double median3(double a, double b, double c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
 
-// A camera above the hlod0 bounds looking down -Z, the whole model in view (start-up timing).
-Camera overviewCamera(const Skeleton& s, const std::vector<uint32_t>& roots) {
-    Box3f b = s.nodes[roots.front()].bounds;
+// The model's box: its hlod0 nodes' (each node lies within its root's).
+Box3f modelBounds(const Skeleton& s, const std::vector<uint32_t>& roots) {
+    Box3f b = roots.empty() ? Box3f{} : s.nodes[roots.front()].bounds;
     for (uint32_t r : roots) {
         const Box3f& n = s.nodes[r].bounds;
         b.min = {std::min(b.min.x, n.min.x), std::min(b.min.y, n.min.y), std::min(b.min.z, n.min.z)};
         b.max = {std::max(b.max.x, n.max.x), std::max(b.max.y, n.max.y), std::max(b.max.z, n.max.z)};
     }
+    return b;
+}
+
+// A camera above the model's box looking down -Z, the whole model in view (start-up timing).
+Camera overviewCamera(const Box3f& b) {
     double radius = 0.5 * std::hypot(b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z);
     Camera cam;
     cam.position[0] = 0.5 * (b.min.x + b.max.x);
     cam.position[1] = 0.5 * (b.min.y + b.max.y);
     cam.position[2] = b.max.z + radius / std::tan(cam.vfovDegrees * M_PI / 360.0);
-    cam.farPlane = 4 * radius + cam.position[2] - b.min.z;
+    fitClipPlanes(cam, b);
     return cam;
 }
 
@@ -53,6 +59,8 @@ struct Player::Impl {
     std::vector<uint64_t> visitedStamp;  // frame number + 1 of the last visit
     std::vector<uint32_t> lastVisited;
     std::vector<DrawItem> front;
+    Box3f model;    // modelBounds
+    Camera camera;  // the last frame's, its clip planes fitted to the model
     uint32_t levels = 1;
     uint32_t startFailures = 0;  // nodes that failed to load at start (incore, preload)
     double overhead = 0, vTime0 = 0, vTime = 0, share = 0;
@@ -83,6 +91,7 @@ struct Player::Impl {
           policy(makePolicy(o.policy, o.policyOptions)),
           resident(skeleton.nodes.size(), 0),
           visitedStamp(skeleton.nodes.size(), 0),
+          model(modelBounds(skeleton, selection.roots)),
           failed(skeleton.nodes.size(), 0),
           waitView(skeleton.nodes.size(), 1) {
         const bool incore = options.loader == LoaderKind::Incore;
@@ -152,7 +161,7 @@ struct Player::Impl {
     // Fixed overhead "measured by disabling actual rendering" (§4.2 footnote 3), and the first
     // v_time from a frame of all hlod0 nodes; either may be given instead.
     void calibrate() {
-        Camera cam = selection.roots.empty() ? Camera{} : overviewCamera(skeleton, selection.roots);
+        const Camera cam = overviewCamera(model);
         FrameOptions fo = options.frameOptions;
         overhead = options.overheadMs;
         if (overhead < 0) {
@@ -187,7 +196,7 @@ struct Player::Impl {
             }
             // Teleports are not motion: speeds above teleportSpeed are clamped to it. The estimate
             // is smoothed: half the previous velocity, half this frame's.
-            double limit = options.teleportSpeed;
+            double limit = options.teleportSpeed / options.metresPerUnit;
             double scale = std::sqrt(speed) > limit ? limit / std::sqrt(speed) : 1;
             if (scale == 1) distance += std::sqrt(speed) * (t - previousTime);
             for (int i = 0; i < 3; ++i) velocity[i] = 0.5 * velocity[i] + 0.5 * v[i] * scale;
@@ -338,7 +347,9 @@ struct Player::Impl {
         return anyVisible ? sum : skeleton.nodes[id].triangles();
     }
 
-    FrameStats frame(const Camera& camera, double timeSeconds) {
+    FrameStats frame(const Camera& requested, double timeSeconds) {
+        camera = requested;
+        fitClipPlanes(camera, model);
         FrameStats s;
         s.frame = frameIndex;
         s.timeSeconds = timeSeconds;
@@ -438,6 +449,7 @@ Player::~Player() = default;
 
 FrameStats Player::frame(const Camera& camera, double timeSeconds) { return impl_->frame(camera, timeSeconds); }
 const Skeleton& Player::skeleton() const { return impl_->skeleton; }
+const Camera& Player::camera() const { return impl_->camera; }
 std::span<const DrawItem> Player::front() const { return impl_->front; }
 uint32_t Player::levelCount() const { return impl_->levels; }
 double Player::vTime() const { return impl_->vTime; }

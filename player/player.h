@@ -31,6 +31,7 @@ struct PlayerOptions {
     uint64_t chunkBytes = 64ull << 10;  // incremental load unit; preemption is checked between chunks
     double lookaheadSeconds = 0.5;      // distance is also measured from position + velocity * this
     double teleportSpeed = 100;         // m/s; faster camera moves are clamped to this (teleports)
+    double metresPerUnit = 1;           // what one database unit is (play's --units): teleportSpeed / this in units/s
     double vTimeGain = 0.2;             // first feedback loop: v_time moves this fraction per frame
     ShareLoop shareLoop;                // second feedback loop: band and step (player/feedback.h)
     double initialHystSwitches = -1;    // hysteresis_n of a node evaluated first = this * c_hystSwitch
@@ -117,6 +118,7 @@ public:
     FrameStats frame(const Camera& camera, double timeSeconds);
 
     const Skeleton& skeleton() const;
+    const Camera& camera() const;             // the last frame's camera, its clip planes fitted to the model (fitClipPlanes)
     std::span<const DrawItem> front() const;  // the nodes drawn by the last frame
     uint32_t levelCount() const;
     double vTime() const;

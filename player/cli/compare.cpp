@@ -41,7 +41,7 @@ struct CompareArgs {
     CostModel model;
     std::optional<double> flatRate;  // --model-ms-per-flat-tri; default: consistent with c_textured
     ConstantOptions constants{"compare", kUsedByPlayer};
-    std::string loader = "thesis", onMiss = "parent";
+    std::string loader = "thesis", onMiss = "parent", units = "m";
 };
 
 std::vector<std::string> splitNames(const std::string& list) {
@@ -77,7 +77,7 @@ PolicyRun runPolicy(const CompareArgs& a, const Database& db, const Constants& c
     std::vector<DrawnNode> drawn;
     const double still[3] = {0, 0, 0};
     const std::vector<FrameStats> frames = replayPath(player, path, ro, [&](const FrameStats& f) {
-        View view = makeView(sampleCameraPath(path, f.timeSeconds, ro.aspect), still, 0);
+        View view = makeView(player.camera(), still, 0);  // as the frame saw it (fitClipPlanes)
         for (uint32_t id = 0; id < s.nodes.size(); ++id) resident[id] = player.resident(id);
         drawn.clear();
         for (const DrawItem& d : player.front()) drawn.push_back({d.node});
@@ -177,6 +177,8 @@ int runCompare(CompareArgs& a) {
     a.player.policyOptions = parsePolicySettings(a.policySettings);
     checkPolicySettings(names, a.player.policyOptions);
     if (a.stepMs < 0) throw std::invalid_argument("--step-ms must be >= 0");
+    checkOverhead(a.player.overheadMs, c, "--overhead-ms");
+    a.player.metresPerUnit = parseUnits(a.units);
     CameraPath path = readCameraPath(a.path);
     Database db = Database::open(a.db);
     a.player.threadedLoader = false;
@@ -189,8 +191,10 @@ int runCompare(CompareArgs& a) {
     a.model.msPerUntexturedTriangle =
         a.flatRate ? *a.flatRate : consistentUntexturedRate(a.model.msPerTexturedTriangle, cTextured);
     printConstants(std::cout, c, kUsedByPlayer);
-    std::cout << "c_textured: " << formatConstant(cTextured) << " (the database's: eq. 3.1 weights of its node costs)\n";
+    std::cout << "c_textured: " << formatConstant(cTextured) << " (the database's: eq. 3.1 weights of its node costs)\n"
+              << "units: " << a.units << " (" << a.player.metresPerUnit << " m a database unit; teleports above " << a.player.teleportSpeed << " m/s)\n";
 
+    warnTeleportingPath("compare", path, a.player, path.duration());
     std::vector<PolicyRun> runs;
     for (const std::string& name : names) {
         runs.push_back(runPolicy(a, db, c, path, name));
@@ -273,6 +277,7 @@ void addCompare(CLI::App& app, int& status) {
         ->check(finiteIn(0, kMaxFrameMs));
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured)")
         ->check(finiteIn(0, kMaxFrameMs));
+    addUnitsOption(*sub, a->units);
     addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);
     sub->callback([a, sub, &status] {

@@ -127,7 +127,7 @@ void addPath(CLI::App& app, int& status) {
                     "metres above the ground estimate (city-like) or the model's bottom (object; default: half its height), "
                     "0 to 1e15 (a camera path's coordinates)")
         ->check(finiteIn(0, kMaxCameraCoordinate));
-    sub->add_option("--units", a->units, "what one database unit is: m (default), cm, mm, km or a number of metres");
+    addUnitsOption(*sub, a->units);
     sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys (default " + formatConstant(PathOptions{}.keyInterval) + ")")
         ->check(finitePositive());
     sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports")

@@ -39,7 +39,7 @@ struct PlayArgs {
     ConstantOptions constants{"play", kUsedByPlayer};
     std::string calibration;
     std::vector<std::string> policySettings;  // --policy-set P.NAME=VALUE
-    std::string loader = "thesis", onMiss = "parent";
+    std::string loader = "thesis", onMiss = "parent", units = "m";
 };
 
 std::unique_ptr<Renderer> makeRenderer(const PlayArgs& a) {
@@ -75,6 +75,8 @@ int runPlay(PlayArgs& a) {
         a.player.initialVTime = calibration.msPerCost;
         a.player.overheadMs = calibration.fixedOverheadMs;
     }
+    checkOverhead(a.player.overheadMs, c, a.calibration.empty() ? "--overhead-ms" : a.calibration + ": fixed_overhead_ms");
+    a.player.metresPerUnit = parseUnits(a.units);
     if (!a.framesDir.empty() && a.renderer != "gl") throw std::invalid_argument("--frames-dir needs --renderer gl");
     const std::vector<std::filesystem::path> earlier = a.framesDir.empty() ? std::vector<std::filesystem::path>{} : earlierFrames(a);
     if (a.player.frameOptions.colorByLevel && a.renderer != "gl") throw std::invalid_argument("--color-by-level needs --renderer gl");
@@ -120,7 +122,8 @@ int runPlay(PlayArgs& a) {
         {"overhead_ms", std::to_string(player.overheadMs())},
         {"initial_v_time", std::to_string(player.vTime())},
         {"lookahead_s", std::to_string(a.player.lookaheadSeconds)},
-        {"teleport_speed", std::to_string(a.player.teleportSpeed)},
+        {"teleport_speed", std::to_string(a.player.teleportSpeed) + " m/s"},
+        {"units", a.units + " (" + std::to_string(a.player.metresPerUnit) + " m a database unit)"},
         {"v_time_gain", std::to_string(a.player.vTimeGain)},
         {"share_band", std::to_string(a.player.shareLoop.band)},
         {"share_gain", std::to_string(a.player.shareLoop.gain)},
@@ -147,6 +150,7 @@ int runPlay(PlayArgs& a) {
     if (csv) csv->commit();
     if (a.maxFrames == 0 && frames.size() == ro.frameCap)
         std::cerr << "hlod play: warning: stopped after " << ro.frameCap << " frames, before the path's end (--frames N replays more)\n";
+    if (!frames.empty()) warnTeleportingPath("play", path, a.player, frames.back().timeSeconds);
     StatsSummary summary = summarize(frames, a.warmup);
     printSummary(text, summary);
     if (a.json == "-") std::cout << summaryJson(summary, c) << '\n';
@@ -234,6 +238,7 @@ void addPlay(CLI::App& app, int& status) {
         ->check(finiteAtLeast(0));
     sub->add_option("--teleport-speed", a->player.teleportSpeed, "m/s: faster camera moves count as this speed")
         ->check(finitePositive());
+    addUnitsOption(*sub, a->units);
     sub->add_option("--v-time-gain", a->player.vTimeGain, "first feedback loop: fraction of the v_time error corrected per frame")
         ->check(finiteIn(0, 1));
     sub->add_option("--share-band", a->player.shareLoop.band,

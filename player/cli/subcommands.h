@@ -10,6 +10,8 @@
 
 namespace hlod {
 class Database;
+struct CameraPath;
+struct Constants;
 struct CostModel;
 struct LoadFailure;
 struct PlayerOptions;
@@ -37,6 +39,17 @@ void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>&
 // The loader options (--loader, --on-miss, --disk-*, --vm-*; player/LOADERS.md); the names of
 // the loader and of the miss rule go to `loader` and `onMiss` (loaderKindByName, onMissByName).
 void addLoaderOptions(CLI::App& sub, PlayerOptions& options, std::string& loader, std::string& onMiss);
+// --units of `hlod path`, `hlod play` and `hlod compare`: what one database unit is, for speeds in
+// m/s (a path's, --teleport-speed); parsed by parseUnits (player/camera_path.h).
+void addUnitsOption(CLI::App& sub, std::string& units);
+// Warns (std::cerr) when the camera moves faster than --teleport-speed over most of the replayed
+// time: every move a teleport (no distance, no velocity look-ahead), as a millimetre database
+// played in metres gave (Lucy's drive: distance 0, until stop 48 without a word).
+void warnTeleportingPath(const std::string& command, const CameraPath& path, const PlayerOptions& options, double until);
+// Throws std::invalid_argument (usage) when a given fixed overhead (`source`: the option or the
+// calibration file's key) leaves no time to draw within c_targetTime: the v_time loop fell to its
+// floor and refined everything (50 ms frames for a 30 ms target, until stop 48). < 0: measured.
+void checkOverhead(double overheadMs, const Constants& c, const std::string& source);
 // Throws std::invalid_argument (usage) when a vm setting is given with another --loader.
 void checkLoaderOptions(const CLI::App& sub, const std::string& loader);
 // The disk model's figures (and the vm loader's settings) as "# key: value" lines of a run.

@@ -90,8 +90,6 @@ Camera startCamera(const Box3f& b, int upAxis, double aspect) {
     const double diagonal = std::sqrt(size[0] * size[0] + size[1] * size[1] + size[2] * size[2]);
     Camera camera;
     camera.aspect = aspect;
-    camera.farPlane = std::max(10.0, 4 * diagonal);
-    camera.nearPlane = std::max(0.05, camera.farPlane * 1e-5);
     for (int i = 0; i < 3; ++i) camera.position[i] = center[i];
     if (upAxis == 2) {  // Z up: look along +Y, camera +Y is world +Z (rotation of 90° about X)
         camera.orientation[0] = std::sqrt(0.5);

@@ -1,6 +1,7 @@
 // Camera path format (player/CAMERA_PATH.md): round trip, sampling, one-line errors for each
 // class of bad input, and the generated paths' speeds and shapes.
 #include "player/camera_path.h"
+#include "player/selection.h"
 #include "tests/support/trees.h"
 
 #include <Eigen/Geometry>
@@ -387,4 +388,28 @@ TEST(CameraPath, LineAndZigzagHaveStraightLegs) {
         EXPECT_EQ(turns, kind == PathKind::Line ? 0 : 3);
     }
     EXPECT_EQ(parsePathKind("zigzag"), PathKind::Zigzag);
+}
+
+// The clip planes hold the whole model whatever its units (play kept 0.1 and 10,000 database
+// units until stop 48: a city in millimetres seen from 10.1 m, or a 20 cm scan seen from 19 mm,
+// drew nothing): the far plane beyond the farthest corner, the near one half-way to the box from
+// outside it and far / 1e5 inside it.
+TEST(CameraPath, ClipPlanesHoldTheModelWhateverItsUnits) {
+    const double still[3] = {0, 0, 0};
+    for (const double scale : {1e-3, 1.0, 1e3, 1e6}) {
+        SCOPED_TRACE(scale);
+        const Box3f model{{0, 0, 0}, {float(100 * scale), float(100 * scale), float(20 * scale)}};
+        Camera camera;  // looks down -Z from above the box's centre, 10 box heights up
+        camera.position[0] = camera.position[1] = 50 * scale;
+        camera.position[2] = 220 * scale;
+        fitClipPlanes(camera, model);
+        EXPECT_NEAR(camera.nearPlane, 100 * scale, 1e-6 * scale);  // the box is in floats
+        EXPECT_GE(camera.farPlane, std::hypot(50, 50, 220) * scale);
+        EXPECT_EQ(frustumVis(makeView(camera, still, 0), model), 1.0);
+        camera.position[2] = 10 * scale;  // inside the box
+        fitClipPlanes(camera, model);
+        EXPECT_DOUBLE_EQ(camera.nearPlane, camera.farPlane * 1e-5);
+        const Box3f close{{float(49 * scale), float(49 * scale), float(9.99 * scale)}, {float(51 * scale), float(51 * scale), float(9.999 * scale)}};
+        EXPECT_EQ(frustumVis(makeView(camera, still, 0), close), 1.0) << "a part 1/1000 of the box's height below the eye";
+    }
 }

@@ -96,3 +96,37 @@ TEST_F(Cli, PathReadsTheGroundAndSurvivesACorruptBlob) {
     EXPECT_NE(r.err.find("hlod path: warning: 1 geometry blobs left out of the ground (first: "), std::string::npos) << r.err;
     EXPECT_TRUE(fs::exists(out));
 }
+
+// A database in millimetres played in metres: every move of a 500 units/s path was a teleport (no
+// distance, no velocity look-ahead) without a word until stop 48; `--units mm` says what a unit
+// is, and a path faster than --teleport-speed over most of its time is warned of. A given fixed
+// overhead at or above c_targetTime left no time to draw and the v_time loop refined everything:
+// a usage error now, from the option or a calibration file.
+TEST_F(Cli, PlayUnitsAndAnOverheadThatLeavesNoTimeToDraw) {
+    const std::string path = (dir / "fast.path").string(), json = (dir / "fast.json").string();
+    std::ofstream(path) << "hlod-camera-path 1\n0 0 0 50 0 0 0 1 60\n4 2000 0 50 0 0 0 1 60\n";
+    RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--json", json});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_NE(r.err.find("hlod play: warning: the camera moves faster than --teleport-speed 100 m/s over 100 % of the replayed time"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(readText(json).find("\"distance\": 0.0"), std::string::npos) << readText(json);
+    r = runHlod({"play", db, "--path", path, "--sync-loader", "--json", json, "--units", "mm"});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("units: mm (0.001000 m a database unit)"), std::string::npos) << r.out;
+    EXPECT_EQ(readText(json).find("\"distance\": 0.0"), std::string::npos) << readText(json);
+
+    const std::string cal = (dir / "cal.conf").string();
+    std::ofstream(cal) << "renderer = test\nc_textured = 0.5\nms_per_cost = 0.01\nfixed_overhead_ms = 30\n";
+    for (const std::vector<std::string>& args :
+         {std::vector<std::string>{"play", db, "--path", path, "--overhead-ms", "30"}, {"play", db, "--path", path, "--calibration", cal},
+          {"compare", db, "--path", path, "--policies", "thesis", "--overhead-ms", "45", "--set", "c_targetTime=40"}}) {
+        r = runHlod(args);
+        EXPECT_EQ(r.exitCode, 2) << r.outAndErr();
+        EXPECT_EQ(lines(r.err), 1) << r.err;
+        EXPECT_NE(r.err.find("is not below c_targetTime"), std::string::npos) << r.err;
+    }
+    EXPECT_NE(r.err.find("--overhead-ms 45 ms is not below c_targetTime 40 ms"), std::string::npos) << r.err;
+    EXPECT_EQ(runHlod({"play", db, "--path", path, "--overhead-ms", "29", "--sync-loader", "--frames", "5"}).exitCode, 0);
+}

@@ -270,7 +270,7 @@ TEST(Loaders, VmAndThesisGiveValidFronts) {
                     std::vector<uint8_t> resident(s.nodes.size());
                     for (const Node& n : s.nodes) resident[n.id] = player.resident(n.id);
                     double still[3] = {0, 0, 0};
-                    View view = makeView(sampleCameraPath(path, f.timeSeconds, 16.0 / 9.0), still, 0);
+                    View view = makeView(player.camera(), still, 0);
                     auto visible = [&](uint32_t id) { return frustumVis(view, s.nodes[id].bounds) >= 1; };
                     ASSERT_EQ(checkCut(s, drawn, resident, visible, player.frontSkipsBlocks()), "")
                         << caseName(fc) << " frame " << f.frame;
