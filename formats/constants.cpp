@@ -2,6 +2,8 @@
 // "name=value" and config files, and printing, so every run can be reproduced.
 #include "formats/constants.h"
 
+#include "formats/calibration.h"
+
 #include "formats/errors.h"
 #include "formats/setting_lines.h"
 
@@ -67,7 +69,8 @@ void validateConstants(const Constants& c, ConstantUse use) {
     check(kUsedByBuild, "c_textured", c.textured, c.textured > 0 && c.textured <= 1, "in (0, 1]");
     check(kUsedByPlayer, "c_vis", c.vis, c.vis >= 0, ">= 0");
     check(kUsedByPlayer, "c_fore", c.fore, c.fore >= 0, ">= 0");
-    check(kUsedByPlayer, "c_targetTime", c.targetTimeMs, c.targetTimeMs > 0, "> 0 (milliseconds)");
+    check(kUsedByPlayer, "c_targetTime", c.targetTimeMs, c.targetTimeMs > 0 && c.targetTimeMs <= kMaxFrameMs,
+          "> 0 and at most 10000 (milliseconds: a frame of at most 10 s)");
     check(kUsedByPlayer, "c_hystSwitch", c.hystSwitch, c.hystSwitch > 0, "> 0");
     check(kUsedByPlayer, "c_hystSwitch", c.hystSwitch, c.hystSwitch <= c.hystLimit,
           "<= c_hystLimit = " + formatConstant(c.hystLimit) + " (the counter could never reach it)");

@@ -56,7 +56,7 @@ std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path
 
 // Checks the constants `use` reads against the ranges they make sense in (README "Reliability"):
 // c_desiredTris >= 1; 2 <= c_levelFactor <= 64 (children per node); 0 < c_textured <= 1;
-// c_vis, c_fore >= 0; c_targetTime > 0; 0 < c_hystSwitch <= c_hystLimit; c_memory > 0.
+// c_vis, c_fore >= 0; 0 < c_targetTime <= 10 s (kMaxFrameMs); 0 < c_hystSwitch <= c_hystLimit; c_memory > 0.
 // Throws std::invalid_argument "c_NAME = VALUE: must be ..." (one line) for the first violation.
 void validateConstants(const Constants& c, ConstantUse use);
 // The table entry of a constant, or nullptr for an unknown name.

@@ -259,12 +259,11 @@ void addCompare(CLI::App& app, int& status) {
         ->check(nonEmptyPath());
     bool* plots = &a->plots;  // a plain flag: CLI11 shows a negated one as "--no-plots{false}"
     sub->add_flag_callback("--no-plots", [plots] { *plots = false; }, "skip the gnuplot PNGs");
-    sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (default: end of the path, at most 1,000,000)")
+    sub->add_option("--frames", a->maxFrames, "stop each replay after N frames (0, the default: at the end of the path, at most 1,000,000)")
         ->check(wholeNumber(a->maxFrames));
     sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half; default 100)")
         ->check(wholeNumber(a->warmup));
-    sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none)")
-        ->check(wholeNumber(a->player.memoryBudget));
+    addMemoryBudgetOption(*sub, a->player.memoryBudget, "");
     sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "nodes loaded per frame (synchronous loader; 0: none, hlod0 alone)")
         ->check(wholeNumber(a->player.syncLoadsPerFrame));
     addLoaderOptions(*sub, a->player, a->loader, a->onMiss);

@@ -206,14 +206,13 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--policy", a->player.policy, "selection policy (player/POLICIES.md): " + policyNamesList() +
                                                       "; default thesis");
     sub->add_option("--policy-set", a->policySettings, "policy setting P.NAME=VALUE (repeatable; player/POLICIES.md)");
-    sub->add_option("--memory", a->player.memoryBudget, "memory budget in bytes (0: none); lowest-priority nodes are evicted")
-        ->check(wholeNumber(a->player.memoryBudget));
+    addMemoryBudgetOption(*sub, a->player.memoryBudget, "; lowest-priority nodes are evicted");
     sub->add_flag("--strict", a->player.strictLoads,
                   "a node that cannot be read or decoded ends the run (exit 1); by default it is skipped with "
                   "one warning, its parent stays drawn and failed_loads counts it");
     sub->add_flag("--require-loaded-children", a->player.requireLoadedChildren,
                   "switch to children only when all of them are loaded (thesis §5.2)");
-    sub->add_option("--frames", a->maxFrames, "stop after N frames (default: end of the path, at most 1,000,000)")
+    sub->add_option("--frames", a->maxFrames, "stop after N frames (0, the default: at the end of the path, at most 1,000,000)")
         ->check(wholeNumber(a->maxFrames));
     sub->add_option("--warmup", a->warmup, "frames excluded from the summary's distributions (at most half; default 100)")
         ->check(wholeNumber(a->warmup));

@@ -18,13 +18,19 @@ void addUnitsOption(CLI::App& sub, std::string& units) {
     sub.add_option("--units", units, "what one database unit is: m (default), cm, mm, km or a number of metres (speeds are in m/s)");
 }
 
+void addMemoryBudgetOption(CLI::App& sub, uint64_t& budget, const std::string& more) {
+    sub.add_option("--memory", budget, "memory budget: bytes, or with a unit, e.g. 512M, 2G (0, the default: none)" + more)
+        ->transform(CLI::AsSizeValue(false))
+        ->transform(wholeNumber(budget));  // inserted before the size transform: "-1" is refused, not wrapped
+}
+
 void warnTeleportingPath(const std::string& command, const CameraPath& path, const PlayerOptions& options, double until) {
     const double share = shareFasterThan(path, options.teleportSpeed / options.metresPerUnit, until);
     if (share > 0.5)
         std::cerr << "hlod " << command << ": warning: the camera moves faster than --teleport-speed " << options.teleportSpeed
-                  << " m/s over " << int(share * 100) << " % of the replayed time, so every such move counts as a teleport (no "
-                  << "distance, no velocity look-ahead); if a database unit is not " << options.metresPerUnit
-                  << " m, --units says what it is (mm, cm, ...)\n";
+                  << " m/s over " << int(share * 100) << " % of the replayed time: each such move counts as a cut (no distance, "
+                  << "no velocity look-ahead); --units says what a database unit is if not " << options.metresPerUnit
+                  << " m (mm, cm, ...), and --teleport-speed raises the limit\n";
 }
 
 void checkOverhead(double overheadMs, const Constants& c, const std::string& source) {

@@ -46,6 +46,9 @@ void addUnitsOption(CLI::App& sub, std::string& units);
 // time: every move a teleport (no distance, no velocity look-ahead), as a millimetre database
 // played in metres gave (Lucy's drive: distance 0, until stop 48 without a word).
 void warnTeleportingPath(const std::string& command, const CameraPath& path, const PlayerOptions& options, double until);
+// --memory of `hlod play`, `hlod compare` and `hlod view`: the memory budget in bytes or with a
+// unit (512M, 2G, as build's --memory-limit; until stop 48 bytes alone), 0: none.
+void addMemoryBudgetOption(CLI::App& sub, uint64_t& budget, const std::string& more);
 // Throws std::invalid_argument (usage) when a given fixed overhead (`source`: the option or the
 // calibration file's key) leaves no time to draw within c_targetTime: the v_time loop fell to its
 // floor and refined everything (50 ms frames for a 30 ms target, until stop 48). < 0: measured.

@@ -200,8 +200,7 @@ void addView(CLI::App& app, int& status) {
     sub->add_option("--record", args->record, "write the flight to this camera path file on exit")->check(nonEmptyPath());
     sub->add_option("--width", args->gl.width, "window width")->capture_default_str()->check(CLI::Range(1, 16384));
     sub->add_option("--height", args->gl.height, "window height")->capture_default_str()->check(CLI::Range(1, 16384));
-    sub->add_option("--memory", args->memoryBudget, "memory budget in bytes (thesis §4.3); 0 = none")->capture_default_str()
-        ->check(wholeNumber(args->memoryBudget));
+    addMemoryBudgetOption(*sub, args->memoryBudget, " (thesis §4.3)");
     sub->add_flag("--color-by-level", args->colorByLevel, "shade nodes by level (grey levels)");
     addLoaderOptions(*sub, args->loading, args->loader, args->onMiss);
     sub->add_flag("--strict", args->strict,

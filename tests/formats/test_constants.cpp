@@ -50,8 +50,9 @@ TEST(Constants, AbsurdValuesAreRefusedForTheirUse) {
         }
         return "";
     };
-    EXPECT_EQ(error("c_targetTime=-5", kUsedByPlayer), "c_targetTime = -5: must be > 0 (milliseconds)");
-    EXPECT_EQ(error("c_targetTime=0", kUsedByPlayer), "c_targetTime = 0: must be > 0 (milliseconds)");
+    EXPECT_EQ(error("c_targetTime=-5", kUsedByPlayer), "c_targetTime = -5: must be > 0 and at most 10000 (milliseconds: a frame of at most 10 s)");
+    EXPECT_EQ(error("c_targetTime=0", kUsedByPlayer), "c_targetTime = 0: must be > 0 and at most 10000 (milliseconds: a frame of at most 10 s)");
+    EXPECT_EQ(error("c_targetTime=1e9", kUsedByPlayer), "c_targetTime = 1e+09: must be > 0 and at most 10000 (milliseconds: a frame of at most 10 s)");
     EXPECT_EQ(error("c_levelFactor=1", kUsedByBuild), "c_levelFactor = 1: must be a whole number in [2, 64] (children per node)");
     EXPECT_EQ(error("c_levelFactor=0", kUsedByBuild), "c_levelFactor = 0: must be a whole number in [2, 64] (children per node)");
     EXPECT_EQ(error("c_levelFactor=1e300", kUsedByBuild), "c_levelFactor = 1e+300: must be a whole number in [2, 64] (children per node)");

@@ -187,7 +187,7 @@ TEST_F(Conventions, ConstantsAreAcceptedOnlyWhereUsed) {
 TEST_F(Conventions, AbsurdConstantsAreStatusTwoWithOneLine) {
     RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--set", "c_targetTime=-5"});
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_EQ(r.err, "hlod play: c_targetTime = -5: must be > 0 (milliseconds)\n");
+    EXPECT_EQ(r.err, "hlod play: c_targetTime = -5: must be > 0 and at most 10000 (milliseconds: a frame of at most 10 s)\n");
     const std::string conf = dir.file("hyst.conf");
     std::ofstream(conf) << "c_hystSwitch = 5000\nc_hystLimit = 100\nc_levelFactor = 1\n";
     r = runHlod({"play", db, "--path", path, "--sync-loader", "--config", conf});

@@ -80,6 +80,10 @@ TEST_F(Cli, MemoryBelowHlod0AndOptionsWithoutTheirPartnerAreUsageErrors) {
     const std::string path = walk();
     const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
         {{"play", db, "--path", path, "--sync-loader", "--memory", "1"}, "hlod play: --memory 1 is below the "},
+        // a size takes its unit, as build's --memory-limit (refused as no number until stop 48)
+        {{"play", db, "--path", path, "--sync-loader", "--memory", "1K"}, "hlod play: --memory 1024 is below the "},
+        // a target frame of more than 10 s, as every other frame time (accepted until stop 48)
+        {{"play", db, "--path", path, "--set", "c_targetTime=1e9"}, "hlod play: c_targetTime = 1e+09: must be > 0 and at most 10000"},
         {{"compare", db, "--path", path, "--policies", "thesis", "--preload", "--memory", "1", "--no-plots", "-o",
           (dir / "c").string()},
          "hlod compare: --preload needs every node in memory: "},
@@ -340,8 +344,9 @@ TEST_F(Cli, CorruptNodeIsSkippedWithOneWarningUnlessStrict) {
     std::string path = (dir / "fly.path").string();
     ASSERT_EQ(runHlod({"path", db, "--kind", "fly", "--duration", "5", "-o", path}).exitCode, 0);
     std::string csv = (dir / "fly.csv").string(), json = (dir / "fly.json").string();
+    // A 5 s lap flies faster than 100 units/s: --teleport-speed keeps it motion (its warning is not this test's).
     const std::vector<std::string> args = {"play", db, "--path", path, "--sync-loader", "--frames", "200",
-                                           "--set", "c_targetTime=1000", "--stats", csv};
+                                           "--set", "c_targetTime=1000", "--stats", csv, "--teleport-speed", "1e4"};
     std::vector<std::string> withJson = args;
     withJson.insert(withJson.end(), {"--json", json});
     RunResult r = runHlod(withJson);

@@ -107,7 +107,8 @@ TEST_F(Cli, PlayUnitsAndAnOverheadThatLeavesNoTimeToDraw) {
     std::ofstream(path) << "hlod-camera-path 1\n0 0 0 50 0 0 0 1 60\n4 2000 0 50 0 0 0 1 60\n";
     RunResult r = runHlod({"play", db, "--path", path, "--sync-loader", "--json", json});
     ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
-    EXPECT_NE(r.err.find("hlod play: warning: the camera moves faster than --teleport-speed 100 m/s over 100 % of the replayed time"),
+    EXPECT_NE(r.err.find("hlod play: warning: the camera moves faster than --teleport-speed 100 m/s over 100 % of the replayed time: each such "
+                        "move counts as a cut"),
               std::string::npos)
         << r.err;
     EXPECT_NE(readText(json).find("\"distance\": 0.0"), std::string::npos) << readText(json);
