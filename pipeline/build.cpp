@@ -129,7 +129,7 @@ SplitInputs streamBlocks(const std::string& input, const BuildOptions& options, 
         checkPositionStep(input, gridCell(bounds, grid), options.draco.positionStep);  // before the split's work
         in.positionStep = gridPositionStep(bounds, grid, options.draco.positionBits);
         const double step = options.draco.positionStep > 0 ? options.draco.positionStep : in.positionStep;
-        const std::string precision = floatPrecisionWarning(input, bounds, step);
+        const std::string precision = floatPrecisionWarning(input, bounds, step, options.read.offset);
         if (!precision.empty()) raw.stats.warnings.push_back(precision);
         in.grid = grid, in.bounds = bounds, in.inputTriangles = raw.triangles.size();
         if (raw.positions.spilled()) fixMmapThreshold();  // arrays held, then freed: the threshold rose
@@ -179,7 +179,7 @@ SplitInputs findBlocks(const std::string& input, const BuildOptions& options, co
     in.positionStep = gridPositionStep(pieceBounds(source.piece.mesh), grid, options.draco.positionBits);
     in.grid = grid, in.bounds = pieceBounds(source.piece.mesh);
     const double step = options.draco.positionStep > 0 ? options.draco.positionStep : in.positionStep;
-    if (const std::string w = floatPrecisionWarning(input, in.bounds, step); !w.empty()) progress.message("warning: " + w);
+    if (const std::string w = floatPrecisionWarning(input, in.bounds, step, options.read.offset); !w.empty()) progress.message("warning: " + w);
     std::vector<Piece> cells = splitByGrid(source.piece, grid);
     source.piece = {};
     for (size_t c = 0; c < cells.size(); ++c) {
@@ -224,7 +224,7 @@ void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t ind
         checkPositionStep(source.file, bounds, options.draco.positionStep);
         const double step =
             options.draco.positionStep > 0 ? options.draco.positionStep : positionLatticeStep(bounds, options.draco.positionBits);
-        if (std::string w = floatPrecisionWarning(source.file, bounds, step); !w.empty()) mesh.stats.warnings.push_back(std::move(w));
+        if (std::string w = floatPrecisionWarning(source.file, bounds, step, options.read.offset); !w.empty()) mesh.stats.warnings.push_back(std::move(w));
     }
     const TextureHeader textures = usedTextures(mesh);
     const uint64_t workingSet =
@@ -296,7 +296,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     std::vector<std::pair<std::string, std::string>> meta = {{"tool", std::string("hlod ") + HLOD_VERSION}, {"input", input}};
     std::string command = "hlod build " + shellWord(input) + " --simplifier " + simplifier + " --leaf-rule " +
                           leafRuleName(o.leafRule) + " --planes " + planesName(o.planes);
-    command += o.blockSize > 0 ? " --block-size " + std::to_string(o.blockSize)
+    command += o.blockSize > 0 ? " --block-size " + formatConstant(o.blockSize)  // exact (6 decimals until stop 48)
                                : " --block-triangles " + std::to_string(blockTarget(o));
     command += " --draco-position-bits " + std::to_string(o.draco.positionBits) + " --draco-texcoord-bits " +
                std::to_string(o.draco.texcoordBits) + " --draco-level " + std::to_string(o.draco.compressionLevel) +
@@ -319,7 +319,7 @@ std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& in
     if (o.mode == BuildMode::BottomUp) meta.emplace_back("tree.error", bottomUpErrorName(o.bottomUpError));
     meta.emplace_back("tree.errorCap", errorCapped(o) ? "on" : "off");  // absent: off (before stop 41)
     meta.emplace_back("blocks.triangles", o.blockSize > 0 ? "" : std::to_string(blockTarget(o)));
-    meta.emplace_back("blocks.size", o.blockSize > 0 ? std::to_string(o.blockSize) : "");
+    meta.emplace_back("blocks.size", o.blockSize > 0 ? formatConstant(o.blockSize) : "");
     meta.emplace_back("draco.positionBits", std::to_string(o.draco.positionBits));
     meta.emplace_back("draco.texcoordBits", std::to_string(o.draco.texcoordBits));
     meta.emplace_back("draco.colorBits", std::to_string(o.draco.colorBits));

@@ -201,7 +201,9 @@ NodeOut finishNode(const SimplifiedNode& simplified, const Piece& original, cons
     out.record = packNode(parts, images, jpeg, bounds, kNone, level, blockIndex, out.error.max, options);
     if (!sourceParts.empty()) out.fidelity = leafFidelity(sourceParts, parts, images, out.record, textures);
     out.baked = simplified.geometryOnly && images[0].width > 0;  // an untextured piece is simplified alone, not baked
-    for (const SubMesh& part : parts) out.triangles += part.mesh.triangleCount();
+    // The triangles as stored: Draco drops faces its quantization collapses (counted until stop 48).
+    for (const EncodedBlob& blob : out.record.node.blobs)
+        if (blob.info.kind == BlobKind::Geometry) out.triangles += blob.info.triangles;
     for (const Image& image : images) out.texels += uint64_t(image.width) * image.height;
     return out;
 }

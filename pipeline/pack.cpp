@@ -62,7 +62,7 @@ void checkModelExtent(const std::string& input, const Box3f& bounds) {
     }
 }
 
-std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds, double positionStep) {
+std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds, double positionStep, const std::array<double, 3>& offset) {
     const double lo[3] = {bounds.min.x, bounds.min.y, bounds.min.z}, hi[3] = {bounds.max.x, bounds.max.y, bounds.max.z};
     double far = 0;
     for (int k = 0; k < 3; ++k) far = std::max({far, std::abs(lo[k]), std::abs(hi[k])});
@@ -70,13 +70,16 @@ std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds,
     const double floatStep = std::ldexp(1.0, std::ilogb(far) - 23);  // binary32: 24-bit significand
     if (floatStep <= positionStep) return "";  // the same answer as against the step rounded down to a power of two
     const double lattice = std::ldexp(1.0, std::ilogb(positionStep));  // the step the codec uses (codec.h)
+    // The offset that centres the input: the one given (bounds are after it) plus the bounds' centre,
+    // rounded (until stop 48 the centre alone, and following the advice swapped its signs).
+    double centre[3];
+    for (int k = 0; k < 3; ++k) centre[k] = 0.0 + std::round(offset[k] + (lo[k] + hi[k]) / 2);  // 0.0 +: no "-0"
     std::vector<char> text(input.size() + 400);
     std::snprintf(text.data(), text.size(),
                   "%s: coordinates reach %.6g units from the origin, where positions (32-bit floats) step by %g, coarser than "
                   "the position lattice step %g: detail finer than %g is lost; build with --offset %.0f,%.0f,%.0f (the "
                   "centre of its bounds, rounded) to keep it",
-                  input.c_str(), far, floatStep, lattice, floatStep, 0.0 + std::round((lo[0] + hi[0]) / 2),
-                  0.0 + std::round((lo[1] + hi[1]) / 2), 0.0 + std::round((lo[2] + hi[2]) / 2));  // 0.0 +: no "-0"
+                  input.c_str(), far, floatStep, lattice, floatStep, centre[0], centre[1], centre[2]);
     return text.data();
 }
 

@@ -429,11 +429,11 @@ double gridPositionStep(const Box3f& bounds, const GridSpec& grid, int positionB
 void checkPositionStep(const std::string& input, const Box3f& block, double step);
 // Throws InputError "INPUT: the model is E units across, below ..." when `bounds` spans less than kMinExtent.
 void checkModelExtent(const std::string& input, const Box3f& bounds);
-// floatPrecisionWarning: "" unless 32-bit float positions (MeshData, as every reader stores them)
-// step more coarsely at the largest coordinate of `bounds` than the position lattice `positionStep`
-// (far from the origin, e.g. a scan in UTM metres), in which case the warning names `input`, the
-// spacing lost, and the --offset (ReadOptions::offset) that keeps it.
-std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds, double positionStep);
+// floatPrecisionWarning: "" unless float positions (as readers store them) step more coarsely at the largest
+// coordinate of `bounds` than the lattice `positionStep` (far from the origin: a scan in UTM metres), when the
+// warning names `input`, the spacing lost and the --offset that keeps it (`offset` given plus the bounds' centre).
+std::string floatPrecisionWarning(const std::string& input, const Box3f& bounds, double positionStep,
+                                  const std::array<double, 3>& offset = {});
 // `jpeg`: per part, the JPEG quality and chroma of its texture (BlockTextures::jpegQuality, chroma420).
 struct JpegSettings {
     int quality = 85;

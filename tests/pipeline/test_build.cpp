@@ -222,13 +222,22 @@ TEST_F(TerrainBuild, MetaHoldsConstantsAndOptionsButNothingRunSpecific) {
 // META command is a shell command line: an input that needs quoting is quoted (`hlod build my
 // scan.ply` read as two arguments until stop 47).
 TEST(Build, MetaCommandQuotesAnInputThatNeedsIt) {
-    const auto command = [](const std::string& input) {
-        for (const auto& [key, value] : buildMeta(input, BuildOptions{}))
-            if (key == "command") return value;
+    const auto meta = [](const std::string& input, const BuildOptions& o, const std::string& name) {
+        for (const auto& [key, value] : buildMeta(input, o))
+            if (key == name) return value;
         return std::string();
     };
+    const auto command = [&](const std::string& input) { return meta(input, BuildOptions{}, "command"); };
     EXPECT_EQ(command("/data/scan_01.ply").rfind("hlod build /data/scan_01.ply --simplifier ", 0), 0u);
     EXPECT_EQ(command("my scan's.ply").rfind("hlod build 'my scan'\\''s.ply' --simplifier ", 0), 0u) << command("my scan's.ply");
+    // A block size as given, to the last digit (6 decimals until stop 48: re-running the command
+    // built 22 blocks of the bunny instead of 18; below 5e-7, "0.000000", no block size at all).
+    BuildOptions o;
+    for (const double size : {0.03858349, 3e-7, 300.0}) {
+        o.blockSize = size;
+        EXPECT_NE(meta("b.ply", o, "command").find(" --block-size " + formatConstant(size) + " "), std::string::npos) << meta("b.ply", o, "command");
+        EXPECT_EQ(std::stod(meta("b.ply", o, "blocks.size")), size);
+    }
 }
 
 TEST(Build, TexturedObjWithTwoMaterials) {

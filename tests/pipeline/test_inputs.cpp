@@ -324,6 +324,11 @@ TEST(Inputs, FloatPrecisionWarningThresholdIsTheLatticeStep) {
     EXPECT_EQ(floatPrecisionWarning("m", box, 0), "");
     EXPECT_EQ(floatPrecisionWarning("m", box, 0.7), "");  // the codec's lattice: 0.5
     EXPECT_NE(floatPrecisionWarning("m", box, 0.45).find("the position lattice step 0.25:"), std::string::npos);
+    // The advice is the offset that centres the input: the given one plus the bounds' centre (the
+    // centre alone until stop 48, so following it swapped the signs at every build).
+    const Box3f moved{{-4194304, 0, 0}, {-4194302, 0, 0}};
+    EXPECT_NE(floatPrecisionWarning("m", moved, 0.25).find("build with --offset -4194303,0,0 "), std::string::npos);
+    EXPECT_NE(floatPrecisionWarning("m", moved, 0.25, {4194303, -2, 0}).find("build with --offset 0,-2,0 "), std::string::npos);
 }
 
 // An OBJ written with full double precision: 8 x 8 quads 0.1 apart, moved to (4194304, 1048576),
