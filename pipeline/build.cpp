@@ -226,10 +226,11 @@ void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t ind
             options.draco.positionStep > 0 ? options.draco.positionStep : positionLatticeStep(bounds, options.draco.positionBits);
         if (std::string w = floatPrecisionWarning(source.file, bounds, step, options.read.offset); !w.empty()) mesh.stats.warnings.push_back(std::move(w));
     }
-    const TextureHeader textures = usedTextures(mesh);
-    const uint64_t workingSet =
-        blockWorkingSet(mesh.piece.mesh.triangleCount(), textures.texels, options.constants.desiredTris, textures.wholeImageBytes);
-    const GateTicket ticket(gate, workingSet);
+    const TextureHeader textures = usedTextures(mesh, options.textures);
+    const uint64_t workingSet = blockWorkingSet(mesh.piece.mesh.triangleCount(), textures.texels, options.constants.desiredTris);
+    // A progressive JPEG's coefficients, on the block's own ticket: its textures decode one at a
+    // time (BlockTextures::source), so the node threads beyond it are not charged them again.
+    const GateTicket ticket(gate, workingSet + textures.wholeImageBytes);
     // The block's nodes run on 1 + extra.nodes threads (build_tree.cpp), each extra one on a
     // further working set of the block the gate grants beside what is in use (pipeline/MEMORY.md "Jobs").
     struct ExtraNodes {
@@ -279,15 +280,6 @@ uint64_t expectedWork(const std::vector<BlockSource>& blocks, uint32_t first, ui
     return total;
 }
 
-// A path as one word of a POSIX shell: as it is when it needs no quoting, else in single quotes
-// (`hlod build my scan.ply` in META command read as two arguments until stop 47).
-std::string shellWord(const std::string& path) {
-    const auto safe = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("/._-+,:@%=", c) != nullptr; };
-    if (!path.empty() && std::all_of(path.begin(), path.end(), safe)) return path;
-    std::string quoted = "'";
-    for (const char c : path) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return quoted + "'";
-}
 
 }  // namespace
 

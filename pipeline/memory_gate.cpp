@@ -27,9 +27,9 @@ namespace {
 // peaked at 23.4 B per node texel beyond them at -j 1, rounded up to 25; on 490,000 triangles
 // (1.7 Mtexel a node) the model is then 1.66x the measured peak.
 // A progressive (multi-scan) JPEG is the one texture read not by strips: libjpeg holds all its
-// coefficients while decoding it (formats/image_io.h), so the largest such texture of a block counts
-// in full (measured: a 4096^2 4:4:4 one, 96 MiB of coefficients, peaked 110 MiB against 17 MiB as
-// baseline; pipeline/MEMORY.md "Progressive JPEGs").
+// coefficients while decoding it (formats/image_io.h), so build.cpp adds the largest such texture a
+// block has still to decode to its ticket (measured: a 4096^2 4:4:4 one, 96 MiB of coefficients,
+// peaked 110 MiB against 17 MiB as baseline; pipeline/MEMORY.md "Progressive JPEGs").
 constexpr uint64_t kBytesPerBlockTriangle = 400;
 constexpr uint64_t kSourceTexelsPerByte = 12;
 constexpr uint64_t kBytesPerNodeTexel = 25;
@@ -75,9 +75,8 @@ uint64_t MemoryGate::peak() const {
     return peak_;
 }
 
-uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels, double desiredTris, uint64_t wholeImageBytes) {
-    return triangles * kBytesPerBlockTriangle + texels / kSourceTexelsPerByte + nodeTexels(triangles, texels, desiredTris) * kBytesPerNodeTexel +
-           wholeImageBytes;
+uint64_t blockWorkingSet(uint64_t triangles, uint64_t texels, double desiredTris) {
+    return triangles * kBytesPerBlockTriangle + texels / kSourceTexelsPerByte + nodeTexels(triangles, texels, desiredTris) * kBytesPerNodeTexel;
 }
 
 }  // namespace hlod

@@ -368,9 +368,8 @@ private:
     std::condition_variable freed_;
 };
 // Working set of buildBlock for a block (measured, see memory_gate.cpp): its triangles, its source
-// textures, the texture work of one node (c_desiredTris of its triangles' share of the texels) and
-// what its largest texture's decoder holds at once (a progressive JPEG's coefficients: image_io.h).
-uint64_t blockWorkingSet(uint64_t triangles, uint64_t textureTexels, double desiredTris, uint64_t wholeImageBytes);
+// textures and the texture work of one node (c_desiredTris of its triangles' share of the texels).
+uint64_t blockWorkingSet(uint64_t triangles, uint64_t textureTexels, double desiredTris);
 
 // One node of a block, encoded and ready for the writer. parentLocal indexes the block's
 // node list (kNone for the block's hlod0).

@@ -18,8 +18,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cctype>
 #include <condition_variable>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <mutex>
 #include <ostream>
@@ -47,6 +49,16 @@ std::string formatBytes(uint64_t bytes) {
     if (bytes >= (1ull << 30)) std::snprintf(text, sizeof text, "%.2f GiB", bytes / double(1ull << 30));
     else std::snprintf(text, sizeof text, "%.1f MiB", bytes / double(1ull << 20));
     return text;
+}
+
+// As it is when it needs no quoting, else in single quotes (`hlod build my scan.ply` in META
+// command read as two arguments until stop 47).
+std::string shellWord(const std::string& path) {
+    const auto safe = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("/._-+,:@%=", c) != nullptr; };
+    if (!path.empty() && std::all_of(path.begin(), path.end(), safe)) return path;
+    std::string quoted = "'";
+    for (const char c : path) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return quoted + "'";
 }
 
 namespace {

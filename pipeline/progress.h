@@ -45,5 +45,7 @@ private:
 uint64_t currentRss();  // bytes
 uint64_t peakRss();     // bytes
 std::string formatBytes(uint64_t bytes);
+// A path as one word of a POSIX shell, quoted when it needs it (META command, the commands warnings name).
+std::string shellWord(const std::string& path);
 
 }  // namespace hlod

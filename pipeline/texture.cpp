@@ -101,7 +101,7 @@ TextureHeader textureHeader(const std::string& path) {
     }
 }
 
-TextureHeader usedTextures(const SourceMesh& mesh) {
+TextureHeader usedTextures(const SourceMesh& mesh, const TextureStore* store) {
     std::vector<bool> used(mesh.materials.size());
     for (uint32_t m : mesh.piece.materials) used[m] = true;
     TextureHeader total;
@@ -111,7 +111,8 @@ TextureHeader usedTextures(const SourceMesh& mesh) {
         if (material.image) total.texels += uint64_t(material.image->width) * material.image->height;
         if (material.image || material.texturePath.empty()) continue;
         const TextureHeader header = textureHeader(material.texturePath);
-        total.texels += header.texels, total.wholeImageBytes = std::max(total.wholeImageBytes, header.wholeImageBytes);
+        total.texels += header.texels;
+        if (!store || !store->opened(material.texturePath)) total.wholeImageBytes = std::max(total.wholeImageBytes, header.wholeImageBytes);
     }
     return total;
 }

@@ -322,7 +322,7 @@ namespace {
 std::string wholeImageWarning(const std::string& path, const ImageRows& image, uint64_t limit) {
     return "warning: " + path + ": a progressive (multi-scan) JPEG of " + std::to_string(image.width) + " x " +
            std::to_string(image.height) + ": libjpeg holds all its coefficients while decoding it (" + formatBytes(image.wholeImageBytes) +
-           "), more than --memory-limit (" + formatBytes(limit) + "); `jpegtran -outfile BASELINE.jpg " + path +
+           "), more than --memory-limit (" + formatBytes(limit) + "); `jpegtran -outfile BASELINE.jpg " + shellWord(path) +
            "` (libjpeg-turbo-progs) writes the same texels as a baseline JPEG, decoded by strips";
 }
 
@@ -413,6 +413,11 @@ TextureStore::TextureStore(const std::string& dir, uint64_t memoryLimit) : impl_
 
 TextureStore::~TextureStore() {
     for (int f : impl_->files) ::close(f);
+}
+
+bool TextureStore::opened(const std::string& path) const {
+    const std::lock_guard lock(impl_->mutex);
+    return impl_->sources.count(path) != 0;
 }
 
 TextureSource TextureStore::open(const std::string& path, Progress* progress) {

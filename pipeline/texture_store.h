@@ -28,8 +28,10 @@ struct TextureHeader {
 };
 TextureHeader textureHeader(const std::string& path);
 // The source texels of the materials a block's triangles use, and the most bytes one of their
-// texture files' decoders holds at once (image headers only).
-TextureHeader usedTextures(const SourceMesh& mesh);
+// texture files' decoders holds at once (image headers only), of the files `store` (if any) has not
+// opened yet: a file is decoded once per build.
+class TextureStore;
+TextureHeader usedTextures(const SourceMesh& mesh, const TextureStore* store = nullptr);
 
 // texture_store.cpp: a texture read by rectangles, with its mip pyramid: level 0 the source,
 // level k + 1 the box-filtered halving of level k (mipSide per side), down to 1 x 1.
@@ -78,6 +80,7 @@ public:
     TextureStore& operator=(const TextureStore&) = delete;
     // Decodes `path` on its first call; throws InputError (corrupt, truncated) on every call.
     TextureSource open(const std::string& path, Progress* progress);
+    bool opened(const std::string& path) const;  // open() was called for `path` (its decode begun or done)
 
 private:
     struct Impl;

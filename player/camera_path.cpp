@@ -158,7 +158,11 @@ void fitClipPlanes(Camera& camera, const Box3f& model) {
         far2 += farthest * farthest, outside2 += outside * outside;
     }
     camera.farPlane = std::max(1.01 * std::sqrt(far2), 1e-6);
-    camera.nearPlane = std::max(0.5 * std::sqrt(outside2), camera.farPlane * 1e-5);
+    // A point of the box at distance >= d seen at angle t off the axis is t's cosine x d deep; t is
+    // at most the frustum's corner angle.
+    const double corner = std::tan(camera.vfovDegrees * M_PI / 360.0) * std::hypot(1.0, camera.aspect);
+    const double depth = std::sqrt(outside2) / std::hypot(1.0, corner);  // d x cos(corner angle)
+    camera.nearPlane = std::max(0.5 * depth, camera.farPlane * 1e-4);
 }
 
 }  // namespace hlod

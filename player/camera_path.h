@@ -50,9 +50,11 @@ Camera sampleCameraPath(const CameraPath& path, double time, double aspect = 16.
 double shareFasterThan(const CameraPath& path, double speed, double until);
 
 // Clip planes that hold the whole `model` box from the camera, whatever its units: far beyond the
-// box's farthest corner; near half the distance to the box from outside it, else far / 1e5 (the
-// ratio `hlod view` kept). Until stop 48 play and compare kept 0.1 and 10,000 database units: a
-// city in millimetres seen from beyond 10 m, or a 20 cm scan seen from closer than 10 cm, drew nothing.
+// box's farthest corner; near half the depth the box can have in the view from outside it (its
+// distance d x the cosine of the frustum's corner angle), else far / 1e4 (a 24-bit depth buffer
+// then tells apart ~far / 1,700 at the far end). Until stop 48 play and compare kept 0.1 and 10,000
+// database units: a city in millimetres seen from beyond 10 m, or a 20 cm scan seen from closer
+// than 10 cm, drew nothing.
 void fitClipPlanes(Camera& camera, const Box3f& model);
 
 // Line and Zigzag: the linear and zigzag camera paths of Hernández & Beneš (Robin Hood, §6

@@ -22,15 +22,11 @@ namespace {
 
 double median3(double a, double b, double c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
 
-// The model's box: its hlod0 nodes' (each node lies within its root's).
-Box3f modelBounds(const Skeleton& s, const std::vector<uint32_t>& roots) {
-    Box3f b = roots.empty() ? Box3f{} : s.nodes[roots.front()].bounds;
-    for (uint32_t r : roots) {
-        const Box3f& n = s.nodes[r].bounds;
-        b.min = {std::min(b.min.x, n.min.x), std::min(b.min.y, n.min.y), std::min(b.min.z, n.min.z)};
-        b.max = {std::max(b.max.x, n.max.x), std::max(b.max.y, n.max.y), std::max(b.max.z, n.max.z)};
-    }
-    return b;
+// The model's box (camera_path.h: its hlod0 nodes'; each node lies within its root's), a point at
+// the origin for a skeleton without nodes.
+Box3f playerModel(const Skeleton& s) {
+    const Box3f b = modelBounds(s);
+    return b.min.x <= b.max.x ? b : Box3f{};
 }
 
 // A camera above the model's box looking down -Z, the whole model in view (start-up timing).
@@ -59,7 +55,7 @@ struct Player::Impl {
     std::vector<uint64_t> visitedStamp;  // frame number + 1 of the last visit
     std::vector<uint32_t> lastVisited;
     std::vector<DrawItem> front;
-    Box3f model;    // modelBounds
+    Box3f model;    // playerModel
     Camera camera;  // the last frame's, its clip planes fitted to the model
     uint32_t levels = 1;
     uint32_t startFailures = 0;  // nodes that failed to load at start (incore, preload)
@@ -91,7 +87,7 @@ struct Player::Impl {
           policy(makePolicy(o.policy, o.policyOptions)),
           resident(skeleton.nodes.size(), 0),
           visitedStamp(skeleton.nodes.size(), 0),
-          model(modelBounds(skeleton, selection.roots)),
+          model(playerModel(skeleton)),
           failed(skeleton.nodes.size(), 0),
           waitView(skeleton.nodes.size(), 1) {
         const bool incore = options.loader == LoaderKind::Incore;

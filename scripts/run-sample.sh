@@ -32,7 +32,7 @@ echo "== hlod stats"
 # 0.0033 ms per textured triangle the whole hlod0 set of the sample city (8,097 triangles, drawn
 # every frame) fits the 30 ms frame with the 2 ms overhead (28.7 ms; 28 / 8,097 = 0.00346 ms is
 # the slowest such machine), while full detail along the walk does not (37 ms mean, measured with
-# --set c_targetTime=1000000). SAMPLE=banana uses the rate of the same rule for its hlod0 set.
+# --set c_targetTime=10000, the largest target, 10 s). SAMPLE=banana uses the rate of the same rule for its hlod0 set.
 # --sync-loader steps the loader once per frame: fast and exactly repeatable.
 echo "== hlod play (walk, cost-model renderer)"
 "$hlod" play "$db" --path "samples/$sample/walk.path" --sync-loader --model-ms-per-tri "$rate" \

@@ -192,7 +192,8 @@ int runCompare(CompareArgs& a) {
         a.flatRate ? *a.flatRate : consistentUntexturedRate(a.model.msPerTexturedTriangle, cTextured);
     printConstants(std::cout, c, kUsedByPlayer);
     std::cout << "c_textured: " << formatConstant(cTextured) << " (the database's: eq. 3.1 weights of its node costs)\n"
-              << "units: " << a.units << " (" << a.player.metresPerUnit << " m a database unit; teleports above " << a.player.teleportSpeed << " m/s)\n";
+              << "units: " << a.units << " (" << formatConstant(a.player.metresPerUnit) << " m a database unit; teleports above "
+              << formatConstant(a.player.teleportSpeed) << " m/s)\n";
 
     warnTeleportingPath("compare", path, a.player, path.duration());
     std::vector<PolicyRun> runs;

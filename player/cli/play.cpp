@@ -123,7 +123,7 @@ int runPlay(PlayArgs& a) {
         {"initial_v_time", std::to_string(player.vTime())},
         {"lookahead_s", std::to_string(a.player.lookaheadSeconds)},
         {"teleport_speed", std::to_string(a.player.teleportSpeed) + " m/s"},
-        {"units", a.units + " (" + std::to_string(a.player.metresPerUnit) + " m a database unit)"},
+        {"units", a.units + " (" + formatConstant(a.player.metresPerUnit) + " m a database unit)"},
         {"v_time_gain", std::to_string(a.player.vTimeGain)},
         {"share_band", std::to_string(a.player.shareLoop.band)},
         {"share_gain", std::to_string(a.player.shareLoop.gain)},

@@ -28,8 +28,8 @@ void warnTeleportingPath(const std::string& command, const CameraPath& path, con
     const double share = shareFasterThan(path, options.teleportSpeed / options.metresPerUnit, until);
     if (share > 0.5)
         std::cerr << "hlod " << command << ": warning: the camera moves faster than --teleport-speed " << options.teleportSpeed
-                  << " m/s over " << int(share * 100) << " % of the replayed time: each such move counts as a cut (no distance, "
-                  << "no velocity look-ahead); --units says what a database unit is if not " << options.metresPerUnit
+                  << " m/s over " << int(share * 100) << " % of the path's time: each such move counts as a cut (no distance, "
+                  << "no velocity look-ahead); --units says what a database unit is if not " << formatConstant(options.metresPerUnit)
                   << " m (mm, cm, ...), and --teleport-speed raises the limit\n";
 }
 

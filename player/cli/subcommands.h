@@ -42,8 +42,8 @@ void addLoaderOptions(CLI::App& sub, PlayerOptions& options, std::string& loader
 // --units of `hlod path`, `hlod play` and `hlod compare`: what one database unit is, for speeds in
 // m/s (a path's, --teleport-speed); parsed by parseUnits (player/camera_path.h).
 void addUnitsOption(CLI::App& sub, std::string& units);
-// Warns (std::cerr) when the camera moves faster than --teleport-speed over most of the replayed
-// time: every move a teleport (no distance, no velocity look-ahead), as a millimetre database
+// Warns (std::cerr) when the camera moves faster than --teleport-speed over most of the path's time
+// up to `until`: every move a teleport (no distance, no velocity look-ahead), as a millimetre database
 // played in metres gave (Lucy's drive: distance 0, until stop 48 without a word).
 void warnTeleportingPath(const std::string& command, const CameraPath& path, const PlayerOptions& options, double until);
 // --memory of `hlod play`, `hlod compare` and `hlod view`: the memory budget in bytes or with a

@@ -381,51 +381,56 @@ TEST(ImageIo, MissingPluginIsAOneLineErrorNamingTheTexture) {
 // many blocks use it, and decodes it as any other (until stop 48 nothing said so).
 TEST(ImageIo, AProgressiveJpegsCoefficientsCountAndAreWarnedOfAboveTheLimit) {
     TempDir dir;
-    const auto write = [&](const std::string& name, uint32_t w, uint32_t h, const char* subsampling, int progressive) {
-        OIIO::ImageSpec spec(int(w), int(h), 3, OIIO::TypeDesc::UINT8);
+    const auto write = [&](const std::string& name, uint32_t w, uint32_t h, uint32_t channels, const char* subsampling, int progressive) {
+        OIIO::ImageSpec spec(int(w), int(h), int(channels), OIIO::TypeDesc::UINT8);
         spec.attribute("Compression", "jpeg:83");
         spec.attribute("jpeg:subsampling", subsampling);
         spec.attribute("jpeg:progressive", progressive);
-        writeWithOpenImageIO(dir.file(name), spec, busyTexels(w, h, 3).data());
+        writeWithOpenImageIO(dir.file(name), spec, busyTexels(w, h, channels).data());
         return dir.file(name);
     };
-    // 77 x 45: 10 x 6 blocks; at 4:2:0 Cb and Cr 5 x 3 each.
-    EXPECT_EQ(textureHeader(write("b.jpg", 77, 45, "4:4:4", 0)).wholeImageBytes, 0u);
-    EXPECT_EQ(textureHeader(write("p444.jpg", 77, 45, "4:4:4", 1)).wholeImageBytes, 3u * 60 * 128);
-    EXPECT_EQ(textureHeader(write("p420.jpg", 77, 45, "4:2:0", 1)).wholeImageBytes, (60u + 2 * 15) * 128);
+    // 65 x 33: 9 x 5 blocks a full-size component; at 4:2:0 Y rounded up to its 2 x 2 sampling,
+    // 10 x 6, and Cb and Cr 5 x 3 each.
+    EXPECT_EQ(textureHeader(write("b.jpg", 65, 33, 3, "4:4:4", 0)).wholeImageBytes, 0u);
+    EXPECT_EQ(textureHeader(write("p444.jpg", 65, 33, 3, "4:4:4", 1)).wholeImageBytes, 3u * 45 * 128);
+    EXPECT_EQ(textureHeader(write("p420.jpg", 65, 33, 3, "4:2:0", 1)).wholeImageBytes, (60u + 2 * 15) * 128);
+    EXPECT_EQ(textureHeader(write("grey.jpg", 65, 33, 1, "4:4:4", 1)).wholeImageBytes, 45u * 128);
     SourceMesh mesh;
     for (const char* name : {"b.jpg", "p444.jpg", "p420.jpg"}) {
         mesh.materials.emplace_back();
         mesh.materials.back().name = name, mesh.materials.back().texturePath = dir.file(name);
     }
     mesh.piece.materials = {0, 2, 0};
-    EXPECT_EQ(usedTextures(mesh).texels, 2u * 77 * 45);
+    EXPECT_EQ(usedTextures(mesh).texels, 2u * 65 * 33);
     EXPECT_EQ(usedTextures(mesh).wholeImageBytes, 90u * 128) << "the largest of the used ones";
     mesh.piece.materials.push_back(1);
-    EXPECT_EQ(usedTextures(mesh).wholeImageBytes, 180u * 128);
+    EXPECT_EQ(usedTextures(mesh).wholeImageBytes, 135u * 128);
 
     std::ostringstream log;
     {
         ProgressOptions quiet;
         quiet.thread = false;
         Progress progress(log, quiet);
-        TextureStore store(dir.file("store"), 20000);  // between p420's 11,520 and p444's 23,040 bytes
+        TextureStore store(dir.file("store"), 15000);  // between p420's 11,520 and p444's 17,280 bytes
         for (const char* name : {"b.jpg", "p420.jpg", "p444.jpg", "p444.jpg"}) {
             const TextureSource source = store.open(dir.file(name), &progress);
-            std::vector<uint8_t> rows(size_t(77) * 45 * 3);
-            source.rows(0, 45, 0, 77, rows.data());
+            std::vector<uint8_t> rows(size_t(65) * 33 * 3);
+            source.rows(0, 33, 0, 65, rows.data());
             EXPECT_TRUE(rows == loadTexture(dir.file(name)).pixels) << name;
+            // A file the store has opened is decoded once per build: a later block is not charged it.
+            EXPECT_TRUE(store.opened(dir.file(name)));
+            EXPECT_EQ(usedTextures(mesh, &store).wholeImageBytes, name == std::string("p444.jpg") ? 0u : 135u * 128) << name;
         }
     }
     EXPECT_EQ(log.str(), "warning: " + dir.file("p444.jpg") +
-                             ": a progressive (multi-scan) JPEG of 77 x 45: libjpeg holds all its coefficients while decoding it "
+                             ": a progressive (multi-scan) JPEG of 65 x 33: libjpeg holds all its coefficients while decoding it "
                              "(0.0 MiB), more than --memory-limit (0.0 MiB); `jpegtran -outfile BASELINE.jpg " +
                              dir.file("p444.jpg") + "` (libjpeg-turbo-progs) writes the same texels as a baseline JPEG, decoded by strips\n");
 
     // The build: a 2048² progressive atlas (24 MiB of coefficients) under --memory-limit 16M, shared by
     // four blocks: one warning, and the database.
     writeObj(dir.file("m.obj"), terrain(40, 100, true), "big.jpg");
-    write("big.jpg", 2048, 2048, "4:4:4", 1);
+    write("big.jpg", 2048, 2048, 3, "4:4:4", 1);
     const RunResult r = runHlod({"build", dir.file("m.obj"), "-o", dir.file("m.hlod"), "--memory-limit", "16M", "--block-triangles", "800"});
     EXPECT_EQ(r.exitCode, 0) << r.outAndErr();
     const std::string all = r.outAndErr(), warning = dir.file("big.jpg") + ": a progressive (multi-scan) JPEG of 2048 x 2048";

@@ -392,8 +392,8 @@ TEST(CameraPath, LineAndZigzagHaveStraightLegs) {
 
 // The clip planes hold the whole model whatever its units (play kept 0.1 and 10,000 database
 // units until stop 48: a city in millimetres seen from 10.1 m, or a 20 cm scan seen from 19 mm,
-// drew nothing): the far plane beyond the farthest corner, the near one half-way to the box from
-// outside it and far / 1e5 inside it.
+// drew nothing): the far plane beyond the farthest corner, the near one within the least depth the
+// box can have in the view from outside it, far / 1e4 inside it.
 TEST(CameraPath, ClipPlanesHoldTheModelWhateverItsUnits) {
     const double still[3] = {0, 0, 0};
     for (const double scale : {1e-3, 1.0, 1e3, 1e6}) {
@@ -403,13 +403,29 @@ TEST(CameraPath, ClipPlanesHoldTheModelWhateverItsUnits) {
         camera.position[0] = camera.position[1] = 50 * scale;
         camera.position[2] = 220 * scale;
         fitClipPlanes(camera, model);
-        EXPECT_NEAR(camera.nearPlane, 100 * scale, 1e-6 * scale);  // the box is in floats
+        EXPECT_GT(camera.nearPlane, 50 * scale);  // a fraction of the 200 to the box's top
+        EXPECT_LE(camera.nearPlane, 100 * scale);
         EXPECT_GE(camera.farPlane, std::hypot(50, 50, 220) * scale);
         EXPECT_EQ(frustumVis(makeView(camera, still, 0), model), 1.0);
         camera.position[2] = 10 * scale;  // inside the box
         fitClipPlanes(camera, model);
-        EXPECT_DOUBLE_EQ(camera.nearPlane, camera.farPlane * 1e-5);
+        EXPECT_DOUBLE_EQ(camera.nearPlane, camera.farPlane * 1e-4);
         const Box3f close{{float(49 * scale), float(49 * scale), float(9.99 * scale)}, {float(51 * scale), float(51 * scale), float(9.999 * scale)}};
         EXPECT_EQ(frustumVis(makeView(camera, still, 0), close), 1.0) << "a part 1/1000 of the box's height below the eye";
+    }
+    // A wide view: a box 5 units aside and 1 ahead (78.7 degrees off the axis, inside a 150-degree
+    // view's frustum) is 1 deep, though 5.1 away: half its distance would clip it.
+    Camera wide;
+    wide.vfovDegrees = 150;
+    fitClipPlanes(wide, Box3f{{5, 0, -2}, {6, 1, -1}});
+    EXPECT_LT(wide.nearPlane, 1.0);
+    EXPECT_GT(wide.nearPlane, 0.0);
+    // On a face of the box, and a box of no size: finite planes, near before far.
+    for (const Box3f& box : {Box3f{{0, 0, -1}, {1, 1, 0}}, Box3f{{3, 3, 3}, {3, 3, 3}}, Box3f{{0, 0, 0}, {0, 0, 0}}}) {
+        Camera on;
+        fitClipPlanes(on, box);
+        EXPECT_TRUE(std::isfinite(on.nearPlane) && std::isfinite(on.farPlane));
+        EXPECT_GT(on.nearPlane, 0.0);
+        EXPECT_LT(on.nearPlane, on.farPlane);
     }
 }
