@@ -3,7 +3,6 @@
 #include "formats/constants.h"
 
 #include "formats/calibration.h"
-
 #include "formats/errors.h"
 #include "formats/setting_lines.h"
 

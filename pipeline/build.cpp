@@ -280,7 +280,6 @@ uint64_t expectedWork(const std::vector<BlockSource>& blocks, uint32_t first, ui
     return total;
 }
 
-
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> buildMeta(const std::string& input, const BuildOptions& o) {
