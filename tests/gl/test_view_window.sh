@@ -4,9 +4,10 @@
 # Exit 77 (skipped) when Xvfb or xdotool is missing.
 set -u
 hlod=$1
-command -v xvfb-run >/dev/null && command -v xdotool >/dev/null || { echo "SKIP: xvfb-run/xdotool absent"; exit 77; }
+command -v Xvfb >/dev/null && command -v xdotool >/dev/null || { echo "SKIP: Xvfb/xdotool absent"; exit 77; }
 dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
+xvfb=
+trap '[ -n "$xvfb" ] && kill "$xvfb" 2>/dev/null; rm -rf "$dir"' EXIT
 "$hlod" build "$HLOD_SOURCE_DIR/samples/city" -o "$dir/city.hlod" >/dev/null || { echo "FAIL: build"; exit 1; }
 
 cat > "$dir/drive.sh" <<EOS
@@ -33,7 +34,17 @@ kill -0 \$pid 2>/dev/null && { echo "FAIL: Escape did not quit"; kill \$pid; exi
 wait \$pid
 EOS
 chmod +x "$dir/drive.sh"
-xvfb-run -a -e "$dir/xvfb.log" -s "-screen 0 640x400x24" "$dir/drive.sh" ||
+# Xvfb picks a free display itself (-displayfd: no race with another server, as `xvfb-run -a`
+# has), and the window starts only once the display answers (a CI run once opened it too early).
+Xvfb -displayfd 3 -nolisten tcp -screen 0 640x400x24 3>"$dir/display" 2>"$dir/xvfb.log" &
+xvfb=$!
+for i in $(seq 1 60); do
+  [ -s "$dir/display" ] && DISPLAY=:$(cat "$dir/display") xdotool getdisplaygeometry >/dev/null 2>&1 && break
+  sleep 0.5
+done
+export DISPLAY=:$(cat "$dir/display" 2>/dev/null)
+xdotool getdisplaygeometry >/dev/null 2>&1 || { echo "FAIL: Xvfb did not answer in 30 s"; cat "$dir/xvfb.log"; exit 1; }
+"$dir/drive.sh" ||
   { echo "FAIL: view exited non-zero"; cat "$dir/view.log"; echo "Xvfb's log:"; cat "$dir/xvfb.log"; exit 1; }
 [ -s "$dir/rec.path" ] || { echo "FAIL: no recording"; exit 1; }
 first=$(grep -v '^#' "$dir/rec.path" | sed -n 2p | awk '{print $2, $3, $4}')
