@@ -35,8 +35,9 @@ wait \$pid
 EOS
 chmod +x "$dir/drive.sh"
 # Xvfb picks a free display itself (-displayfd: no race with another server, as `xvfb-run -a`
-# has), and the window starts only once the display answers (a CI run once opened it too early).
-Xvfb -displayfd 3 -nolisten tcp -screen 0 640x400x24 3>"$dir/display" 2>"$dir/xvfb.log" &
+# has); the window starts once the display answers, and -noreset keeps the server from resetting
+# when that probe disconnects (connections made during a reset fail: "Failed to open display").
+Xvfb -displayfd 3 -nolisten tcp -noreset -screen 0 640x400x24 3>"$dir/display" 2>"$dir/xvfb.log" &
 xvfb=$!
 for i in $(seq 1 60); do
   [ -s "$dir/display" ] && DISPLAY=:$(cat "$dir/display") xdotool getdisplaygeometry >/dev/null 2>&1 && break
