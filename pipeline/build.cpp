@@ -32,6 +32,7 @@
 #include <optional>
 #include <regex>
 #include <set>
+#include <span>
 
 #ifndef HLOD_VERSION
 #define HLOD_VERSION "0.0.0"
@@ -208,6 +209,8 @@ void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t ind
               MemoryGate& gate, Progress& progress, BlockStats& stats) {
     const std::vector<Material>& materials = inputs.materials;
     SourceMesh mesh;
+    Box3f fileBounds;  // a folder's file: its bounds; its lattice step when its floats step coarser
+    double floatStepOver = 0;
     if (source.isPiece) {
         mesh.piece = loadPiece(source.file);
         mesh.materials = materials;
@@ -224,7 +227,8 @@ void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t ind
         checkPositionStep(source.file, bounds, options.draco.positionStep);
         const double step =
             options.draco.positionStep > 0 ? options.draco.positionStep : positionLatticeStep(bounds, options.draco.positionBits);
-        if (std::string w = floatPrecisionWarning(source.file, bounds, step, options.read.offset); !w.empty()) mesh.stats.warnings.push_back(std::move(w));
+        fileBounds = bounds;  // the folder's warning, once for all its files (floatPrecisionOfFiles)
+        if (!floatPrecisionWarning(source.file, bounds, step).empty()) floatStepOver = step;
     }
     const TextureHeader textures = usedTextures(mesh, options.textures);
     const uint64_t workingSet = blockWorkingSet(mesh.piece.mesh.triangleCount(), textures.texels, options.constants.desiredTris);
@@ -258,6 +262,7 @@ void buildOne(const BlockSource& source, const SplitInputs& inputs, uint32_t ind
     malloc_trim(0);  // a worker thread's heap keeps a finished block's memory otherwise (glibc arenas)
     stats.degenerateDropped = mesh.stats.degenerateDropped;
     stats.warnings = mesh.stats.warnings;
+    stats.fileBounds = fileBounds, stats.floatStepOver = floatStepOver;
     stats.textureProblems.insert(stats.textureProblems.begin(), mesh.stats.textureProblems.begin(), mesh.stats.textureProblems.end());
 }
 
@@ -451,6 +456,7 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     for (uint32_t b = first; b < last; ++b)
         flattened += stats[b].flattened, triangles += stats[b].inputTriangles, straddling += stats[b].straddling;
     if (const std::string w = latticeFlattenedWarning(input, flattened, triangles); !w.empty()) progress.message("warning: " + w);
+    if (const std::string w = floatPrecisionOfFiles(input, std::span(stats).subspan(first, last - first), options.read.offset); !w.empty()) progress.message("warning: " + w);
     if (straddling)  // wrap_uvs.cpp (without a word until stop 46)
         progress.message("warning: " + input + ": " + std::to_string(straddling) +
                          " UV charts cross an edge of their repeating texture; they read its border texels there "

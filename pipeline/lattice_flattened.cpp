@@ -3,6 +3,9 @@
 // Exact: a block spans at most 2^23 steps, so the products stay below 2^48 in doubles.
 #include "pipeline/lattice_flattened.h"
 
+#include "pipeline/pipeline.h"
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -35,6 +38,22 @@ std::string latticeFlattenedWarning(const std::string& input, uint64_t flattened
                   input.c_str(), static_cast<unsigned long long>(flattened), static_cast<unsigned long long>(triangles),
                   100.0 * double(flattened) / double(triangles));
     return text.data();
+}
+
+std::string floatPrecisionOfFiles(const std::string& input, std::span<const BlockStats> files, const std::array<double, 3>& offset) {
+    if (files.empty()) return "";
+    Box3f all = files[0].fileBounds;
+    double step = 0;
+    uint32_t over = 0;
+    for (const BlockStats& file : files) {
+        const Box3f& f = file.fileBounds;
+        all.min = {std::min(all.min.x, f.min.x), std::min(all.min.y, f.min.y), std::min(all.min.z, f.min.z)};
+        all.max = {std::max(all.max.x, f.max.x), std::max(all.max.y, f.max.y), std::max(all.max.z, f.max.z)};
+        if (file.floatStepOver > 0) step = over++ ? std::min(step, file.floatStepOver) : file.floatStepOver;
+    }
+    if (!over) return "";  // a single mesh's cells set no floatStepOver
+    return floatPrecisionWarning(input + " (" + std::to_string(over) + " of its " + std::to_string(files.size()) + " files)", all, step,
+                                 offset);
 }
 
 }  // namespace hlod

@@ -7,10 +7,14 @@
 
 #include "formats/codec.h"
 
+#include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 
 namespace hlod {
+
+struct BlockStats;
 
 // The share of a build's triangles above which it warns, not fitted to a dataset: measured in stop
 // 46 at the default 14 bits, Lucy 100k, the bunny, the banana and the sample city flatten none, Lucy
@@ -22,5 +26,10 @@ inline constexpr double kFlattenedWarning = 0.01;
 uint64_t latticeFlattened(const MeshData& mesh, double step);
 // "" unless `flattened` exceeds kFlattenedWarning of `triangles`; else the warning naming `input`.
 std::string latticeFlattenedWarning(const std::string& input, uint64_t flattened, uint64_t triangles);
+// A folder input's files whose float positions step more coarsely than their own lattices
+// (BlockStats::floatStepOver): "" for none, else one floatPrecisionWarning naming the folder, how
+// many of its files, and the --offset of all their bounds, since --offset moves every file (until
+// stop 49 one warning a file, each with its own centre: 95 lines for Mars's leaves at 20 bits).
+std::string floatPrecisionOfFiles(const std::string& input, std::span<const BlockStats> files, const std::array<double, 3>& offset);
 
 }  // namespace hlod

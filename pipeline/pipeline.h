@@ -386,7 +386,8 @@ struct TextureFidelity {
 };
 
 struct BlockStats {
-    uint64_t inputTriangles = 0, flattened = 0, straddling = 0;  // lattice_flattened.h; wrapUvCharts
+    uint64_t inputTriangles = 0, flattened = 0, straddling = 0, degenerateDropped = 0;  // lattice_flattened.h; wrapUvCharts
+    Box3f fileBounds; double floatStepOver = 0;  // a folder's file: its bounds; its lattice step when floats step coarser
     std::vector<float> geometricErrors;  // per local node: max of its own measure and its children's
     std::vector<SurfaceError> measured;  // per local node: its own measure (0 for leaves)
     std::vector<uint8_t> baked;          // per local node: simplified geometry only, texture baked
@@ -394,7 +395,6 @@ struct BlockStats {
     std::vector<uint32_t> levels;        // per local node
     std::vector<uint64_t> triangles, texels;  // per local node, as stored
     std::vector<TextureFidelity> fidelity;    // per local node: its leaf textures (--leaf-psnr), else none
-    uint64_t degenerateDropped = 0;
     std::vector<uint64_t> nodesPerLevel;
     std::vector<std::string> warnings;
     std::vector<TextureProblem> textureProblems;  // of reading the block, and textures that failed to decode

@@ -81,6 +81,8 @@ CLI::Validator finiteIn(double lo, double hi) {
                        [lo, hi](double v) { return v >= lo && v <= hi; });
 }
 
+std::string defaultText(double value) { return " (default " + formatConstant(value) + ")"; }
+
 CLI::Validator finiteAboveAtMost(double lo, double hi) {
     return finiteWhere("a finite number in (" + number(lo) + ", " + number(hi) + "]",
                        [lo, hi](double v) { return v > lo && v <= hi; });

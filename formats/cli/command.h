@@ -59,6 +59,8 @@ template <class T, class V = CLI::Validator>
 V wholeNumber(const std::optional<T>&) {
     return wholeNumber(T{});
 }
+// " (default V)" for an option's help, V its value when the option is added (formatConstant).
+std::string defaultText(double value);
 CLI::Validator nonEmptyPath();                  // every -o: "" is a usage error, not a filesystem error
 
 // The positional database argument, named DB in every subcommand.

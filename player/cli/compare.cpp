@@ -265,13 +265,13 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_option("--warmup", a->warmup, "frames excluded from the table (at most half; default 100)")
         ->check(wholeNumber(a->warmup));
     addMemoryBudgetOption(*sub, a->player.memoryBudget, "");
-    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "nodes loaded per frame (synchronous loader; 0: none, hlod0 alone)")
+    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "nodes loaded per frame (synchronous loader; 0: none, hlod0 alone)" + defaultText(a->player.syncLoadsPerFrame))
         ->check(wholeNumber(a->player.syncLoadsPerFrame));
     addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
     sub->add_option("--renderer", a->renderer, "model (default) or gl")->check(CLI::IsMember({"model", "gl"}));
-    sub->add_option("--width", a->width, "viewport width, pixels")
+    sub->add_option("--width", a->width, "viewport width, pixels" + defaultText(a->width))
         ->check(CLI::Range(1, 16384));
-    sub->add_option("--height", a->height, "viewport height, pixels (benefit and pixel thresholds)")
+    sub->add_option("--height", a->height, "viewport height, pixels (benefit and pixel thresholds)" + defaultText(a->height))
         ->check(CLI::Range(1, 16384));
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)")
         ->check(finiteIn(0, kMaxFrameMs));

@@ -20,13 +20,13 @@ void addLoaderOptions(CLI::App& sub, PlayerOptions& o, std::string& loader, std:
                    "a wanted node not loaded: parent (draw the loaded parent, never wait; default) or wait (the "
                    "frame waits for its fetch: the disk model's time under play's --sync-loader)")
         ->check(CLI::IsMember({"parent", "wait"}));
-    sub.add_option("--disk-seek-ms", o.disk.seekMs, "disk model: ms per node fetched")->check(finiteAtLeast(0));
-    sub.add_option("--disk-mbs", o.disk.bandwidthMBs, "disk model: stored MB/s")->check(finitePositive());
-    sub.add_option("--disk-decode-ns", o.disk.decodeNsPerByte, "disk model: decode ns per decoded byte")
+    sub.add_option("--disk-seek-ms", o.disk.seekMs, "disk model: ms per node fetched" + defaultText(o.disk.seekMs))->check(finiteAtLeast(0));
+    sub.add_option("--disk-mbs", o.disk.bandwidthMBs, "disk model: stored MB/s" + defaultText(o.disk.bandwidthMBs))->check(finitePositive());
+    sub.add_option("--disk-decode-ns", o.disk.decodeNsPerByte, "disk model: decode ns per decoded byte" + defaultText(o.disk.decodeNsPerByte))
         ->check(finiteAtLeast(0));
     sub.add_option("--vm-tolerance", o.vm.tolerance,
                    "vm: error tolerance epsilon for selectors without one (thesis: the units of the time-slice "
-                   "mapping; sse uses sse.tolerance)")
+                   "mapping; sse uses sse.tolerance)" + defaultText(o.vm.tolerance))
         ->check(finitePositive());
     // At most 100 x 100 bins (Fig. 5 has 12): the bins are rebuilt whenever the view moves.
     sub.add_option("--vm-delta", o.vm.deltaRatio, "vm: delta / epsilon, the last bin (Fig. 5: 1.2; at most 100)")
@@ -35,7 +35,7 @@ void addLoaderOptions(CLI::App& sub, PlayerOptions& o, std::string& loader, std:
         ->check(finiteAboveAtMost(0, 100));
     sub.add_option("--vm-margin-deg", o.vm.marginDegrees,
                    "vm: prefetch frustum half-angle = render's + this + angular speed x the lookahead (play's "
-                   "--lookahead, 0.5 s)")
+                   "--lookahead, 0.5 s)" + defaultText(o.vm.marginDegrees))
         ->check(finiteAtLeast(0));
 }
 

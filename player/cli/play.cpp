@@ -173,19 +173,19 @@ double databaseCTextured(const Database& db) {
 }
 
 void addCostModelOptions(CLI::App& sub, CostModel& model, std::optional<double>& flatRate) {
-    sub.add_option("--model-overhead-ms", model.overheadMs, "cost model: fixed ms per frame")
+    sub.add_option("--model-overhead-ms", model.overheadMs, "cost model: fixed ms per frame" + defaultText(model.overheadMs))
         ->check(finiteIn(0, kMaxFrameMs));
-    sub.add_option("--model-ms-per-tri", model.msPerTexturedTriangle, "cost model: ms per textured triangle")
+    sub.add_option("--model-ms-per-tri", model.msPerTexturedTriangle, "cost model: ms per textured triangle" + defaultText(model.msPerTexturedTriangle))
         ->check(finiteIn(0, 1));
     sub.add_option("--model-ms-per-flat-tri", flatRate,
                    "cost model: ms per untextured triangle (default: --model-ms-per-tri x (1 - c_textured) / "
                    "c_textured, the database's eq. 3.1 weights)")
         ->check(finiteIn(0, 1));
-    sub.add_option("--model-noise", model.noise, "cost model: relative sd of per-frame noise")
+    sub.add_option("--model-noise", model.noise, "cost model: relative sd of per-frame noise" + defaultText(model.noise))
         ->check(finiteIn(0, 10));
-    sub.add_option("--model-node-error", model.nodeError, "cost model: per-node cost error in [-e, e]")
+    sub.add_option("--model-node-error", model.nodeError, "cost model: per-node cost error in [-e, e]" + defaultText(model.nodeError))
         ->check(finiteIn(0, 1));
-    sub.add_option("--seed", model.seed, "cost model: noise and error seed (the same for every policy of `compare`)")
+    sub.add_option("--seed", model.seed, "cost model: noise and error seed (the same for every policy of `compare`)" + defaultText(model.seed))
         ->check(wholeNumber(model.seed));
 }
 
@@ -220,11 +220,11 @@ void addPlay(CLI::App& app, int& status) {
                   "step the loader in the render thread: exactly repeatable and as fast as the CPU allows "
                   "(otherwise the cost model sleeps for each modelled frame time, so the loading thread gets "
                   "real time)");
-    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame (0: none, hlod0 alone)")
+    sub->add_option("--sync-loads", a->player.syncLoadsPerFrame, "with --sync-loader: nodes loaded per frame (0: none, hlod0 alone)" + defaultText(a->player.syncLoadsPerFrame))
         ->check(wholeNumber(a->player.syncLoadsPerFrame))
         ->needs("--sync-loader");
     addLoaderOptions(*sub, a->player, a->loader, a->onMiss);
-    sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most (0: none, hlod0 alone)")
+    sub->add_option("--uploads", a->player.maxUploadsPerFrame, "GPU uploads per frame at most (0: none, hlod0 alone)" + defaultText(a->player.maxUploadsPerFrame))
         ->check(wholeNumber(a->player.maxUploadsPerFrame));
     sub->add_option("--v-time", a->player.initialVTime, "initial v_time in ms per unit of cost (default: measured)")
         ->check(finiteIn(0, kMaxFrameMs));
@@ -233,24 +233,24 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--calibration", a->calibration,
                     "calibration file of `hlod calibrate`: sets the initial v_time and the fixed overhead");
     sub->add_option("--lookahead", a->player.lookaheadSeconds,
-                    "s: distance is also measured from the eye moved ahead by velocity x this (player/SELECTION.md)")
+                    "s: distance is also measured from the eye moved ahead by velocity x this (player/SELECTION.md)" + defaultText(a->player.lookaheadSeconds))
         ->check(finiteAtLeast(0));
-    sub->add_option("--teleport-speed", a->player.teleportSpeed, "m/s: faster camera moves count as this speed")
+    sub->add_option("--teleport-speed", a->player.teleportSpeed, "m/s: faster camera moves count as this speed" + defaultText(a->player.teleportSpeed))
         ->check(finitePositive());
     addUnitsOption(*sub, a->units);
-    sub->add_option("--v-time-gain", a->player.vTimeGain, "first feedback loop: fraction of the v_time error corrected per frame")
+    sub->add_option("--v-time-gain", a->player.vTimeGain, "first feedback loop: fraction of the v_time error corrected per frame" + defaultText(a->player.vTimeGain))
         ->check(finiteIn(0, 1));
     sub->add_option("--share-band", a->player.shareLoop.band,
-                    "second feedback loop: frames outside target x (1 -+ band) move the hlod0 share")
+                    "second feedback loop: frames outside target x (1 -+ band) move the hlod0 share" + defaultText(a->player.shareLoop.band))
         ->check(finiteIn(0, 1));
     sub->add_option("--share-gain", a->player.shareLoop.gain,
-                    "second feedback loop: relative change of the hlod0 share per unit of relative frame-time error")
+                    "second feedback loop: relative change of the hlod0 share per unit of relative frame-time error" + defaultText(a->player.shareLoop.gain))
         ->check(finiteAtLeast(0));
     sub->add_option("--share-leak", a->player.shareLoop.leak,
-                    "second feedback loop: fraction of ln(target / share) recovered per frame")
+                    "second feedback loop: fraction of ln(target / share) recovered per frame" + defaultText(a->player.shareLoop.leak))
         ->check(finiteIn(0, 1));
     sub->add_option("--share-step", a->player.shareLoop.step,
-                    "second feedback loop: largest relative change of the hlod0 share per frame")
+                    "second feedback loop: largest relative change of the hlod0 share per frame" + defaultText(a->player.shareLoop.step))
         ->check(finiteIn(0, 1));
     sub->add_option("--initial-hyst", a->player.initialHystSwitches,
                     "hysteresis counter of a node evaluated first, in units of c_hystSwitch (default -1)")
@@ -260,9 +260,9 @@ void addPlay(CLI::App& app, int& status) {
         ->check(wholeNumber(a->every))
         ->needs("--frames-dir");
     sub->add_flag("--color-by-level", a->player.frameOptions.colorByLevel, "shade nodes by level");
-    sub->add_option("--width", a->width, "frame width (gl)")
+    sub->add_option("--width", a->width, "frame width (gl)" + defaultText(a->width))
         ->check(CLI::Range(1, 16384));
-    sub->add_option("--height", a->height, "frame height (gl)")
+    sub->add_option("--height", a->height, "frame height (gl)" + defaultText(a->height))
         ->check(CLI::Range(1, 16384));
     addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);

@@ -288,8 +288,9 @@ std::vector<std::string> linesOf(const std::string& s) {
 
 // Far from the origin (a scan in UTM metres), 32-bit float positions step more coarsely than the
 // position lattice and detail below that step is lost at the read: the build warns, once per
-// input (a folder's block file by name), with a translation near the origin, and still builds.
-// The same mesh near the origin does not warn.
+// input (a folder once for all its files, with the centre of all their bounds: --offset moves
+// every file; until stop 49 one line a file, each with its own centre), with a translation near
+// the origin, and still builds. The same mesh near the origin does not warn.
 TEST(Inputs, FarFromTheOriginWarnsWithAnOffset) {
     TempDir dir;
     Piece far = terrain(20);  // 100 units: 14-bit lattice step 2^-8, floats at 2^22 step 2^-1
@@ -298,15 +299,20 @@ TEST(Inputs, FarFromTheOriginWarnsWithAnOffset) {
     writePly(dir.file("far.ply"), far.mesh, true);
     std::filesystem::create_directories(dir.file("blocks"));
     writePly(dir.file("blocks/a.ply"), far.mesh, true);
-    const std::string warned = ": coordinates reach 4.1944e+06 units from the origin, where positions (32-bit floats) step by 0.5";
+    for (size_t v = 0; v < far.mesh.vertexCount(); ++v) far.mesh.positions[3 * v] += 200;
+    writePly(dir.file("blocks/b.ply"), far.mesh, true);
+    const std::string step = " units from the origin, where positions (32-bit floats) step by 0.5";
     for (const std::string input : {"far.ply", "blocks"}) {
         const RunResult r = runHlod({"build", dir.file(input), "-o", dir.file(input + ".hlod")});
         ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
-        const std::string named = input == "far.ply" ? dir.file("far.ply") : dir.file("blocks/a.ply");
-        const size_t at = r.outAndErr().find("warning: " + named + warned);
+        const bool folder = input == "blocks";
+        const std::string line = "warning: " + dir.file(input) + (folder ? " (2 of its 2 files)" : "") + ": coordinates reach " +
+                                 (folder ? "4.1946e+06" : "4.1944e+06") + step;
+        const size_t at = r.outAndErr().find(line);
         EXPECT_NE(at, std::string::npos) << r.outAndErr();
-        EXPECT_EQ(r.outAndErr().find("from the origin", at + named.size() + warned.size()), std::string::npos) << r.outAndErr();  // once
-        EXPECT_NE(r.outAndErr().find("build with --offset 4194354,562,0 "), std::string::npos) << r.outAndErr();
+        EXPECT_EQ(r.outAndErr().find("from the origin", at + line.size()), std::string::npos) << r.outAndErr();  // once
+        const std::string offset = folder ? "4194454,562,0" : "4194354,562,0";
+        EXPECT_NE(r.outAndErr().find("build with --offset " + offset + " "), std::string::npos) << r.outAndErr();
     }
     const RunResult r = runHlod({"build", dir.file("near.ply"), "-o", dir.file("near.hlod")});
     ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
