@@ -6,12 +6,14 @@
 #include "formats/setting_lines.h"
 #include "formats/temp_files.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <set>
 
 namespace hlod {
 
@@ -62,11 +64,9 @@ void writeCalibration(const Calibration& c, const std::string& path) {
 }
 
 Calibration readCalibration(const std::string& path) {
-    refuseSpecialFile(path);
-    std::ifstream in(path);
-    if (!in) throw InputError(path + ": cannot read calibration file");
+    std::ifstream in = openTextInput(path, "calibration file");
     Calibration c;
-    size_t seen = 0;
+    std::set<std::string> seen;  // each once: three lines of one name were a complete file (until stop 49)
     std::string line;
     for (int number = 1; nextSettingLine(in, line, path, number); ++number) {
         if (line.empty()) continue;
@@ -74,6 +74,7 @@ Calibration readCalibration(const std::string& path) {
         const size_t eq = line.find('=');
         if (eq == std::string::npos) throw InputError(at + "expected 'name = value'");
         const std::string name = trimBlanks(line.substr(0, eq)), text = trimBlanks(line.substr(eq + 1));
+        if (!seen.insert(name).second) throw InputError(at + "'" + name + "' given twice");
         if (name == "renderer") {
             c.renderer = text;
             continue;
@@ -88,9 +89,8 @@ Calibration readCalibration(const std::string& path) {
             (value < 0 && !intercept))
             throw InputError(at + name + " '" + text + "' is not a finite " + (intercept ? "" : "non-negative ") + "number");
         *target = value;
-        seen += field != numericFields().end();
     }
-    if (seen < numericFields().size())
+    if (std::ranges::any_of(numericFields(), [&](const auto& f) { return !seen.contains(f.first); }))
         throw InputError(path + ": not a calibration file (needs c_textured, ms_per_cost and fixed_overhead_ms)");
     if (!(c.cTextured > 0 && c.cTextured <= 1)) throw InputError(path + ": c_textured must lie in (0, 1]");
     for (const auto& [name, value] : {std::pair{"ms_per_cost", c.msPerCost}, {"fixed_overhead_ms", c.fixedOverheadMs}})

@@ -49,7 +49,7 @@ void setConstant(Constants& c, const std::string& name, const std::string& value
         double parsed = 0;
         auto r = std::from_chars(v.data(), v.data() + v.size(), parsed);
         if (v.empty() || r.ec != std::errc() || r.ptr != v.data() + v.size() || !std::isfinite(parsed))
-            throw std::invalid_argument("constant " + name + ": '" + value + "' is not a finite number");
+            throw std::invalid_argument("constant " + name + ": '" + shownBytes(value) + "' is not a finite number");
         c.*info->field = parsed;
         return;
     }
@@ -62,7 +62,8 @@ void validateConstants(const Constants& c, ConstantUse use) {
     const auto check = [&](ConstantUse by, const char* name, double value, bool ok, const std::string& rule) {
         if ((by & use) && !ok) throw std::invalid_argument(std::string(name) + " = " + formatConstant(value) + ": must be " + rule);
     };
-    check(kUsedByBuild, "c_desiredTris", c.desiredTris, c.desiredTris >= 1, ">= 1");
+    check(kUsedByBuild, "c_desiredTris", c.desiredTris, c.desiredTris >= 1 && c.desiredTris <= kMaxDesiredTris,
+          "in [1, " + formatConstant(kMaxDesiredTris) + "] (triangles per node)");
     check(kUsedByBuild, "c_levelFactor", c.levelFactor, c.levelFactor >= 2 && c.levelFactor <= 64 && c.levelFactor == std::floor(c.levelFactor),
           "a whole number in [2, 64] (children per node)");
     check(kUsedByBuild, "c_textured", c.textured, c.textured > 0 && c.textured <= 1, "in (0, 1]");
@@ -84,9 +85,7 @@ void setConstantAssignment(Constants& c, const std::string& assignment) {
 }
 
 std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path, ConstantUse use) {
-    refuseSpecialFile(path);
-    std::ifstream in(path);
-    if (!in) throw InputError(path + ": cannot read constants file");
+    std::ifstream in = openTextInput(path, "constants file");
     std::vector<std::string> skipped;
     std::string line;
     for (int number = 1; nextSettingLine(in, line, path, number); ++number) {

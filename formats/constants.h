@@ -55,10 +55,12 @@ void setConstantAssignment(Constants& c, const std::string& assignment);
 std::vector<std::string> loadConstantsFile(Constants& c, const std::string& path, ConstantUse use = kUsedByAny);
 
 // Checks the constants `use` reads against the ranges they make sense in (README "Reliability"):
-// c_desiredTris >= 1; 2 <= c_levelFactor <= 64 (children per node); 0 < c_textured <= 1;
+// 1 <= c_desiredTris <= kMaxDesiredTris; 2 <= c_levelFactor <= 64 (children per node); 0 < c_textured <= 1;
 // c_vis, c_fore >= 0; 0 < c_targetTime <= 10 s (kMaxFrameMs); 0 < c_hystSwitch <= c_hystLimit; c_memory > 0.
 // Throws std::invalid_argument "c_NAME = VALUE: must be ..." (one line) for the first violation.
 void validateConstants(const Constants& c, ConstantUse use);
+// A node's triangle count is 32-bit (formats/FORMAT.md); 1e300 was accepted until stop 49.
+inline constexpr double kMaxDesiredTris = 4294967295.0;
 // The table entry of a constant, or nullptr for an unknown name.
 const ConstantInfo* findConstant(const std::string& name);
 

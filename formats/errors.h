@@ -6,8 +6,12 @@
 
 #include <sys/stat.h>
 
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace hlod {
 
@@ -26,6 +30,28 @@ inline std::string printableLine(std::string text) {
     return text;
 }
 
+// A value from a file as a message quotes it: control bytes and bytes that are not UTF-8 as \xNN
+// (a NUL ended the message, what() being a C string, and 0xFF reached the terminal raw), at most
+// `most` bytes, then "...".
+inline std::string shownBytes(std::string_view text, size_t most = 40) {
+    std::string out;
+    const auto hex = [&](unsigned char c) {
+        const char digits[] = "0123456789ABCDEF";
+        out += {'\\', 'x', digits[c >> 4], digits[c & 15]};
+    };
+    const std::string_view t = text.substr(0, most);
+    for (size_t i = 0; i < t.size();) {
+        const auto c = static_cast<unsigned char>(t[i]);
+        const size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+        bool utf8 = n > 1 && i + n <= t.size();
+        for (size_t k = 1; utf8 && k < n; ++k) utf8 = (static_cast<unsigned char>(t[i + k]) >> 6) == 2;
+        if (n == 1 && c >= 0x20 && c != 0x7f) out += t[i++];
+        else if (utf8) out += t.substr(i, n), i += n;
+        else hex(c), ++i;
+    }
+    return text.size() > most ? out + "..." : out;
+}
+
 // An input that is neither a regular file nor a folder (a FIFO, a device, a socket) is refused
 // before it is opened: opening a FIFO blocks until a writer comes, and a device's data may never
 // end. Throws InputError "PATH: not a regular file"; a path that does not exist passes (the
@@ -34,6 +60,18 @@ inline void refuseSpecialFile(const std::string& path) {
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
         throw InputError(path + ": not a regular file");
+}
+
+// A text input (a camera path, a calibration or constants file) opened for reading, or InputError
+// "PATH: a folder, not a WHAT", "PATH: cannot read WHAT (REASON)", or refuseSpecialFile's (until
+// stop 49 a folder read as "read error" and a missing file gave no reason).
+inline std::ifstream openTextInput(const std::string& path, const std::string& what) {
+    refuseSpecialFile(path);
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) throw InputError(path + ": a folder, not a " + what);
+    std::ifstream in(path);
+    if (!in) throw InputError(path + ": cannot read " + what + " (" + std::strerror(errno ? errno : EACCES) + ")");
+    return in;
 }
 
 // Invalid data in a database file: a checksum mismatch, a blob that does not decode, a broken

@@ -1,6 +1,7 @@
 // Skeleton serialisation (FORMAT.md §Skeleton, §Header) and the skeleton's tree queries.
 // Node links follow thesis §3.3 (first child / next sibling lists); cost is eq. 3.1. The META
 // keys readers interpret (up, offset).
+#include "formats/errors.h"
 #include "formats/layout.h"
 #include "formats/offset.h"
 #include "formats/up_axis.h"
@@ -112,7 +113,7 @@ const std::string* Skeleton::findMeta(const std::string& key) const {
 UpAxis upAxisOf(const Skeleton& skeleton, const std::string& name) {
     const std::string* up = skeleton.findMeta("up");
     if (!up) return {};
-    if (*up != "y" && *up != "z") throw FormatError(name + ": META up '" + *up + "' is neither y nor z");
+    if (*up != "y" && *up != "z") throw FormatError(name + ": META up '" + shownBytes(*up) + "' is neither y nor z");
     return {*up == "y" ? 1 : 2, true};
 }
 
@@ -137,7 +138,7 @@ Offset parseOffset(const std::string& text, const std::string& option) {
         // Within the coordinates' own limit (1e15, pipeline.h kMaxCoordinate): a larger offset moves
         // every position past what a float holds, which the readers would blame on the input.
         if (ec != std::errc() || !(std::abs(offset[k]) <= 1e15) || !separated)
-            throw std::invalid_argument(option + " '" + text + "': expected X,Y,Z (three numbers within +-1e15)");
+            throw std::invalid_argument(option + " '" + shownBytes(text) + "': expected X,Y,Z (three numbers within +-1e15)");
         p = next + 1;
     }
     return offset;
@@ -156,7 +157,7 @@ std::optional<Offset> offsetOf(const Skeleton& skeleton, const std::string& name
 int parseUpAxis(const std::string& text, const std::string& option) {
     if (text == "y") return 1;
     if (text == "z") return 2;
-    throw std::invalid_argument(option + " '" + text + "': y or z");
+    throw std::invalid_argument(option + " '" + shownBytes(text) + "': y or z");
 }
 
 std::vector<uint32_t> Skeleton::roots() const {

@@ -6,6 +6,7 @@
 #include "formats/validate.h"
 
 #include "formats/codec.h"
+#include "formats/constants.h"
 #include "formats/layout.h"
 #include "formats/offset.h"
 #include "formats/up_axis.h"
@@ -161,6 +162,14 @@ std::vector<Violation> validate(const Database& db, const ValidateOptions& o) {
             }
         }
     }
+    for (const char* key : {"c_desiredTris", "c_levelFactor"})  // `hlod stats` reads them ("valid" until stop 49)
+        if (const std::string* meta = s.findMeta(key)) try {
+                Constants c;
+                setConstant(c, key, *meta);
+                validateConstants(c, kUsedByBuild);
+            } catch (const std::invalid_argument& e) {
+                r.add(kNone, std::string("metadata ") + e.what());
+            }
     const auto readable = [&](const std::function<void()>& read) {  // a META value its readers refuse
         try {
             read();

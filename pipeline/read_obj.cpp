@@ -124,18 +124,6 @@ public:
     }
 
 private:
-    // A token as a message shows it: control bytes as \xNN (a NUL ended the message mid-quote until
-    // stop 44), at most 40 bytes.
-    static std::string shown(std::string_view t) {
-        std::string out;
-        for (const char c : t.substr(0, 40)) {
-            char hex[8];
-            std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned char>(c));
-            out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? std::string(hex) : std::string(1, c);
-        }
-        return t.size() > 40 ? out + "..." : out;
-    }
-
     [[noreturn]] void corrupt(const Line& l, const std::string& what) const {
         throw InputError(path_ + ":" + std::to_string(l.number) + ": " + (lastLine_ ? "truncated or corrupt" : "corrupt") +
                          " OBJ (" + what + ")");
@@ -156,7 +144,7 @@ private:
             if (ec == std::errc::result_out_of_range && std::abs(std::strtold(std::string(begin, end).c_str(), nullptr)) < 1)
                 v = 0, ec = std::errc();
         }
-        if (ec != std::errc() || end != t.data() + t.size()) corrupt(l, "bad number '" + shown(t) + "'");
+        if (ec != std::errc() || end != t.data() + t.size()) corrupt(l, "bad number '" + shownBytes(t) + "'");
         return v;
     }
 
@@ -165,7 +153,7 @@ private:
     uint32_t index(const Line& l, std::string_view t, size_t count, int kind) {
         long long v = 0;
         const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-        if (ec != std::errc() || end != t.data() + t.size() || v == 0) corrupt(l, "bad face index '" + shown(t) + "'");
+        if (ec != std::errc() || end != t.data() + t.size() || v == 0) corrupt(l, "bad face index '" + shownBytes(t) + "'");
         const long long resolved = v > 0 ? v - 1 : static_cast<long long>(count) + v;
         if (resolved < 0 || resolved >= 0xFFFFFFFFll) corrupt(l, "face index " + std::to_string(v) + " out of range");
         Ahead& a = ahead_[kind];
@@ -323,7 +311,7 @@ private:
         } else if (keyword == "mtllib") {
             materialLibrary(l);
         } else if (!keyword.empty() && keyword[0] != '#' && !kIgnored.count(keyword) && unknown_.count++ == 0) {
-            unknown_.line = l.number, unknown_.keyword = shown(keyword);
+            unknown_.line = l.number, unknown_.keyword = shownBytes(keyword);
         }
     }
 

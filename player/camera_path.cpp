@@ -93,9 +93,7 @@ CameraPath parseCameraPath(std::istream& in, const std::string& name) {
 }
 
 CameraPath readCameraPath(const std::string& path) {
-    refuseSpecialFile(path);
-    std::ifstream in(path);
-    if (!in) throw InputError(path + ": cannot open camera path");
+    std::ifstream in = openTextInput(path, "camera path");
     return parseCameraPath(in, path);
 }
 

@@ -165,7 +165,7 @@ int runGuarded(const std::string& command, const std::function<int()>& body) {
 }
 
 void addDatabaseArgument(CLI::App& sub, std::string& path) {
-    sub.add_option("DB", path, "database file (.hlod)")->required();
+    sub.add_option("DB", path, "database file (.hlod)")->required()->check(nonEmptyPath());
 }
 
 void addConstantOptions(CLI::App& sub, ConstantOptions& options) {

@@ -6,6 +6,7 @@
 #include "pipeline/stats/stats.h"
 
 #include "formats/constants.h"
+#include "formats/errors.h"
 #include "formats/metrics.h"
 
 #include <algorithm>
@@ -17,13 +18,16 @@
 namespace hlod::stats {
 namespace {
 
+// A recorded constant as the build checked it (validate says the same): 1e300 printed 300-digit
+// targets and c_levelFactor -1 negative ones until stop 49.
 double constantMeta(const Database& db, const char* name) {
     Constants c;
     if (const std::string* v = db.skeleton().findMeta(name)) {
         try {
             setConstant(c, name, *v);
+            validateConstants(c, kUsedByBuild);
         } catch (const std::invalid_argument& e) {
-            throw std::runtime_error(db.path() + ": metadata " + e.what());
+            throw FormatError(db.path() + ": metadata " + e.what());
         }
     }
     return std::string(name) == "c_desiredTris" ? c.desiredTris : c.levelFactor;

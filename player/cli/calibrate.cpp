@@ -55,6 +55,12 @@ int runCalibrate(const CalibrateArgs& args) {
     writeCalibration(calibration, file.stream());
     file.commit();
     std::cout << "wrote " << args.output << "\n";
+    // `hlod play --calibration` refuses an overhead that leaves no time to draw (checkOverhead);
+    // said here, where the frame size that caused it is known (a silent write until stop 49).
+    if (const double target = Constants{}.targetTimeMs; calibration.fixedOverheadMs >= target)
+        std::cerr << "hlod calibrate: warning: fixed_overhead_ms " << calibration.fixedOverheadMs << " is not below c_targetTime's default "
+                  << target << " ms: play and compare refuse this file unless given a larger c_targetTime (a smaller "
+                  << "--width/--height measures less)\n";
     return kExitOk;
 }
 

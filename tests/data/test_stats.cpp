@@ -13,7 +13,9 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
@@ -263,11 +265,12 @@ MeshData strip(uint32_t triangles, float x) {
     return m;
 }
 
-// One block per entry of `hlod0`: an hlod0 node of that many triangles over four 600-triangle leaves.
-void writeTree(const std::string& path, const std::vector<uint32_t>& hlod0) {
+// One block per entry of `hlod0`: an hlod0 node of that many triangles over four 600-triangle leaves;
+// `meta` replaces recorded values.
+void writeTree(const std::string& path, const std::vector<uint32_t>& hlod0, const std::map<std::string, std::string>& meta = {}) {
     Constants c;  // c_desiredTris 900
     Writer w(path, c.textured);
-    for (const auto& [name, value] : constantsAsPairs(c)) w.setMeta(name, value);
+    for (const auto& [name, value] : constantsAsPairs(c)) w.setMeta(name, meta.contains(name) ? meta.at(name) : value);
     for (uint32_t b = 0; b < hlod0.size(); ++b) {
         auto node = [&](uint32_t parent, uint32_t level, uint32_t triangles, float x) {
             NodeInput in;
@@ -314,6 +317,25 @@ TEST(Stats, FlagsALevelThatMissesItsTarget) {
     EXPECT_TRUE(j["levels"][0]["misses_target"].get<bool>());
     EXPECT_FALSE(j["levels"][1]["misses_target"].get<bool>());
     EXPECT_EQ(j["hlod0_triangles_per_node"]["max"].get<uint64_t>(), 2000u);
+    fs::remove_all(dir);
+}
+
+// A recorded c_desiredTris or c_levelFactor no build writes is invalid data (status 1, one line), as
+// `hlod validate` says: stats printed 300-digit and negative targets from it until stop 49.
+TEST(Stats, RecordedConstantsOutsideTheBuildsRangesAreInvalidData) {
+    const fs::path dir = fs::temp_directory_path() / ("hlod_test_stats_meta_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string path = (dir / "m.hlod").string();
+    for (const auto& [name, value, problem] : std::vector<std::array<std::string, 3>>{
+             {"c_desiredTris", "1e300", "c_desiredTris = 1e+300: must be in [1, 4294967295] (triangles per node)"},
+             {"c_levelFactor", "-1", "c_levelFactor = -1: must be a whole number in [2, 64] (children per node)"},
+             {"c_desiredTris", "nan", "constant c_desiredTris: 'nan' is not a finite number"}}) {
+        writeTree(path, {1000}, {{name, value}});
+        const RunResult r = runHlod({"stats", path});
+        EXPECT_EQ(r.exitCode, 1) << r.outAndErr();
+        EXPECT_EQ(r.err, "hlod stats: " + path + ": metadata " + problem + "\n");
+        EXPECT_EQ(runHlod({"validate", path}).exitCode, 1) << name << "=" << value;
+    }
     fs::remove_all(dir);
 }
 

@@ -57,7 +57,8 @@ TEST(Constants, AbsurdValuesAreRefusedForTheirUse) {
     EXPECT_EQ(error("c_levelFactor=0", kUsedByBuild), "c_levelFactor = 0: must be a whole number in [2, 64] (children per node)");
     EXPECT_EQ(error("c_levelFactor=1e300", kUsedByBuild), "c_levelFactor = 1e+300: must be a whole number in [2, 64] (children per node)");
     EXPECT_EQ(error("c_levelFactor=2.5", kUsedByBuild), "c_levelFactor = 2.5: must be a whole number in [2, 64] (children per node)");
-    EXPECT_EQ(error("c_desiredTris=0.5", kUsedByBuild), "c_desiredTris = 0.5: must be >= 1");
+    EXPECT_EQ(error("c_desiredTris=0.5", kUsedByBuild), "c_desiredTris = 0.5: must be in [1, 4294967295] (triangles per node)");
+    EXPECT_EQ(error("c_desiredTris=1e300", kUsedByBuild), "c_desiredTris = 1e+300: must be in [1, 4294967295] (triangles per node)");
     EXPECT_EQ(error("c_textured=-1", kUsedByBuild), "c_textured = -1: must be in (0, 1]");
     EXPECT_EQ(error("c_hystSwitch=5000", kUsedByPlayer),
               "c_hystSwitch = 5000: must be <= c_hystLimit = 4510 (the counter could never reach it)");
@@ -114,6 +115,34 @@ TEST(Constants, OverlongLinesAreRefusedByTheConstantsAndCalibrationReaders) {
     writeFile(path, std::vector<uint8_t>(text.begin(), text.end()));
     loadConstantsFile(c, path);
     EXPECT_EQ(c.fore, 0.25);
+}
+
+// The settings readers say why a file cannot be read (a folder read as "read error", a missing
+// file gave no reason), and a calibration names each value once (three lines of c_textured made
+// a complete file until stop 49).
+TEST(Constants, UnreadableSettingsFilesAndRepeatedCalibrationNames) {
+    TempDir dir;
+    const std::string missing = dir.file("missing.conf");
+    const auto message = [](const std::function<void()>& read) {
+        try {
+            read();
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    Constants c;
+    EXPECT_EQ(message([&] { readCalibration(missing); }), missing + ": cannot read calibration file (No such file or directory)");
+    EXPECT_EQ(message([&] { loadConstantsFile(c, missing); }), missing + ": cannot read constants file (No such file or directory)");
+    const std::string folder = dir.path.string();
+    EXPECT_EQ(message([&] { readCalibration(folder); }), folder + ": a folder, not a calibration file");
+    EXPECT_EQ(message([&] { loadConstantsFile(c, folder); }), folder + ": a folder, not a constants file");
+    const std::string path = dir.file("twice.conf");
+    const std::string text = "c_textured = 0.5\nc_textured = 0.5\nc_textured = 0.5\n";
+    writeFile(path, std::vector<uint8_t>(text.begin(), text.end()));
+    EXPECT_EQ(message([&] { readCalibration(path); }), path + ":2: 'c_textured' given twice");
+    EXPECT_EQ(shownBytes(std::string("a\0\xFF\xC3\xA9\x7F", 6)), "a\\x00\\xFF\xC3\xA9\\x7F");  // NUL, not UTF-8, é, DEL
+    EXPECT_EQ(shownBytes(std::string(50, 'x')), std::string(40, 'x') + "...");
 }
 
 TEST(Constants, PairsRoundTripAndPrint) {

@@ -206,7 +206,15 @@ TEST_F(Validate, UpAndOffsetMetadata) {
              {"up", "x", "META up 'x' is neither y nor z"},
              {"offset", "512360,4123471.5,-250", ""},
              {"offset", "1,2", "META offset '1,2': expected X,Y,Z (three numbers within +-1e15)"},
-             {"offset", "1,nan,2", "META offset '1,nan,2': expected X,Y,Z (three numbers within +-1e15)"}}) {
+             {"offset", "1,nan,2", "META offset '1,nan,2': expected X,Y,Z (three numbers within +-1e15)"},
+             // Bytes a terminal must not get raw: a NUL cut the line, 0xFF reached it (until stop 49).
+             {"up", std::string("\xFF\xFE\0x\x01", 5), "META up '\\xFF\\xFE\\x00x\\x01' is neither y nor z"},
+             {"up", "\u00e9", "META up '\u00e9' is neither y nor z"},  // UTF-8 as it is
+             // The build constants `hlod stats` reads, checked as a build checks them ("valid" until stop 49).
+             {"c_desiredTris", "600", ""},
+             {"c_desiredTris", "1e300", "metadata c_desiredTris = 1e+300: must be in [1, 4294967295] (triangles per node)"},
+             {"c_desiredTris", "nan", "metadata constant c_desiredTris: 'nan' is not a finite number"},
+             {"c_levelFactor", "-1", "metadata c_levelFactor = -1: must be a whole number in [2, 64] (children per node)"}}) {
         {
             Writer w(path, 0.127);
             w.setMeta(key, value);
