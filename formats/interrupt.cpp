@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
 #include <mutex>
 #include <set>
@@ -37,6 +38,16 @@ sigset_t interruptSignals() {
 
 // Removes every recorded temporary; a folder that a worker thread writes into at the same time may
 // need another pass.
+std::atomic<bool>& deferring() {
+    static std::atomic<bool> on{false};
+    return on;
+}
+
+std::atomic<int>& deferred() {
+    static std::atomic<int> signal{0};
+    return signal;
+}
+
 void sweep(const std::set<std::string>& paths) {
     for (const std::string& path : paths)
         for (int pass = 0; pass < 5; ++pass) {
@@ -72,14 +83,25 @@ void removeTemporariesOnInterrupt() {
     pthread_sigmask(SIG_BLOCK, &set, nullptr);
     std::thread([set] {
         int signal = 0;
-        if (sigwait(&set, &signal) != 0) return;
-        record().mutex.lock();  // after a publish in progress; kept until the end
-        sweep(record().paths);
-        ::signal(signal, SIG_DFL);
-        pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
-        ::raise(signal);  // ends the process as the signal would have
-        ::_exit(128 + signal);
+        do
+            if (sigwait(&set, &signal) != 0) return;
+        while (deferring() && deferred().exchange(signal) == 0);  // the first one deferred, a second ends it
+        endByInterrupt(signal);
     }).detach();
+}
+
+void deferInterrupts() { deferring() = true; }
+
+int interruptedBy() { return deferred().load(); }
+
+void endByInterrupt(int signal) {
+    record().mutex.lock();  // after a publish in progress; kept until the end
+    sweep(record().paths);
+    const sigset_t set = interruptSignals();
+    ::signal(signal, SIG_DFL);
+    pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+    ::raise(signal);  // ends the process as the signal would have
+    ::_exit(128 + signal);
 }
 
 }  // namespace hlod

@@ -27,4 +27,12 @@ void forgetTemporary(const std::string& path);
 // the thread that waits for them: call it first in main(), before any other thread exists.
 void removeTemporariesOnInterrupt();
 
+// For an interactive loop (`hlod view`): after deferInterrupts(), the first such signal no longer
+// ends the process but is kept for interruptedBy() (0 until then), so the loop can end as its quit
+// key does (the flight recorded) and call endByInterrupt(interruptedBy()): the sweep, then the end by
+// that signal. A second signal ends the process at once. (Until stop 49 Ctrl-C lost the flight.)
+void deferInterrupts();
+int interruptedBy();
+[[noreturn]] void endByInterrupt(int signal);
+
 }  // namespace hlod

@@ -5,6 +5,7 @@
 #include "player/cli/subcommands.h"
 
 #include "formats/constants.h"
+#include "formats/interrupt.h"
 #include "formats/temp_files.h"
 #include "formats/up_axis.h"
 #include "player/camera_path.h"
@@ -166,9 +167,10 @@ int runView(const ViewArgs& args) {
         if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
     });
     CameraPath recorded;
+    deferInterrupts();  // Ctrl-C in the terminal quits as Escape does, the flight recorded
     const double start = glfwGetTime();
     double last = start, lastTitle = start;
-    while (!glfwWindowShouldClose(window)) {
+    while (!glfwWindowShouldClose(window) && !interruptedBy()) {
         glfwPollEvents();
         const double now = glfwGetTime();
         navigate(camera, readInput(window, input, now - last));
@@ -181,10 +183,15 @@ int runView(const ViewArgs& args) {
         }
     }
     if (!args.record.empty()) {
+        if (recorded.keys.size() < 2 && interruptedBy()) endByInterrupt(interruptedBy());
         if (recorded.keys.size() < 2) throw std::runtime_error(args.record + ": fewer than two frames to record");
         writeCameraPath(recordFile->stream(), recorded);
         recordFile->commit();
         std::cout << "recorded " << recorded.keys.size() << " keys, " << recorded.duration() << " s to " << args.record << "\n";
+    }
+    if (const int signal = interruptedBy()) {
+        std::cout.flush();
+        endByInterrupt(signal);  // status 128 + N, as any interrupted run
     }
     return kExitOk;
 }
@@ -195,7 +202,7 @@ void addView(CLI::App& app, int& status) {
     auto args = std::make_shared<ViewArgs>();
     CLI::App* sub = app.add_subcommand(
         "view", "fly through a database in a window (WASD move, R/F rise/sink, Q/E roll, arrows or left-drag look, "
-                "scroll or +/- speed, Esc quit)");
+                "scroll or +/- speed, Esc or Ctrl-C quit)");
     addDatabaseArgument(*sub, args->database);
     sub->add_option("--record", args->record, "write the flight to this camera path file on exit")->check(nonEmptyPath());
     sub->add_option("--width", args->gl.width, "window width")->capture_default_str()->check(CLI::Range(1, 16384));
