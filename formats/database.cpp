@@ -59,11 +59,18 @@ Database Database::open(const std::string& path, bool checkNodeTree) try {
     std::vector<uint8_t> skel(h.skeletonSize);
     preadAll(d.fd, h.skeletonOffset, skel, path);
     d.skeleton = parseDatabase(header, skel, d.fileSize, path);
-    if (checkNodeTree)
-        checkTree(d.skeleton, [&](uint32_t node, const std::string& message) {
+    if (checkNodeTree) {
+        const auto refuse = [&](uint32_t node, const std::string& message) {
             throw FormatError(path + ": " + (node == kNone ? "" : "node " + std::to_string(node) + ": ") + message +
                               " (`hlod validate` lists every violation)");
-        });
+        };
+        checkTree(d.skeleton, refuse);
+        // Every reader sums costs (budgets, memory estimates): a NaN played on as `nan` until stop 49.
+        for (const Node& n : d.skeleton.nodes)  // eq. 3.1 weighs each triangle at most 1
+            if (!(n.cost >= 0 && n.cost <= 1.0001 * (double(n.texturedTriangles) + n.untexturedTriangles) + 1))
+                refuse(n.id, "cost " + std::to_string(n.cost) + " is not within [0, its " +
+                                 std::to_string(uint64_t(n.texturedTriangles) + n.untexturedTriangles) + " triangles]");
+    }
     return db;
 } catch (const FormatError& e) {
     throw UnreadableDatabase(e.what());

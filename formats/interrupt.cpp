@@ -36,8 +36,7 @@ sigset_t interruptSignals() {
     return set;
 }
 
-// Removes every recorded temporary; a folder that a worker thread writes into at the same time may
-// need another pass.
+// deferInterrupts(): whether the first signal is kept, and which it was (0: none yet).
 std::atomic<bool>& deferring() {
     static std::atomic<bool> on{false};
     return on;
@@ -48,6 +47,8 @@ std::atomic<int>& deferred() {
     return signal;
 }
 
+// Removes every recorded temporary; a folder that a worker thread writes into at the same time may
+// need another pass.
 void sweep(const std::set<std::string>& paths) {
     for (const std::string& path : paths)
         for (int pass = 0; pass < 5; ++pass) {

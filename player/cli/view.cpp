@@ -154,7 +154,8 @@ int runView(const ViewArgs& args) {
     Player player(db, constants, *renderer, options);
     const Box3f bounds = modelBounds(db.skeleton());
     const int up = args.up.empty() ? upAxisOf(db.skeleton(), args.database).axis : parseUpAxis(args.up, "--up");
-    std::cout << "up axis: " << (up == 1 ? "y" : "z") << (args.up.empty() ? " (the database's)" : " (--up)") << "\n";
+    deferInterrupts();  // from here Ctrl-C quits as Escape does, the flight recorded
+    std::cout << "up axis: " << (up == 1 ? "y" : "z") << (args.up.empty() ? " (the database's)" : " (--up)") << std::endl;
     Camera camera = startCamera(bounds, up, static_cast<double>(args.gl.width) / args.gl.height);
     InputState input;
     input.speed = args.speed > 0 ? args.speed : std::max(0.1, diagonalOf(bounds) / 20);
@@ -167,7 +168,6 @@ int runView(const ViewArgs& args) {
         if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
     });
     CameraPath recorded;
-    deferInterrupts();  // Ctrl-C in the terminal quits as Escape does, the flight recorded
     const double start = glfwGetTime();
     double last = start, lastTitle = start;
     while (!glfwWindowShouldClose(window) && !interruptedBy()) {

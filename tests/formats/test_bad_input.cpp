@@ -9,6 +9,8 @@
 
 #include <sys/stat.h>
 
+#include <cmath>
+
 namespace hlod::test {
 namespace {
 
@@ -157,6 +159,12 @@ TEST_F(BadInput, AbsurdCountsAndOffsetsBehindValidChecksums) {
     layout::store(std::span(bad), layout::load<uint64_t>(bad, layout::kOffSkeletonOffset), uint32_t(1) << 30);
     fixChecksums(bad);
     expectRefused(bad, "section count");
+    for (const float cost : {NAN, 3e38f, -1e30f}) {  // played on with `nan` memory estimates until stop 49
+        bad = file;
+        patchRecord(bad, layout::kTagNode, 1, kNodeCost, cost);
+        expectRefused(bad, "cost");
+        EXPECT_NE(openError(path).find(": node 1: cost "), std::string::npos) << openError(path);
+    }
     bad = file;  // every reader sized a per-block table by it: 16 GB (std::bad_alloc) before stop 36
     patchRecord(bad, layout::kTagInfo, 0, 0, uint32_t(0xFFFFFFFF));
     expectRefused(bad, "block count");

@@ -27,6 +27,7 @@ for i in \$(seq 1 120); do
   sleep 0.5
 done
 [ -n "\$wid" ] || { echo "FAIL: no window"; kill \$pid; exit 1; }
+for i in \$(seq 1 120); do grep -q "^up axis" "$dir/view.log" && break; sleep 0.5; done  # hlod0 loaded: the loop starts
 sleep 2
 xdotool mousemove --window \$wid 160 100  # no window manager: focus follows the pointer
 xdotool windowfocus \$wid 2>/dev/null
