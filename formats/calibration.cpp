@@ -74,14 +74,14 @@ Calibration readCalibration(const std::string& path) {
         const size_t eq = line.find('=');
         if (eq == std::string::npos) throw InputError(at + "expected 'name = value'");
         const std::string name = trimBlanks(line.substr(0, eq)), text = trimBlanks(line.substr(eq + 1));
-        if (!seen.insert(name).second) throw InputError(at + "'" + name + "' given twice");
+        if (!seen.insert(name).second) throw InputError(at + "'" + shownBytes(name) + "' given twice");
         if (name == "renderer") {
             c.renderer = text;
             continue;
         }
         auto field = numericFields().find(name);
         double* target = field != numericFields().end() ? &(c.*field->second) : fitField(c, name);
-        if (!target) throw InputError(at + "unknown name '" + name + "'");
+        if (!target) throw InputError(at + "unknown name '" + shownBytes(name) + "'");
         double value = 0;
         const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
         const bool intercept = name.ends_with("_intercept_ms");  // a fitted line's, of either sign

@@ -1,5 +1,6 @@
 // Database: opens a file, checks header and skeleton (parse.cpp), keeps the skeleton in memory
 // and reads each blob with one positioned read (pread), verified by its XXH3-64 checksum.
+#include "formats/constants.h"
 #include "formats/fd_io.h"
 #include "formats/layout.h"
 
@@ -68,7 +69,7 @@ Database Database::open(const std::string& path, bool checkNodeTree) try {
         // Every reader sums costs (budgets, memory estimates): a NaN played on as `nan` until stop 49.
         for (const Node& n : d.skeleton.nodes)  // eq. 3.1 weighs each triangle at most 1
             if (!(n.cost >= 0 && n.cost <= 1.0001 * (double(n.texturedTriangles) + n.untexturedTriangles) + 1))
-                refuse(n.id, "cost " + std::to_string(n.cost) + " is not within [0, its " +
+                refuse(n.id, "cost " + formatConstant(n.cost) + " is not within [0, its " +
                                  std::to_string(uint64_t(n.texturedTriangles) + n.untexturedTriangles) + " triangles]");
     }
     return db;

@@ -30,9 +30,10 @@ inline std::string printableLine(std::string text) {
     return text;
 }
 
-// A value from a file as a message quotes it: control bytes and bytes that are not UTF-8 as \xNN
-// (a NUL ended the message, what() being a C string, and 0xFF reached the terminal raw), at most
-// `most` bytes, then "...".
+// A value from a file as a message quotes it: control bytes (C0, DEL, C1) and bytes that do not
+// form a UTF-8 sequence (by lead and continuation bytes; C0, C1, F5-FF never lead) as \xNN (a NUL
+// ended the message, what() being a C string, and 0xFF reached the terminal raw), at most `most`
+// bytes, then "...".
 inline std::string shownBytes(std::string_view text, size_t most = 40) {
     std::string out;
     const auto hex = [&](unsigned char c) {
@@ -42,8 +43,8 @@ inline std::string shownBytes(std::string_view text, size_t most = 40) {
     const std::string_view t = text.substr(0, most);
     for (size_t i = 0; i < t.size();) {
         const auto c = static_cast<unsigned char>(t[i]);
-        const size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
-        bool utf8 = n > 1 && i + n <= t.size();
+        const size_t n = c < 0x80 ? 1 : c < 0xC2 ? 0 : c < 0xE0 ? 2 : c < 0xF0 ? 3 : c < 0xF5 ? 4 : 0;  // C0, C1, F5+: never
+        bool utf8 = n > 1 && i + n <= t.size() && !(c == 0xC2 && static_cast<unsigned char>(t[i + 1]) < 0xA0);  // C1 controls
         for (size_t k = 1; utf8 && k < n; ++k) utf8 = (static_cast<unsigned char>(t[i + k]) >> 6) == 2;
         if (n == 1 && c >= 0x20 && c != 0x7f) out += t[i++];
         else if (utf8) out += t.substr(i, n), i += n;

@@ -29,10 +29,16 @@ Record& record() {
     return *r;
 }
 
+// The three signals, less those the parent ignores (`nohup`; a background job's SIGINT): a blocked
+// signal is queued even when ignored, so sigwait took them and ended the run (until stop 49).
 sigset_t interruptSignals() {
     sigset_t set;
     sigemptyset(&set);
-    for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&set, s);
+    for (int s : {SIGINT, SIGTERM, SIGHUP}) {
+        struct sigaction current {};
+        if (sigaction(s, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
+        sigaddset(&set, s);
+    }
     return set;
 }
 
@@ -81,6 +87,7 @@ void forgetTemporary(const std::string& path) {
 
 void removeTemporariesOnInterrupt() {
     const sigset_t set = interruptSignals();
+    if (sigisemptyset(&set)) return;  // all three ignored: nothing to wait for
     pthread_sigmask(SIG_BLOCK, &set, nullptr);
     std::thread([set] {
         int signal = 0;
@@ -98,7 +105,9 @@ int interruptedBy() { return deferred().load(); }
 void endByInterrupt(int signal) {
     record().mutex.lock();  // after a publish in progress; kept until the end
     sweep(record().paths);
-    const sigset_t set = interruptSignals();
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, signal);
     ::signal(signal, SIG_DFL);
     pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
     ::raise(signal);  // ends the process as the signal would have

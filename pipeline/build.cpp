@@ -456,7 +456,9 @@ BuildSummary runBuild(const BuildRequest& request, Progress& progress) {
     for (uint32_t b = first; b < last; ++b)
         flattened += stats[b].flattened, triangles += stats[b].inputTriangles, straddling += stats[b].straddling;
     if (const std::string w = latticeFlattenedWarning(input, flattened, triangles); !w.empty()) progress.message("warning: " + w);
-    if (const std::string w = floatPrecisionOfFiles(input, std::span(stats).subspan(first, last - first), options.read.offset); !w.empty()) progress.message("warning: " + w);
+    const std::string files = first == 0 && last == blockCount ? input : input + " blocks " + std::to_string(first) + ":" + std::to_string(last);
+    if (const std::string w = floatPrecisionOfFiles(files, std::span(stats).subspan(first, last - first), options.read.offset); !w.empty())
+        progress.message("warning: " + w);  // a shard's: its own files' bounds
     if (straddling)  // wrap_uvs.cpp (without a word until stop 46)
         progress.message("warning: " + input + ": " + std::to_string(straddling) +
                          " UV charts cross an edge of their repeating texture; they read its border texels there "

@@ -59,8 +59,8 @@ int runCalibrate(const CalibrateArgs& args) {
     // said here, where the frame size that caused it is known (a silent write until stop 49).
     if (const double target = Constants{}.targetTimeMs; calibration.fixedOverheadMs >= target)
         std::cerr << "hlod calibrate: warning: fixed_overhead_ms " << calibration.fixedOverheadMs << " is not below c_targetTime's default "
-                  << target << " ms: play and compare refuse this file unless given a larger c_targetTime (a smaller "
-                  << "--width/--height measures less)\n";
+                  << target << " ms: `hlod play --calibration` refuses this file unless given a larger c_targetTime (a "
+                  << "smaller --width/--height measures less)\n";
     return kExitOk;
 }
 

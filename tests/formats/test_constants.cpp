@@ -143,6 +143,7 @@ TEST(Constants, UnreadableSettingsFilesAndRepeatedCalibrationNames) {
     EXPECT_EQ(message([&] { readCalibration(path); }), path + ":2: 'c_textured' given twice");
     EXPECT_EQ(shownBytes(std::string("a\0\xFF\xC3\xA9\x7F", 6)), "a\\x00\\xFF\xC3\xA9\\x7F");  // NUL, not UTF-8, é, DEL
     EXPECT_EQ(shownBytes(std::string(50, 'x')), std::string(40, 'x') + "...");
+    EXPECT_EQ(shownBytes("\xC2\x85\xC0\xAF\xF8"), "\\xC2\\x85\\xC0\\xAF\\xF8");  // a C1 control, an overlong lead, F8
 }
 
 TEST(Constants, PairsRoundTripAndPrint) {

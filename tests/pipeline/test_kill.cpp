@@ -175,6 +175,19 @@ TEST_F(KillSweep, InterruptedAnywhereLeavesNoTemporaries) {
     EXPECT_GT(ended, 0);
 }
 
+// A signal the parent ignores stays ignored (`nohup hlod build`, a background job's SIGINT): hlod
+// blocked it to wait for it, a blocked signal is queued even when ignored, and the run ended by
+// it (until stop 49). Here SIGHUP, ignored by the shell that starts the build, arrives mid-build.
+TEST_F(KillSweep, ASignalTheParentIgnoresStaysIgnored) {
+    const fs::path db = out / "ignored.hlod";
+    std::string command = "trap '' HUP; '" HLOD_BINARY "'";
+    for (const std::string& a : build(db.string())) command += " '" + a + "'";
+    const std::string delay = std::to_string(duration.count() / 2 / 1e6);
+    const RunResult r = runProcess({"bash", "-c", command + " >/dev/null & sleep " + delay + "; kill -HUP $!; wait $!"});
+    EXPECT_EQ(r.exitCode, 0) << r.outAndErr();
+    EXPECT_EQ(readFile(db.string()), reference);
+}
+
 // A full disk (a tmpfs of half the database's size, mounted when running as root): the build
 // fails with one line and status 1, leaving no database and no temporaries.
 TEST_F(KillSweep, FullDiskFailsWithOneLineAndLeavesNothing) {
