@@ -45,6 +45,13 @@ T field(const nlohmann::json& j, const char* key, const std::string& path) {
     }
 }
 
+// A time is a number of seconds, 0 or more (a wall time of -1 was printed as given until stop 50).
+double seconds(const nlohmann::json& j, const char* key, const std::string& path) {
+    const double s = field<double>(j, key, path);
+    if (!(s >= 0)) throw InputError(path + ": \"" + key + "\" must be a number of seconds, 0 or more");
+    return s;
+}
+
 }  // namespace
 
 std::string buildReportPath(const std::string& database) { return database + ".build.json"; }
@@ -93,13 +100,13 @@ std::optional<BuildReport> readBuildReport(const std::string& path) {
     const auto stages = field<nlohmann::json>(j, "stages", path);
     if (!stages.is_array()) throw InputError(path + ": \"stages\" is not an array");
     for (const auto& s : stages)
-        r.stages.push_back({field<std::string>(s, "name", path), field<double>(s, "seconds", path),
+        r.stages.push_back({field<std::string>(s, "name", path), seconds(s, "seconds", path),
                             field<uint64_t>(s, "items", path)});
     r.peakRssBytes = field<uint64_t>(j, "peak_rss_bytes", path);
     r.inputTriangles = field<uint64_t>(j, "input_triangles", path);
     r.outputBytes = field<uint64_t>(j, "output_bytes", path);
-    r.wallSeconds = field<double>(j, "wall_seconds", path);
-    r.cpuSeconds = field<double>(j, "cpu_seconds", path);
+    r.wallSeconds = seconds(j, "wall_seconds", path);
+    r.cpuSeconds = seconds(j, "cpu_seconds", path);
     if (j.contains("huge_pages")) r.hugePages = field<bool>(j, "huge_pages", path);
     if (j.contains("memory_limit_bytes")) r.memoryLimitBytes = field<uint64_t>(j, "memory_limit_bytes", path);
     if (j.contains("nodes_per_level")) r.nodesPerLevel = field<std::vector<uint64_t>>(j, "nodes_per_level", path);

@@ -44,8 +44,14 @@ inline std::string shownBytes(std::string_view text, size_t most = 40) {
     for (size_t i = 0; i < t.size();) {
         const auto c = static_cast<unsigned char>(t[i]);
         const size_t n = c < 0x80 ? 1 : c < 0xC2 ? 0 : c < 0xE0 ? 2 : c < 0xF0 ? 3 : c < 0xF5 ? 4 : 0;  // C0, C1, F5+: never
-        bool utf8 = n > 1 && i + n <= t.size() && !(c == 0xC2 && static_cast<unsigned char>(t[i + 1]) < 0xA0);  // C1 controls
+        bool utf8 = n > 1 && i + n <= t.size();
         for (size_t k = 1; utf8 && k < n; ++k) utf8 = (static_cast<unsigned char>(t[i + k]) >> 6) == 2;
+        if (utf8) {  // the second byte's range (Unicode Table 3-7): no C1 control, overlong form, surrogate or > U+10FFFF
+            const auto b = static_cast<unsigned char>(t[i + 1]);
+            const unsigned char low = c == 0xC2 ? 0xA0 : c == 0xE0 ? 0xA0 : c == 0xF0 ? 0x90 : 0x80;
+            const unsigned char high = c == 0xED ? 0x9F : c == 0xF4 ? 0x8F : 0xBF;
+            utf8 = b >= low && b <= high;
+        }
         if (n == 1 && c >= 0x20 && c != 0x7f) out += t[i++];
         else if (utf8) out += t.substr(i, n), i += n;
         else hex(c), ++i;

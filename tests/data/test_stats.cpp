@@ -163,6 +163,16 @@ TEST(Stats, CorruptSidecarIsOneLineNamingIt) {
         EXPECT_NE(r.err.find("\" must be a whole number from 0 to 18446744073709551615"), std::string::npos) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
+    // A negative time (a wall time of -1 printed as given until stop 50).
+    const std::string times = R"({"peak_rss_bytes":1,"input_triangles":1,"output_bytes":1,)";
+    for (const std::string bad : {R"("stages":[],"wall_seconds":-1,"cpu_seconds":1})", R"("stages":[],"wall_seconds":1,"cpu_seconds":-0.5})",
+                                  R"("stages":[{"name":"read","seconds":-2,"items":1}],"wall_seconds":1,"cpu_seconds":1})"}) {
+        writeSidecar(f.db, times + bad);
+        RunResult r = runHlod({"stats", f.db.string()});
+        EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.err;
+        EXPECT_NE(r.err.find("seconds\" must be a number of seconds, 0 or more"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
     // A FIFO (blocked the open for good) or a folder in the report's place.
     fs::remove(f.db.string() + ".build.json");
     ASSERT_EQ(mkfifo((f.db.string() + ".build.json").c_str(), 0600), 0);

@@ -144,6 +144,11 @@ TEST(Constants, UnreadableSettingsFilesAndRepeatedCalibrationNames) {
     EXPECT_EQ(shownBytes(std::string("a\0\xFF\xC3\xA9\x7F", 6)), "a\\x00\\xFF\xC3\xA9\\x7F");  // NUL, not UTF-8, é, DEL
     EXPECT_EQ(shownBytes(std::string(50, 'x')), std::string(40, 'x') + "...");
     EXPECT_EQ(shownBytes("\xC2\x85\xC0\xAF\xF8"), "\\xC2\\x85\\xC0\\xAF\\xF8");  // a C1 control, an overlong lead, F8
+    // overlong 3- and 4-byte forms, a surrogate, above U+10FFFF; then the edges that are valid
+    EXPECT_EQ(shownBytes("\xE0\x80\xAF|\xF0\x80\x80\xAF|\xED\xA0\x80|\xF4\x90\x80\x80"),
+              "\\xE0\\x80\\xAF|\\xF0\\x80\\x80\\xAF|\\xED\\xA0\\x80|\\xF4\\x90\\x80\\x80");
+    EXPECT_EQ(shownBytes("\xE0\xA0\x80\xED\x9F\xBF\xF0\x90\x80\x80\xF4\x8F\xBF\xBF"),
+              "\xE0\xA0\x80\xED\x9F\xBF\xF0\x90\x80\x80\xF4\x8F\xBF\xBF");
 }
 
 TEST(Constants, PairsRoundTripAndPrint) {
