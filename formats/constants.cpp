@@ -23,16 +23,15 @@ std::string formatConstant(double v) {
 
 const std::vector<ConstantInfo>& constantTable() {
     static const std::vector<ConstantInfo> table = {
-        {"c_desiredTris", &Constants::desiredTris, "desired triangles per HLOD node (§3.2)", kUsedByBuild},
-        {"c_levelFactor", &Constants::levelFactor, "triangle/texture ratio between levels = children per node (§3.2)",
-         kUsedByBuild},
-        {"c_textured", &Constants::textured, "weight of textured vs untextured triangles (eq. 3.1)", kUsedByBuild},
-        {"c_vis", &Constants::vis, "importance of visibility in the priority (§4.2)", kUsedByPlayer},
-        {"c_fore", &Constants::fore, "importance of foreshortening in the priority (§4.2)", kUsedByPlayer},
-        {"c_targetTime", &Constants::targetTimeMs, "target frame time in milliseconds (§4.2)", kUsedByPlayer},
-        {"c_hystSwitch", &Constants::hystSwitch, "hysteresis threshold for switching a node (§4.2)", kUsedByPlayer},
-        {"c_hystLimit", &Constants::hystLimit, "range of the hysteresis counter (§4.2)", kUsedByPlayer},
-        {"c_memory", &Constants::memory, "bytes per unit of cost (§4.3)", kUsedByPlayer},
+        {"c_desiredTris", &Constants::desiredTris, kUsedByBuild},
+        {"c_levelFactor", &Constants::levelFactor, kUsedByBuild},
+        {"c_textured", &Constants::textured, kUsedByBuild},
+        {"c_vis", &Constants::vis, kUsedByPlayer},
+        {"c_fore", &Constants::fore, kUsedByPlayer},
+        {"c_targetTime", &Constants::targetTimeMs, kUsedByPlayer},
+        {"c_hystSwitch", &Constants::hystSwitch, kUsedByPlayer},
+        {"c_hystLimit", &Constants::hystLimit, kUsedByPlayer},
+        {"c_memory", &Constants::memory, kUsedByPlayer},
     };
     return table;
 }

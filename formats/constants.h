@@ -33,8 +33,7 @@ enum ConstantUse : uint8_t { kUsedByBuild = 1, kUsedByPlayer = 2, kUsedByAny = k
 
 struct ConstantInfo {
     const char* name;        // as written in the thesis, e.g. "c_targetTime"
-    double Constants::*field;
-    const char* meaning;
+    double Constants::*field;  // the meaning of each: the comments of Constants above
     ConstantUse use;
 };
 

@@ -2,7 +2,7 @@
 // that libjpeg encodes it in one pass instead of two (formats/image_jpeg.cpp).
 #pragma once
 
-#include "formats/image_io.h"
+#include "formats/codec.h"
 
 #include <array>
 #include <cstdint>

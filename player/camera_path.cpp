@@ -2,6 +2,7 @@
 // and sampling (linear position and field of view, slerp orientation).
 #include "player/camera_path.h"
 
+#include "formats/constants.h"
 #include "formats/errors.h"
 #include "formats/temp_files.h"
 
@@ -57,7 +58,8 @@ CameraKey parseKey(const std::vector<std::string>& f, const std::string& name, s
         fail(name, line, "orientation quaternion is not unit length (|q| = " + std::to_string(norm) + ")");
     for (int i = 0; i < 4; ++i) k.orientation[i] = v[4 + i] / norm;
     k.vfovDegrees = v[8];
-    if (!(k.vfovDegrees > 0 && k.vfovDegrees < 180)) fail(name, line, "vertical field of view must be in (0, 180) degrees");
+    if (!(k.vfovDegrees >= kMinVfovDegrees && k.vfovDegrees < 180))
+        fail(name, line, "vertical field of view must be in [" + formatConstant(kMinVfovDegrees) + ", 180) degrees");
     return k;
 }
 

@@ -15,6 +15,10 @@
 
 namespace hlod {
 
+// The narrowest vertical field of view a path may hold, degrees (1e-300 made every projected size,
+// and so the benefit, infinite until stop 50; a telescope's is ~0.01).
+inline constexpr double kMinVfovDegrees = 1e-3;
+
 struct CameraKey {
     double time = 0;                          // seconds, strictly increasing
     double position[3] = {0, 0, 0};

@@ -175,7 +175,7 @@ struct GbResult {
     double benefit = 0;              // sum importance x accuracy(r) (the continuous objective)
     double mu = 0;                   // last barrier weight
     double certifiedGap = 0;         // dual bound - benefit (weak duality at the last iterate)
-    uint32_t newtonSteps = 0, outerSteps = 0;
+    uint32_t newtonSteps = 0;
     bool interior = true;            // false: r_min or r = 1 was the answer (no barrier run)
 };
 // The continuous problem: resolution r_i in [r_min_i, 1] with cost r_i x (finest available

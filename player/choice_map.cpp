@@ -12,17 +12,16 @@ ChoiceMap mapChoice(const Skeleton& s, const Projection& proj, const Evaluate& e
     ChoiceMap m;
     m.problem.budget = opt.budgetMs;
     m.problem.allowSkip = opt.allowSkip;
-    auto visit = [&](uint32_t id, uint32_t depth) {
+    auto visit = [&](uint32_t id) {
         NodeEval e = evaluate(id);
         state.nodes[id].priority = e.priority;
         state.nodes[id].frustumVis = e.frustumVis;
         m.visited.push_back(id);
-        m.depthOf.push_back(depth);
         return e.frustumVis >= 1;
     };
     std::vector<uint32_t> visibleRoots;
     for (uint32_t r : state.roots)
-        if (visit(r, 0)) visibleRoots.push_back(r);
+        if (visit(r)) visibleRoots.push_back(r);
     std::vector<uint32_t> level, next, kids;
     std::vector<uint8_t> fin, nextFin;  // 1: stays in every deeper cut (leaf, or no visible child)
     for (uint32_t r : visibleRoots) {
@@ -57,7 +56,7 @@ ChoiceMap mapChoice(const Skeleton& s, const Projection& proj, const Evaluate& e
                 kids.clear();
                 if (!fin[k])
                     for (uint32_t c = s.nodes[id].firstChild; c != kNone; c = s.nodes[c].nextSibling)
-                        if (visit(c, depth + 1)) kids.push_back(c);
+                        if (visit(c)) kids.push_back(c);
                 if (kids.empty()) {
                     next.push_back(id);
                     nextFin.push_back(1);

@@ -31,7 +31,6 @@ struct ChoiceMap {
     // Every node evaluated (priority and frustumVis written to the SelectionState), breadth-first:
     // the roots, then the visible blocks' nodes to their deepest cut.
     std::vector<uint32_t> visited;
-    std::vector<uint32_t> depthOf;  // per visited node: its depth below its root (by visited index)
 };
 
 // Evaluates the roots and the visible blocks' subtrees (state.nodes[id].priority, .frustumVis),

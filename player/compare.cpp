@@ -95,10 +95,10 @@ void writeCompareText(std::ostream& os, std::span<const CompareRow> rows) {
                   "tog/m", "revers", "sel_ms", "selmax", "tris", "badcut");
     os << buf;
     for (const CompareRow& r : rows) {
-        std::snprintf(buf, sizeof buf, "%-14s %7llu %8.3f %8.3f %8.3f %8.3f %8.4f %8.4f %11.5g %8s %9.4f %9.4f %6llu %8.4f %8.4f %8.0f %6llu\n",
+        std::snprintf(buf, sizeof buf, "%-14s %7llu %8.3f %8.3f %8.3f %8.3f %8.4f %8.4f %11.5g %8s %9.4f %9s %6llu %8.4f %8.4f %8.0f %6llu\n",
                       r.policy.c_str(), (unsigned long long)r.counted, r.frameMs.mean, r.frameMs.max, r.frameMs.sd,
                       r.frameMs.p99, r.relErrorP99, r.relErrorMean, r.benefitMean, number(r.gapMean, "%.4f", "-").c_str(),
-                      r.togglesPerFrame, r.togglesPerMetre, (unsigned long long)r.reversals, r.selectionMs.mean,
+                      r.togglesPerFrame, number(r.togglesPerMetre, "%.4f", "-").c_str(), (unsigned long long)r.reversals, r.selectionMs.mean,
                       r.selectionMs.max, r.trianglesMean, (unsigned long long)r.invalidCuts);
         os << buf;
     }
@@ -110,10 +110,10 @@ void writeCompareCsv(std::ostream& os, std::span<const CompareRow> rows) {
           "optimisation_ms_mean,tris_mean,invalid_cuts\n";
     char buf[512];
     for (const CompareRow& r : rows) {
-        std::snprintf(buf, sizeof buf, "%s,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.6g,%s,%.5f,%.5f,%llu,%.5f,%.5f,%.5f,%.1f,%llu\n",
+        std::snprintf(buf, sizeof buf, "%s,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.6g,%s,%.5f,%s,%llu,%.5f,%.5f,%.5f,%.1f,%llu\n",
                       r.policy.c_str(), (unsigned long long)r.frames, (unsigned long long)r.counted, r.frameMs.mean,
                       r.frameMs.max, r.frameMs.sd, r.frameMs.p99, r.relErrorP99, r.relErrorMean, r.benefitMean,
-                      number(r.gapMean, "%.5f", "").c_str(), r.togglesPerFrame, r.togglesPerMetre,
+                      number(r.gapMean, "%.5f", "").c_str(), r.togglesPerFrame, number(r.togglesPerMetre, "%.5f", "").c_str(),
                       (unsigned long long)r.reversals, r.selectionMs.mean, r.selectionMs.max, r.optimisationMsMean,
                       r.trianglesMean, (unsigned long long)r.invalidCuts);
         os << buf;
@@ -137,7 +137,7 @@ std::string compareJson(std::span<const CompareRow> rows, const std::vector<std:
                                  {"benefit_mean", r.benefitMean},
                                  {"gap_mean", std::isnan(r.gapMean) ? nlohmann::json(nullptr) : nlohmann::json(r.gapMean)},
                                  {"toggles_per_frame", r.togglesPerFrame},
-                                 {"toggles_per_metre", r.togglesPerMetre},
+                                 {"toggles_per_metre", std::isnan(r.togglesPerMetre) ? nlohmann::json(nullptr) : nlohmann::json(r.togglesPerMetre)},
                                  {"reversals", r.reversals},
                                  {"selection_ms", dist(r.selectionMs)},
                                  {"optimisation_ms_mean", r.optimisationMsMean},

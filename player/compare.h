@@ -45,7 +45,7 @@ struct CompareRow {
     double relErrorMean = 0;           // its mean: Robin Hood Table 2's "AvgErr"
     double benefitMean = 0;
     double gapMean = NAN;              // mean of (B_oracle - B) / B_oracle over aligned frames; NaN without oracle
-    double togglesPerFrame = 0, togglesPerMetre = 0;
+    double togglesPerFrame = 0, togglesPerMetre = 0;  // per metre: NaN when the camera did not move (printed "-")
     uint64_t reversals = 0;
     Distribution selectionMs;
     double optimisationMsMean = 0;

@@ -35,7 +35,7 @@ void CostModelRenderer::upload(DecodedNode&& node) {
 }
 
 void CostModelRenderer::evict(uint32_t node) {
-    evictions_ += nodes_.erase(node);
+    nodes_.erase(node);
 }
 
 double CostModelRenderer::trueCostMs(uint32_t node) const {

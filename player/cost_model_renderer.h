@@ -39,15 +39,13 @@ public:
     double drawFrame(const Camera& camera, std::span<const DrawItem> items, const FrameOptions& options) override;
 
     double trueCostMs(uint32_t node) const;  // without noise; throws if not uploaded
-    size_t uploaded() const { return nodes_.size(); }
     uint64_t uploads() const { return uploads_; }
-    uint64_t evictions() const { return evictions_; }
 
 private:
     CostModel model_;
     std::mt19937_64 rng_;
     std::unordered_map<uint32_t, double> nodes_;  // node -> modelled ms
-    uint64_t uploads_ = 0, evictions_ = 0;
+    uint64_t uploads_ = 0;
 };
 
 }  // namespace hlod

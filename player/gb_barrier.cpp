@@ -179,7 +179,6 @@ GbResult gbBarrier(const ChoiceProblem& p, std::span<const double> warm, const G
             }
             x = y;
         }
-        ++res.outerSteps;
         double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         // stop: (2n+1) mu under the accuracy, the time budget or the step cap. REBUILT (§5): at the
         // central point of weight mu the duality gap is exactly (m = 2n+1) x mu (Boyd & Vandenberghe

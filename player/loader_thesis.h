@@ -25,9 +25,6 @@ public:
     std::vector<uint32_t> updateAndEvict(std::span<const PriorityUpdate> updates, std::span<const uint32_t> forget,
                                          const std::function<bool(uint32_t)>& pinned);
 
-    // Test access: the queue (only while no thread runs).
-    const LinkedPriorityQueue& queue() const { return queue_; }
-
 private:
     struct Partial {
         std::vector<uint8_t> data;

@@ -201,7 +201,7 @@ bool VmLoader::loadOne(bool preemptible) {
 bool VmLoader::makeRoomLocked(uint64_t bytes, const std::function<bool(uint32_t)>& keep) {
     for (uint32_t c = lru_.head(); c != kNoNode && counters_.residentBytes + bytes > options_.memoryBudget;) {
         uint32_t next = lru_.next(c);
-        if (!drawn_[c] && !keep(c) && state_[c] != Residency::Loading) {
+        if (!drawn_[c] && !keep(c) && state_[c] == Residency::Resident) {
             evictLocked(c);
             lru_.remove(c);
         }

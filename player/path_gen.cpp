@@ -163,6 +163,18 @@ double checkedDuration(double duration, double keyInterval) {
     return duration;
 }
 
+// Key times: every keyInterval from 0, and the last at `duration` itself, so that a lap ends where
+// it began whatever the interval (a 0.7 s interval cut a 60 s lap at 59.5 s, and one longer than
+// the lap left a single key, a camera that never moved, until stop 50). Times are i x keyInterval,
+// not a running sum; a remainder below a thousandth of the interval moves the last key instead.
+std::vector<double> keyTimes(double duration, double keyInterval) {
+    std::vector<double> times;
+    for (double i = 0; i * keyInterval < duration - keyInterval * 1e-3; ++i) times.push_back(i * keyInterval);
+    times.push_back(duration);
+    if (times.size() == 1 && duration > 0) times.insert(times.begin(), 0.0);
+    return times;
+}
+
 }  // namespace
 
 size_t countCrossings(const CameraPath& path, const SurfaceHeights& surfaces) {
@@ -259,7 +271,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
         double radius = 0.5 * (hi - lo).norm();
         double distance = radius / std::sin(30.0 * M_PI / 180.0);  // whole sphere within a 60-degree view
         double duration = checkedDuration(o.duration > 0 ? o.duration : 60, o.keyInterval);
-        for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
+        for (double t : keyTimes(duration, o.keyInterval)) {
             double angle = 2 * M_PI * t / duration * (plan.speed > 0 ? plan.speed * duration / (2 * M_PI * distance) : 1);
             Vector3d horizontal = std::cos(angle) * unit(f.a) + std::sin(angle) * unit(f.b);
             Vector3d p = center + distance * (std::cos(M_PI / 4) * horizontal + std::sin(M_PI / 4) * up);
@@ -306,7 +318,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
         double length = 0;
         for (size_t i = 1; i < points.size(); ++i) length += (points[i] - points[i - 1]).norm();
         double duration = checkedDuration(o.duration > 0 ? o.duration : length / plan.speed, o.keyInterval);
-        for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
+        for (double t : keyTimes(duration, o.keyInterval)) {
             double s = std::min(t * plan.speed, length);
             size_t leg = 1;
             for (; leg + 1 < points.size() && s > (points[leg] - points[leg - 1]).norm(); ++leg) s -= (points[leg] - points[leg - 1]).norm();
@@ -326,9 +338,11 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
         heights.push_back(groundAt(p));
         path.keys.push_back(key(t, p, o.lookAtCenter ? Vector3d(center - p) : Vector3d(dir * route.tangent(th)), up));
     };
-    for (double t = 0; t <= duration + 1e-9; t += o.keyInterval) {
+    const std::vector<double> times = keyTimes(duration, o.keyInterval);
+    for (size_t k = 0; k < times.size(); ++k) {
+        const double t = times[k], next = k + 1 < times.size() ? times[k + 1] : t + o.keyInterval;
         place(t, theta, direction);
-        if (o.kind == PathKind::Erratic && t + o.keyInterval > nextEvent) {
+        if (o.kind == PathKind::Erratic && next > nextEvent && next - t > 2e-3) {
             if (coin(rng) < 0.5) {
                 direction = -direction;  // sudden 180-degree turn
             } else {
@@ -338,7 +352,7 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
             place(t + 1e-3, theta, direction);
             nextEvent += gap(rng);
         }
-        double step = plan.speed * o.keyInterval / std::max(route.tangent(theta).norm(), 1e-9);
+        double step = plan.speed * (next - t) / std::max(route.tangent(theta).norm(), 1e-9);
         theta += direction * step;
     }
     return settle();

@@ -89,7 +89,7 @@ struct PolicyInfo {
     std::unique_ptr<SelectionPolicy> (*make)(const PolicyOptions&);
 };
 
-// Every registered policy, in the order `hlod compare` lists them.
+// Every registered policy, in registration order (the order policyNamesList and the help texts give).
 std::span<const PolicyInfo> policyRegistry();
 // The named policy; std::invalid_argument (naming the known ones) for an unknown name.
 std::unique_ptr<SelectionPolicy> makePolicy(const std::string& name, const PolicyOptions& options = {});

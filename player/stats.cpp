@@ -75,6 +75,14 @@ namespace {
 
 nlohmann::json toJson(const Distribution& d) { return {{"mean", d.mean}, {"sd", d.sd}, {"p99", d.p99}, {"max", d.max}}; }
 
+// "n/a" for a rate or distribution that is undefined, else the figures as printf formats them.
+std::string orNa(bool defined, const char* format, double a, double b = 0) {
+    if (!defined) return "n/a";
+    char buf[96];
+    std::snprintf(buf, sizeof buf, format, a, b);
+    return buf;
+}
+
 }  // namespace
 
 StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames) {
@@ -112,11 +120,12 @@ StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames
     s.errorMs = distributionOf(err);
     s.estimateErrorPct = distributionOf(est);
     s.estimateNoFbErrorPct = distributionOf(estNoFb);
+    s.estimatedFrames = est.size(), s.estimatedNoFbFrames = estNoFb.size();
     size_t counted = frames.size() - s.warmupFrames;
     const double toggles = double(s.upToggles + s.downToggles);
     s.togglesPerFrame = counted ? toggles / counted : 0;
     if (counted) s.distance = frames.back().distance - frames[s.warmupFrames].distance;
-    s.togglesPerDistance = s.distance > 0 ? toggles / s.distance : 0;
+    s.togglesPerDistance = s.distance > 0 ? toggles / s.distance : std::nan("");  // a turn or a still camera: no rate
     s.toggleWindows = windows.size();
     if (!windows.empty()) {
         Distribution w = distributionOf(windows);
@@ -135,18 +144,19 @@ void printSummary(std::ostream& os, const StatsSummary& s) {
                   "frames %llu (first %llu excluded as warm-up)\n"
                   "frame time ms: mean %.3f sd %.3f p99 %.3f max %.3f\n"
                   "error to target ms: mean %.3f sd %.3f p99 %.3f\n"
-                  "estimate error %% (actual - estimate, negative = conservative): with feedback mean %.2f sd %.2f; "
-                  "without mean %.2f sd %.2f\n"
+                  "estimate error %% (actual - estimate, negative = conservative): with feedback %s; without %s\n"
                   "toggles per frame %.4f (up %llu, down %llu; reversals within 35 frames %llu)\n"
-                  "toggles per unit of distance %.4f over %.1f; per %llu frames: mean %.2f min %.0f max %.0f (%llu windows)\n"
+                  "toggles per unit of distance %s over %.1f; per %llu frames: mean %.2f min %.0f max %.0f (%llu windows)\n"
                   "hlod0 share at its lower bound %.1f %% of frames, at its upper bound %.1f %%\n"
                   "peak resident bytes %llu, peak c_memory estimate %.0f\n"
                   "loads %llu, evictions %llu, failed loads %llu, misses %llu, longest render-thread stall %.3f ms\n",
                   (unsigned long long)s.frames, (unsigned long long)s.warmupFrames, s.frameMs.mean, s.frameMs.sd,
-                  s.frameMs.p99, s.frameMs.max, s.errorMs.mean, s.errorMs.sd, s.errorMs.p99, s.estimateErrorPct.mean,
-                  s.estimateErrorPct.sd, s.estimateNoFbErrorPct.mean, s.estimateNoFbErrorPct.sd, s.togglesPerFrame,
+                  s.frameMs.p99, s.frameMs.max, s.errorMs.mean, s.errorMs.sd, s.errorMs.p99,
+                  orNa(s.estimatedFrames > 0, "mean %.2f sd %.2f", s.estimateErrorPct.mean, s.estimateErrorPct.sd).c_str(),
+                  orNa(s.estimatedNoFbFrames > 0, "mean %.2f sd %.2f", s.estimateNoFbErrorPct.mean, s.estimateNoFbErrorPct.sd).c_str(),
+                  s.togglesPerFrame,
                   (unsigned long long)s.upToggles, (unsigned long long)s.downToggles, (unsigned long long)s.reversals,
-                  s.togglesPerDistance, s.distance, (unsigned long long)kToggleWindow, s.windowTogglesMean,
+                  orNa(!std::isnan(s.togglesPerDistance), "%.4f", s.togglesPerDistance).c_str(), s.distance, (unsigned long long)kToggleWindow, s.windowTogglesMean,
                   s.windowTogglesMin, s.windowTogglesMax, (unsigned long long)s.toggleWindows, s.shareAtMinPct,
                   s.shareAtMaxPct, (unsigned long long)s.peakResidentBytes, s.peakMemoryEstimateBytes,
                   (unsigned long long)s.loads, (unsigned long long)s.evictions, (unsigned long long)s.failedLoads,
@@ -162,11 +172,11 @@ std::string summaryJson(const StatsSummary& s, const Constants& c) {
                         {"warmup_frames", s.warmupFrames},
                         {"frame_ms", toJson(s.frameMs)},
                         {"error_ms", toJson(s.errorMs)},
-                        {"estimate_error_pct", toJson(s.estimateErrorPct)},
-                        {"estimate_nofb_error_pct", toJson(s.estimateNoFbErrorPct)},
+                        {"estimate_error_pct", s.estimatedFrames ? toJson(s.estimateErrorPct) : nlohmann::json(nullptr)},
+                        {"estimate_nofb_error_pct", s.estimatedNoFbFrames ? toJson(s.estimateNoFbErrorPct) : nlohmann::json(nullptr)},
                         {"toggles_per_frame", s.togglesPerFrame},
                         {"distance", s.distance},
-                        {"toggles_per_distance", s.togglesPerDistance},
+                        {"toggles_per_distance", std::isnan(s.togglesPerDistance) ? nlohmann::json(nullptr) : nlohmann::json(s.togglesPerDistance)},
                         {"toggles_per_400_frames",
                          {{"windows", s.toggleWindows},
                           {"mean", s.windowTogglesMean},

@@ -55,9 +55,12 @@ struct StatsSummary {
     // estimate (the frame took less than estimated), footnote 2 of §6.3.
     Distribution estimateErrorPct;      // with feedback (Fig. 6.4b)
     Distribution estimateNoFbErrorPct;  // without feedback (Fig. 6.4a)
+    // Counted frames whose estimate is above 0 (the others have no percentage: nothing drawn and
+    // no overhead); none: the two distributions are undefined ("n/a", JSON null).
+    uint64_t estimatedFrames = 0, estimatedNoFbFrames = 0;
     double togglesPerFrame = 0;         // (up + down) / frames (§6.5)
     double distance = 0;                // camera path length over the counted frames (database units)
-    double togglesPerDistance = 0;      // (up + down) / distance; 0 when the camera did not move
+    double togglesPerDistance = 0;      // (up + down) / distance; NaN when the camera did not move ("n/a", JSON null)
     uint64_t toggleWindows = 0;         // complete kToggleWindow-frame windows counted
     double windowTogglesMean = 0, windowTogglesMin = 0, windowTogglesMax = 0;  // toggles per window
     uint64_t upToggles = 0, downToggles = 0, reversals = 0;

@@ -66,9 +66,4 @@ uint32_t VmBins::pop() {
     return kNoNode;
 }
 
-void VmBins::clear() {
-    for (auto& q : bins_) q.clear();
-    count_ = 0;
-}
-
 }  // namespace hlod

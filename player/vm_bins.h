@@ -33,7 +33,6 @@ public:
     int binOf(double priority) const;   // -1 beyond the last bin (not prefetched)
     bool push(uint32_t id, double priority);  // appended to its bin's queue; false when beyond
     uint32_t pop();                     // head of the highest-priority non-empty bin; kNoNode when none
-    void clear();
     bool empty() const { return count_ == 0; }
     const std::vector<int>& order() const { return order_; }  // bins by decreasing priority
 

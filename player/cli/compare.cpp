@@ -278,6 +278,7 @@ void addCompare(CLI::App& app, int& status) {
     sub->add_option("--overhead-ms", a->player.overheadMs, "fixed frame overhead (default: measured)")
         ->check(finiteIn(0, kMaxFrameMs));
     addUnitsOption(*sub, a->units);
+    addTeleportSpeedOption(*sub, a->player.teleportSpeed);
     addCostModelOptions(*sub, a->model, a->flatRate);
     addConstantOptions(*sub, a->constants);
     sub->callback([a, sub, &status] {

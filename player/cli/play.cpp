@@ -235,8 +235,7 @@ void addPlay(CLI::App& app, int& status) {
     sub->add_option("--lookahead", a->player.lookaheadSeconds,
                     "s: distance is also measured from the eye moved ahead by velocity x this (player/SELECTION.md)" + defaultText(a->player.lookaheadSeconds))
         ->check(finiteAtLeast(0));
-    sub->add_option("--teleport-speed", a->player.teleportSpeed, "m/s: faster camera moves count as this speed" + defaultText(a->player.teleportSpeed))
-        ->check(finitePositive());
+    addTeleportSpeedOption(*sub, a->player.teleportSpeed);
     addUnitsOption(*sub, a->units);
     sub->add_option("--v-time-gain", a->player.vTimeGain, "first feedback loop: fraction of the v_time error corrected per frame" + defaultText(a->player.vTimeGain))
         ->check(finiteIn(0, 1));

@@ -2,6 +2,7 @@
 // (speeds are in m/s) and the check of a given fixed frame overhead against c_targetTime.
 #include "player/cli/subcommands.h"
 
+#include "formats/cli/command.h"
 #include "formats/constants.h"
 #include "player/camera_path.h"
 #include "player/player.h"
@@ -16,6 +17,10 @@ namespace hlod::cli {
 
 void addUnitsOption(CLI::App& sub, std::string& units) {
     sub.add_option("--units", units, "what one database unit is: m (default), cm, mm, km or a number of metres (speeds are in m/s)");
+}
+
+void addTeleportSpeedOption(CLI::App& sub, double& speed) {
+    sub.add_option("--teleport-speed", speed, "m/s: faster camera moves count as this speed" + defaultText(speed))->check(finitePositive());
 }
 
 void addMemoryBudgetOption(CLI::App& sub, uint64_t& budget, const std::string& more) {

@@ -42,6 +42,8 @@ void addLoaderOptions(CLI::App& sub, PlayerOptions& options, std::string& loader
 // --units of `hlod path`, `hlod play` and `hlod compare`: what one database unit is, for speeds in
 // m/s (a path's, --teleport-speed); parsed by parseUnits (player/camera_path.h).
 void addUnitsOption(CLI::App& sub, std::string& units);
+// --teleport-speed of `hlod play` and `hlod compare` (m/s): faster camera moves count as this speed.
+void addTeleportSpeedOption(CLI::App& sub, double& speed);
 // Warns (std::cerr) when the camera moves faster than --teleport-speed over most of the path's time
 // up to `until`: every move a teleport (no distance, no velocity look-ahead), as a millimetre database
 // played in metres gave (Lucy's drive: distance 0, until stop 48 without a word).

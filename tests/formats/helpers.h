@@ -59,7 +59,7 @@ void patchRecord(std::vector<uint8_t>& file, uint32_t tag, uint32_t index, size_
 
 // Field offsets inside a NODE / BLOB record (FORMAT.md §Node record, §Blob record).
 inline constexpr size_t kNodeParent = 4, kNodeFirstChild = 8, kNodeNextSibling = 12, kNodeLevel = 16,
-                        kNodeBoundsMinX = 24, kNodeCost = 48, kNodeError = 68, kNodeTextured = 72;
-inline constexpr size_t kBlobTexture = 12, kBlobTriangles = 16, kBlobWidth = 24, kBlobOffset = 32, kBlobSize = 40;
+                        kNodeBoundsMinX = 24, kNodeCost = 48, kNodeTextured = 72;
+inline constexpr size_t kBlobWidth = 24, kBlobOffset = 32, kBlobSize = 40;
 
 }  // namespace hlod::test

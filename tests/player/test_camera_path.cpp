@@ -65,7 +65,10 @@ TEST(CameraPath, BadInputGivesOneLineNamingFileAndLine) {
               "walk.path:2: expected 9 fields (time px py pz qx qy qz qw vfov), found 8");
     EXPECT_EQ(parseError(h + "0 0 0 nan 0 0 0 1 60\n"), "walk.path:2: bad pz 'nan' (expected a finite number)");
     EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 2 60\n").rfind("walk.path:2: orientation quaternion is not unit", 0), 0u);
-    EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 1 180\n"), "walk.path:2: vertical field of view must be in (0, 180) degrees");
+    EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 1 180\n"), "walk.path:2: vertical field of view must be in [0.001, 180) degrees");
+    // 1e-300 degrees: every projected size, and so the benefit, was infinite (stop 50)
+    EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 1 1e-300\n"), "walk.path:2: vertical field of view must be in [0.001, 180) degrees");
+    EXPECT_EQ(parseError(h + "0 0 0 0 0 0 0 1 0.001\n"), "no error");
     EXPECT_EQ(parseError(h + "1 0 0 0 0 0 0 1 60\n# c\n1 0 0 0 0 0 0 1 60\n"), "walk.path:4: times must increase strictly");
     EXPECT_THROW(readCameraPath("/nonexistent/walk.path"), std::runtime_error);
 }
@@ -207,6 +210,17 @@ TEST(CameraPath, PathSpeedScalesWithExtent) {
         EXPECT_NEAR(generatePath(s, o).duration(), kObjectLapSeconds / kDriveFactor, o.keyInterval) << size;
     }
     EXPECT_NEAR(speedPerSize[0], speedPerSize[1], 0.01 * speedPerSize[0]);
+    // A key interval that does not divide the lap still ends it; one longer than the lap gives its
+    // two ends (59.5 s and a single still key until stop 50).
+    for (double interval : {0.7, 40.0, 1e9}) {
+        PathOptions o;
+        o.lookAtCenter = true;
+        o.keyInterval = interval;
+        const CameraPath p = generatePath(object(1), o);
+        EXPECT_EQ(p.duration(), kObjectLapSeconds) << interval;
+        EXPECT_EQ(p.keys.size(), size_t(std::ceil(kObjectLapSeconds / interval)) + 1) << interval;
+        EXPECT_NEAR(p.keys[1].time, std::min(interval, kObjectLapSeconds), 1e-12) << interval;
+    }
 
     Skeleton city = test::gridSkeleton(4, 4, 2, 16, 50);  // 200 x 200 x 10 m
     PathOptions o;

@@ -159,6 +159,16 @@ TEST(Compare, RowsAndGapsToTheOracle) {
     writeCompareText(text, noOracle);
     EXPECT_NE(text.str().find("oracle"), std::string::npos);
     EXPECT_NE(compareJson(noOracle, {}).find("\"gap_mean\": null"), std::string::npos);
+    // A camera that only turns has no toggles per metre: "-", empty, null (0 until stop 50).
+    std::vector<PolicyRun> turning = {run("t", {99, 9, 11, 12}, {1, 50, 60, 80})};
+    turning[0].summary.togglesPerDistance = std::nan("");  // summarize's rate of a camera that did not move
+    std::vector<CompareRow> turned = compareRows(turning, nullptr);
+    std::ostringstream turnedText, turnedCsv;
+    writeCompareText(turnedText, turned);
+    writeCompareCsv(turnedCsv, turned);
+    EXPECT_NE(turnedText.str().find(" 0.3333         - "), std::string::npos) << turnedText.str();  // tog/frame, then tog/m
+    EXPECT_NE(turnedCsv.str().find(",0.33333,,"), std::string::npos) << turnedCsv.str();
+    EXPECT_NE(compareJson(turned, {}).find("\"toggles_per_metre\": null"), std::string::npos);
 }
 
 // Fixed step: frame i is sampled at i x step whatever the frames took; preload: every node

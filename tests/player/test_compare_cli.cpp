@@ -57,9 +57,11 @@ TEST_F(CompareCli, WritesOneRowPerPolicyInEveryForm) {
     std::string prefix = (dir / "cmp").string();
     std::ofstream(prefix + "-gap.png") << "an earlier run's plot";  // this run has no oracle: it goes (stale before stop 44)
     RunResult r = runHlod({"compare", db, "--path", path, "--policies", policies, "--step-ms", "30", "--preload",
-                           "--warmup", "10", "--policy-set", "static.pixels=64", "-o", prefix});
+                           "--warmup", "10", "--policy-set", "static.pixels=64", "--teleport-speed", "250", "-o", prefix});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.err.find("invalid cut"), std::string::npos) << r.err;  // every frame of every policy a valid cut
+    // --teleport-speed, which compare's teleport warning names, is compare's too (play's alone until stop 50)
+    EXPECT_NE(r.out.find("teleports above 250 m/s"), std::string::npos) << r.out;
     std::vector<std::string> names = {"thesis", "thesis-rh", "none", "static", "feedback", "sse", "sse-budget"};
 
     std::vector<std::string> csv = splitLines(readText(prefix + ".csv"));

@@ -141,6 +141,32 @@ TEST(VmLoader, EvictsFromTheHeadNeverADrawnNodeNorHlod0) {
     EXPECT_LE(loader.counters().residentBytes, o.memoryBudget);
 }
 
+// LOADERS.md choice 13: a decoded node not yet uploaded (Ready) is no victim, as in the thesis
+// loader: a new demand waits until the render thread has taken it. Until stop 50 the vm loader
+// evicted it (at a budget just above hlod0 a threaded run decoded 5,269 nodes and uploaded none).
+TEST(VmLoader, AReadyNodeIsNoVictimBeforeItsUpload) {
+    auto src = std::make_shared<ChunkLogSource>(test::gridSkeleton(1, 1, 3, 512));
+    LoaderOptions o;
+    o.memoryBudget = src->expectedBytes(0) + 3 * src->expectedBytes(1);
+    VmLoader loader(src, o, false);
+    loader.loadPinned(0);
+    std::vector<uint32_t> front{0}, wanted{1, 2, 3};
+    loader.update({{}, {}, front, wanted, {}, nullptr});
+    EXPECT_EQ(loader.step(10), 3u);  // decoded, none taken (uploaded) yet: the budget is full
+    std::vector<uint32_t> front2{0, 3}, wanted2{4};
+    loader.update({{}, {}, front2, wanted2, {}, nullptr});
+    EXPECT_EQ(loader.step(10), 0u);  // no room but in Ready nodes: 4 waits
+    EXPECT_EQ(loader.residency(4), Residency::Unloaded);
+    std::vector<uint32_t> ready;
+    for (const DecodedNode& d : loader.takeReady(10, ~0ull)) ready.push_back(d.id);
+    EXPECT_EQ(ready, (std::vector<uint32_t>{1, 2, 3}));
+    loader.update({{}, {}, front2, wanted2, {}, nullptr});  // the next frame asks again
+    EXPECT_EQ(loader.step(10), 1u);  // uploaded, the head of the list makes room
+    EXPECT_EQ(loader.takeEvicted().size(), 1u);
+    EXPECT_EQ(loader.residency(4), Residency::Ready);
+    EXPECT_LE(loader.counters().residentBytes, o.memoryBudget);
+}
+
 // PREFETCH (§4.2.3): the popped node's parent and children are loaded, highest bin first; a
 // demand arriving while a prefetch is read preempts it after the chunk in progress.
 TEST(VmLoader, PrefetchesChildrenOfThePoppedNodeAndADemandPreemptsWithinOneChunk) {

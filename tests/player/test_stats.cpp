@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <sstream>
 
 using namespace hlod;
@@ -111,4 +112,33 @@ TEST(Stats, EstimateErrorIsNegativeForAConservativeEstimate) {
     StatsSummary s = summarize(frames, 0);
     EXPECT_NEAR(s.estimateErrorPct.mean, -4, 1e-9);   // 100 (24 - 25) / 25
     EXPECT_NEAR(s.estimateNoFbErrorPct.mean, 20, 1e-9);  // 100 (24 - 20) / 20
+}
+
+// A rate with nothing to divide by is no rate: a camera that only turns has no toggles per metre,
+// frames with an estimate of 0 no estimate error (both printed as 0, "no flicker" and "a perfect
+// estimate", until stop 50).
+TEST(Stats, RatesWithoutADenominatorAreNotApplicable) {
+    std::vector<FrameStats> frames(10);
+    for (FrameStats& f : frames) {
+        f.targetMs = 30;
+        f.actualMs = 2;
+        f.upToggles = 1;  // toggling while the camera turns in place
+    }
+    StatsSummary s = summarize(frames, 0);
+    EXPECT_TRUE(std::isnan(s.togglesPerDistance));
+    EXPECT_EQ(s.estimatedFrames, 0u);
+    std::ostringstream text;
+    printSummary(text, s);
+    EXPECT_NE(text.str().find("with feedback n/a; without n/a\n"), std::string::npos) << text.str();
+    EXPECT_NE(text.str().find("toggles per unit of distance n/a over 0.0;"), std::string::npos) << text.str();
+    auto j = nlohmann::json::parse(summaryJson(s, Constants{}));
+    EXPECT_TRUE(j["toggles_per_distance"].is_null());
+    EXPECT_TRUE(j["estimate_error_pct"].is_null());
+    EXPECT_TRUE(j["estimate_nofb_error_pct"].is_null());
+    // One frame with an estimate is enough for a figure.
+    frames[4].estimateMs = frames[4].estimateNoFeedbackMs = 1;
+    s = summarize(frames, 0);
+    EXPECT_EQ(s.estimatedFrames, 1u);
+    EXPECT_NEAR(s.estimateErrorPct.mean, 100, 1e-9);
+    EXPECT_FALSE(nlohmann::json::parse(summaryJson(s, Constants{}))["estimate_error_pct"].is_null());
 }
