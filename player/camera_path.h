@@ -15,6 +15,10 @@
 
 namespace hlod {
 
+// The shortest key interval and generated path, seconds: a path file holds times to the microsecond
+// (writeCameraPath), so keys closer than that printed alike and the path was refused when played.
+inline constexpr double kMinKeyInterval = 1e-3;
+
 // The narrowest vertical field of view a path may hold, degrees (1e-300 made every projected size,
 // and so the benefit, infinite until stop 50; a telescope's is ~0.01).
 inline constexpr double kMinVfovDegrees = 1e-3;
@@ -68,11 +72,11 @@ PathKind parsePathKind(const std::string& text);  // throws std::invalid_argumen
 
 struct PathOptions {
     PathKind kind = PathKind::Walk;
-    double duration = 0;       // seconds; 0: one lap of the route
+    double duration = 0;       // seconds; 0: one lap of the route; else at least kMinKeyInterval
     double speed = 0;          // m/s; 0: by kind and scale (planPath)
     double eyeHeight = -1;     // metres above the ground (walk, drive, erratic); < 0: by scale (planPath)
     double metresPerUnit = 1;  // what one database unit is (--units); 1: metres
-    double keyInterval = 0.5;  // seconds between keys
+    double keyInterval = 0.5;  // seconds between keys, at least kMinKeyInterval
     uint32_t seed = 1;         // erratic turns and teleports
     int upAxis = 2;            // 2: Z up (default), 1: Y up
     bool lookAtCenter = false; // walk, drive, erratic: look at the model's centre instead of ahead

@@ -33,8 +33,8 @@ ChoiceMap mapChoice(const Skeleton& s, const Projection& proj, const Evaluate& e
         std::vector<std::vector<uint32_t>> cuts;
         level.assign(1, r);
         fin.assign(1, 0);
-        for (uint32_t depth = 0;; ++depth) {
-            // option `depth`: the current cut
+        for (;;) {
+            // the next option: the current cut, one level deeper than the option before
             ChoiceOption x;
             double cost = 0;
             for (uint32_t id : level) {

@@ -110,8 +110,7 @@ void Loader::failLocked(uint32_t id, const std::string& what) {
 
 void Loader::evictLocked(uint32_t id) {
     counters_.residentBytes -= nodeBytes_[id];
-    if (state_[id] == Residency::Resident) evicted_.push_back(id);
-    if (state_[id] == Residency::Ready) std::erase_if(ready_, [id](const DecodedNode& n) { return n.id == id; });
+    evicted_.push_back(id);
     state_[id] = Residency::Unloaded;
 }
 

@@ -156,7 +156,7 @@ protected:
     virtual void onFailedLocked(uint32_t /*id*/) {}
     virtual void onFetchedLocked(uint32_t /*id*/) {}  // fetchNow made the node resident
     void failLocked(uint32_t id, const std::string& what);
-    void evictLocked(uint32_t id);  // drops a Ready or Resident node's bytes
+    void evictLocked(uint32_t id);  // drops a Resident (uploaded) node's bytes; the renderer is told (takeEvicted)
     void markWantedLocked(std::span<const uint32_t> wanted);
     void countLoadLocked(uint32_t id, uint64_t stored, uint64_t decoded);
     void joinThread();

@@ -197,7 +197,7 @@ bool VmLoader::loadOne(bool preemptible) {
 }
 
 // §4.3 step 3: victims from the head of the InMemoryList, skipping the nodes drawn this frame
-// (hlod0 is never in the list) and those `keep` protects.
+// (hlod0 is never in the list), those `keep` protects, and those not uploaded yet (choice 13).
 bool VmLoader::makeRoomLocked(uint64_t bytes, const std::function<bool(uint32_t)>& keep) {
     for (uint32_t c = lru_.head(); c != kNoNode && counters_.residentBytes + bytes > options_.memoryBudget;) {
         uint32_t next = lru_.next(c);

@@ -9,6 +9,8 @@
 // "Eye height", "Indoors").
 #include "player/camera_path.h"
 
+#include "formats/constants.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -166,10 +168,10 @@ double checkedDuration(double duration, double keyInterval) {
 // Key times: every keyInterval from 0, and the last at `duration` itself, so that a lap ends where
 // it began whatever the interval (a 0.7 s interval cut a 60 s lap at 59.5 s, and one longer than
 // the lap left a single key, a camera that never moved, until stop 50). Times are i x keyInterval,
-// not a running sum; a remainder below a thousandth of the interval moves the last key instead.
+// not a running sum; a remainder below kMinKeyInterval moves the last key instead.
 std::vector<double> keyTimes(double duration, double keyInterval) {
     std::vector<double> times;
-    for (double i = 0; i * keyInterval < duration - keyInterval * 1e-3; ++i) times.push_back(i * keyInterval);
+    for (double i = 0; i * keyInterval < duration - kMinKeyInterval; ++i) times.push_back(i * keyInterval);
     times.push_back(duration);
     if (times.size() == 1 && duration > 0) times.insert(times.begin(), 0.0);
     return times;
@@ -256,6 +258,8 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
     if (!(o.keyInterval > 0) || !(o.duration >= 0) || !(o.speed >= 0) || !std::isfinite(o.keyInterval + o.duration + o.speed) ||
         !std::isfinite(o.eyeHeight))
         throw std::invalid_argument("durations, speeds and the eye height must be finite, durations and speeds positive");
+    if (o.keyInterval < kMinKeyInterval || (o.duration > 0 && o.duration < kMinKeyInterval))
+        throw std::invalid_argument("the key interval and a given duration must be at least " + formatConstant(kMinKeyInterval) + " s");
     const PathPlan plan = planPath(skeleton, o);
     Frame f = frameFor(o.upAxis);
     Box3f b = modelBounds(skeleton);
@@ -340,16 +344,17 @@ CameraPath generatePath(const Skeleton& skeleton, const PathOptions& o, const Su
     };
     const std::vector<double> times = keyTimes(duration, o.keyInterval);
     for (size_t k = 0; k < times.size(); ++k) {
-        const double t = times[k], next = k + 1 < times.size() ? times[k + 1] : t + o.keyInterval;
+        const bool last = k + 1 == times.size();
+        const double t = times[k], next = last ? t : times[k + 1];
         place(t, theta, direction);
-        if (o.kind == PathKind::Erratic && next > nextEvent && next - t > 2e-3) {
+        if (o.kind == PathKind::Erratic && !last && next > nextEvent) {  // the path ends with its lap
             if (coin(rng) < 0.5) {
                 direction = -direction;  // sudden 180-degree turn
             } else {
                 theta = angle(rng);      // teleport: a new stretch, whose eye height starts afresh
                 stretches.push_back(path.keys.size());
             }
-            place(t + 1e-3, theta, direction);
+            place(t + 0.5 * std::min(next - t, 2e-3), theta, direction);  // just after the key: at most 1 ms, half-way at most
             nextEvent += gap(rng);
         }
         double step = plan.speed * (next - t) / std::max(route.tangent(theta).norm(), 1e-9);

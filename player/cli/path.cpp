@@ -118,7 +118,7 @@ void addPath(CLI::App& app, int& status) {
     sub->add_option("-o,--output", a->output, "camera path file to write")->required()->check(nonEmptyPath());
     sub->add_option("--kind", a->kind, "walk, drive (10x the walk), fly (whole model in view), erratic, line, zigzag (Robin Hood Table 2)")
         ->check(CLI::IsMember({"walk", "drive", "fly", "erratic", "line", "zigzag"}));
-    sub->add_option("--duration", a->options.duration, "seconds (default or 0: one lap; fly 60 s)")
+    sub->add_option("--duration", a->options.duration, "seconds, 0 or at least 0.001 (default or 0: one lap; fly 60 s)")
         ->check(finiteIn(0, kMaxCameraTime));
     sub->add_option("--speed", a->options.speed,
                     "metres per second (default or 0: city-like 1.5 walk, 15 drive; object: one lap in 60 s, drive 6 s)")
@@ -128,8 +128,9 @@ void addPath(CLI::App& app, int& status) {
                     "0 to 1e15 (a camera path's coordinates)")
         ->check(finiteIn(0, kMaxCameraCoordinate));
     addUnitsOption(*sub, a->units);
-    sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys (default " + formatConstant(PathOptions{}.keyInterval) + ")")
-        ->check(finitePositive());
+    sub->add_option("--key-interval", a->options.keyInterval, "seconds between keys, at least " + formatConstant(kMinKeyInterval) +
+                                                                  " (default " + formatConstant(PathOptions{}.keyInterval) + ")")
+        ->check(finiteIn(kMinKeyInterval, kMaxCameraTime));
     sub->add_option("--seed", a->options.seed, "seed of the erratic turns and teleports")
         ->check(wholeNumber(a->options.seed));
     sub->add_option("--up", a->up, "up axis of the model, y or z (default: the one the database records; z for a database without one)");

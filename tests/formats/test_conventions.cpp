@@ -257,7 +257,8 @@ TEST_F(Conventions, AbsurdNumbersAreStatusTwoNotACrashOrAHang) {
     std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
         {{"build", obj, "-o", dir.file("j.hlod"), "-j", "99999"}, "hlod build: --jobs: Value 99999 not in range 0 to 1024"},
         {{"path", db, "-o", out, "--duration", "1e300"}, "hlod path: --duration: value '1e300': expected a finite number in [0, 86400]"},
-        {{"path", db, "-o", out, "--key-interval", "1e-9"}, "hlod path: a path of "},
+        {{"path", db, "-o", out, "--key-interval", "1e-9"}, "hlod path: --key-interval: value '1e-9': expected a finite number in [0.001, 86400]"},
+        {{"path", db, "-o", out, "--key-interval", "0.001", "--duration", "2000"}, "hlod path: a path of 2000 s with a key every 0.001 s has more than"},
         {{"path", db, "-o", out, "--speed", "1e-300"}, "hlod path: a path of "},
         {{"play", db, "--path", path, "--model-overhead-ms", "1e300"}, "hlod play: --model-overhead-ms: value '1e300': expected"},
         {{"play", db, "--path", path, "--overhead-ms", "1e300"}, "hlod play: --overhead-ms: value '1e300': expected"},

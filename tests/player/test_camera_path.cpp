@@ -220,7 +220,18 @@ TEST(CameraPath, PathSpeedScalesWithExtent) {
         EXPECT_EQ(p.duration(), kObjectLapSeconds) << interval;
         EXPECT_EQ(p.keys.size(), size_t(std::ceil(kObjectLapSeconds / interval)) + 1) << interval;
         EXPECT_NEAR(p.keys[1].time, std::min(interval, kObjectLapSeconds), 1e-12) << interval;
+        o.kind = PathKind::Erratic;  // its turns and teleports add keys, never past the lap (20.001 s of 20)
+        o.duration = 20;
+        EXPECT_EQ(generatePath(object(1), o).duration(), 20) << interval;
     }
+    // Keys closer than a millisecond, or a path shorter, printed alike at the file's microseconds
+    // and were refused when played (stop 50): refused when generated.
+    PathOptions tight;
+    tight.keyInterval = 1e-4;
+    EXPECT_THROW(generatePath(object(1), tight), std::invalid_argument);
+    tight.keyInterval = 0.5;
+    tight.duration = 1e-7;
+    EXPECT_THROW(generatePath(object(1), tight), std::invalid_argument);
 
     Skeleton city = test::gridSkeleton(4, 4, 2, 16, 50);  // 200 x 200 x 10 m
     PathOptions o;
