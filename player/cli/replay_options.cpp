@@ -1,5 +1,6 @@
 // Options of `hlod path`, `hlod play` and `hlod compare` beside the loader's: the database's units
-// (speeds are in m/s) and the check of a given fixed frame overhead against c_targetTime.
+// (speeds are in m/s), --teleport-speed, --memory, the warning of a path faster than the teleport
+// speed, and the check of a given fixed frame overhead against c_targetTime.
 #include "player/cli/subcommands.h"
 
 #include "formats/cli/command.h"
