@@ -77,17 +77,6 @@ std::vector<CompareRow> compareRows(std::span<const PolicyRun> runs, const Polic
     return rows;
 }
 
-namespace {
-
-std::string number(double v, const char* format, const char* missing) {
-    if (std::isnan(v)) return missing;
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
-}
-
-}  // namespace
-
 void writeCompareText(std::ostream& os, std::span<const CompareRow> rows) {
     char buf[512];
     std::snprintf(buf, sizeof buf, "%-14s %7s %8s %8s %8s %8s %8s %8s %11s %8s %9s %9s %6s %8s %8s %8s %6s\n", "policy",
@@ -97,8 +86,8 @@ void writeCompareText(std::ostream& os, std::span<const CompareRow> rows) {
     for (const CompareRow& r : rows) {
         std::snprintf(buf, sizeof buf, "%-14s %7llu %8.3f %8.3f %8.3f %8.3f %8.4f %8.4f %11.5g %8s %9.4f %9s %6llu %8.4f %8.4f %8.0f %6llu\n",
                       r.policy.c_str(), (unsigned long long)r.counted, r.frameMs.mean, r.frameMs.max, r.frameMs.sd,
-                      r.frameMs.p99, r.relErrorP99, r.relErrorMean, r.benefitMean, number(r.gapMean, "%.4f", "-").c_str(),
-                      r.togglesPerFrame, number(r.togglesPerMetre, "%.4f", "-").c_str(), (unsigned long long)r.reversals, r.selectionMs.mean,
+                      r.frameMs.p99, r.relErrorP99, r.relErrorMean, r.benefitMean, figureOr("-", !std::isnan(r.gapMean), "%.4f", r.gapMean).c_str(),
+                      r.togglesPerFrame, figureOr("-", !std::isnan(r.togglesPerMetre), "%.4f", r.togglesPerMetre).c_str(), (unsigned long long)r.reversals, r.selectionMs.mean,
                       r.selectionMs.max, r.trianglesMean, (unsigned long long)r.invalidCuts);
         os << buf;
     }
@@ -113,7 +102,7 @@ void writeCompareCsv(std::ostream& os, std::span<const CompareRow> rows) {
         std::snprintf(buf, sizeof buf, "%s,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.6g,%s,%.5f,%s,%llu,%.5f,%.5f,%.5f,%.1f,%llu\n",
                       r.policy.c_str(), (unsigned long long)r.frames, (unsigned long long)r.counted, r.frameMs.mean,
                       r.frameMs.max, r.frameMs.sd, r.frameMs.p99, r.relErrorP99, r.relErrorMean, r.benefitMean,
-                      number(r.gapMean, "%.5f", "").c_str(), r.togglesPerFrame, number(r.togglesPerMetre, "%.5f", "").c_str(),
+                      figureOr("", !std::isnan(r.gapMean), "%.5f", r.gapMean).c_str(), r.togglesPerFrame, figureOr("", !std::isnan(r.togglesPerMetre), "%.5f", r.togglesPerMetre).c_str(),
                       (unsigned long long)r.reversals, r.selectionMs.mean, r.selectionMs.max, r.optimisationMsMean,
                       r.trianglesMean, (unsigned long long)r.invalidCuts);
         os << buf;

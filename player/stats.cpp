@@ -75,15 +75,14 @@ namespace {
 
 nlohmann::json toJson(const Distribution& d) { return {{"mean", d.mean}, {"sd", d.sd}, {"p99", d.p99}, {"max", d.max}}; }
 
-// "n/a" for a rate or distribution that is undefined, else the figures as printf formats them.
-std::string orNa(bool defined, const char* format, double a, double b = 0) {
-    if (!defined) return "n/a";
+}  // namespace
+
+std::string figureOr(const char* missing, bool defined, const char* format, double a, double b) {
+    if (!defined) return missing;
     char buf[96];
     std::snprintf(buf, sizeof buf, format, a, b);
     return buf;
 }
-
-}  // namespace
 
 StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames) {
     StatsSummary s;
@@ -152,11 +151,11 @@ void printSummary(std::ostream& os, const StatsSummary& s) {
                   "loads %llu, evictions %llu, failed loads %llu, misses %llu, longest render-thread stall %.3f ms\n",
                   (unsigned long long)s.frames, (unsigned long long)s.warmupFrames, s.frameMs.mean, s.frameMs.sd,
                   s.frameMs.p99, s.frameMs.max, s.errorMs.mean, s.errorMs.sd, s.errorMs.p99,
-                  orNa(s.estimatedFrames > 0, "mean %.2f sd %.2f", s.estimateErrorPct.mean, s.estimateErrorPct.sd).c_str(),
-                  orNa(s.estimatedNoFbFrames > 0, "mean %.2f sd %.2f", s.estimateNoFbErrorPct.mean, s.estimateNoFbErrorPct.sd).c_str(),
+                  figureOr("n/a", s.estimatedFrames > 0, "mean %.2f sd %.2f", s.estimateErrorPct.mean, s.estimateErrorPct.sd).c_str(),
+                  figureOr("n/a", s.estimatedNoFbFrames > 0, "mean %.2f sd %.2f", s.estimateNoFbErrorPct.mean, s.estimateNoFbErrorPct.sd).c_str(),
                   s.togglesPerFrame,
                   (unsigned long long)s.upToggles, (unsigned long long)s.downToggles, (unsigned long long)s.reversals,
-                  orNa(!std::isnan(s.togglesPerDistance), "%.4f", s.togglesPerDistance).c_str(), s.distance, (unsigned long long)kToggleWindow, s.windowTogglesMean,
+                  figureOr("n/a", !std::isnan(s.togglesPerDistance), "%.4f", s.togglesPerDistance).c_str(), s.distance, (unsigned long long)kToggleWindow, s.windowTogglesMean,
                   s.windowTogglesMin, s.windowTogglesMax, (unsigned long long)s.toggleWindows, s.shareAtMinPct,
                   s.shareAtMaxPct, (unsigned long long)s.peakResidentBytes, s.peakMemoryEstimateBytes,
                   (unsigned long long)s.loads, (unsigned long long)s.evictions, (unsigned long long)s.failedLoads,

@@ -75,5 +75,8 @@ struct StatsSummary {
 StatsSummary summarize(std::span<const FrameStats> frames, uint64_t warmupFrames);
 void printSummary(std::ostream& os, const StatsSummary& s);
 std::string summaryJson(const StatsSummary& s, const Constants& c);
+// `missing` for a figure that is undefined (a rate without a denominator), else the figures as
+// printf's `format` writes them; shared by the summary ("n/a") and compare's tables ("-", "").
+std::string figureOr(const char* missing, bool defined, const char* format, double a, double b = 0);
 
 }  // namespace hlod
