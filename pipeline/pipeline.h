@@ -40,6 +40,10 @@ struct Material {
     int jpegQuality = 0;                 // an embedded JPEG's own quality (jpegQuality, texture_store.h); 0: unknown
     bool jpegChroma420 = false;          // an embedded JPEG with 4:2:0 chroma (jpegChroma420, texture_store.h)
     float uvPeriod[2] = {1, 1};          // per axis, UVs repeat every: REPEAT 1, MIRRORED_REPEAT 2, clamped 0 (wrap_uvs.cpp)
+    // Its triangles' texture coordinates become uv × uvScale + uvOffset as their corners are read
+    // (rawCorners): an OBJ's `map_Kd -s`/`-o`, in this struct's v-down convention (read_obj.cpp).
+    float uvScale[2] = {1, 1}, uvOffset[2] = {0, 0};
+    bool movesUvs() const { return uvScale[0] != 1 || uvScale[1] != 1 || uvOffset[0] != 0 || uvOffset[1] != 0; }
 };
 
 // Triangles with welded vertices and one material index per triangle. Texture coordinates use

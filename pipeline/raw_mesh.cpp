@@ -44,15 +44,24 @@ struct CornerHash {
                (static_cast<size_t>(k.v) * 2654435761u) ^ (static_cast<size_t>(k.n) * 83492791u);
     }
 };
+uint32_t materialOf(const RawMesh& raw, const RawTriangle& t) {
+    return t.material == kNone ? static_cast<uint32_t>(raw.materials.size() - 1) : t.material;
+}
+
+// The triangle's material when it moves texture coordinates (Material::uvScale, uvOffset), else null.
+const Material* movingUvs(const RawMesh& raw, const RawTriangle& t) {
+    if (!raw.hasTexcoords || raw.texcoordsPerCorner || raw.materials.empty()) return nullptr;
+    const Material& m = raw.materials[materialOf(raw, t)];
+    return m.movesUvs() ? &m : nullptr;
+}
+
 CornerKey cornerKey(const RawMesh& raw, const RawTriangle& tri, const Corner& corner, int c) {
     CornerKey key{tri.position[c], 0, 0, raw.hasNormals ? tri.normal[c] : 0};
     if (raw.texcoordsPerCorner && raw.hasTexcoords) key.u = std::bit_cast<uint32_t>(corner.texcoord[0]), key.v = std::bit_cast<uint32_t>(corner.texcoord[1]);
     else if (raw.hasTexcoords) key.u = tri.texcoord[c];
+    // A vt that two materials move apart (map_Kd -s/-o) is two texture coordinates.
+    if (movingUvs(raw, tri)) key.v = materialOf(raw, tri) + 1;
     return key;
-}
-
-uint32_t materialOf(const RawMesh& raw, const RawTriangle& t) {
-    return t.material == kNone ? static_cast<uint32_t>(raw.materials.size() - 1) : t.material;
 }
 
 // A PLY: the vertex arrays are already indexed by the triangles.
@@ -183,6 +192,7 @@ bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& 
     const RawTriangle& tri = raw.triangles[t];
     const size_t positions = raw.positionCount(), texcoords = raw.texcoords.size() / 2, normals = raw.normals.size() / 3;
     const bool colors = raw.colors.size() == 4 * positions && positions > 0;
+    const Material* moving = movingUvs(raw, tri);
     for (int c = 0; c < 3; ++c) {
         const uint32_t p = tri.position[c];
         if (p >= positions) outOfRange(t, "vertex", p, positions, name);
@@ -190,6 +200,8 @@ bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& 
         if (raw.hasTexcoords) {
             if (tri.texcoord[c] >= texcoords) outOfRange(t, "texture coordinate", tri.texcoord[c], texcoords, name);
             std::copy_n(&raw.texcoords[2 * size_t(tri.texcoord[c])], 2, out[c].texcoord);
+            if (moving)
+                for (int a = 0; a < 2; ++a) out[c].texcoord[a] = out[c].texcoord[a] * moving->uvScale[a] + moving->uvOffset[a];
         }
         if (raw.hasNormals) {
             if (tri.normal[c] >= normals) outOfRange(t, "normal", tri.normal[c], normals, name);

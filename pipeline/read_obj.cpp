@@ -67,6 +67,9 @@ size_t continuation(std::string_view text) {
 // A UTF-8 byte order mark, which Windows tools may write before an OBJ's or MTL's first keyword
 // (it would hide that line: an OBJ's first `mtllib`, an MTL's first `newmtl`).
 constexpr char kByteOrderMark[3] = {'\xEF', '\xBB', '\xBF'};
+// The largest |scale| or |offset| of `map_Kd -s`/`-o` taken: a float texcoord near 1,000 still
+// tells a 4K texture's quarter-texels apart (its step 6e-5); beyond, the material is untextured.
+constexpr double kMaxUvMove = 1000;
 
 void skipByteOrderMark(std::istream& in) {
     char head[3] = {};
@@ -256,10 +259,26 @@ private:
             if (map.clamp) raw_.materials.back().uvPeriod[0] = raw_.materials.back().uvPeriod[1] = 0;  // map_Kd -clamp on
             if (it != maps.end() && map.file.empty())  // options alone: the textures rule, not an untextured material without a word
                 raw_.stats.textureProblems.push_back({file + ": material '" + m.name + "': map_Kd names no texture file", m.name});
-            if (!map.file.empty() && (map.scale[0] != 1 || map.scale[1] != 1 || map.offset[0] != 0 || map.offset[1] != 0))
-                raw_.stats.warnings.push_back(file + ": material '" + m.name +
-                                              "': map_Kd -s/-o (texture scale and offset) are not applied; its texture "
-                                              "coordinates are used as written");
+            if (!map.file.empty()) moveUvs(file, m.name, map);
+        }
+    }
+
+    // `map_Kd -s su sv -o ou ov`: the texture looked up at (u su + ou, v sv + ov) (the MTL
+    // specification's "scales the size of the texture pattern" and "offset the position of the map
+    // origin", as Blender's and three.js's importers read them); warned of and not applied until
+    // stop 51. In the v-down texcoords (v' = 1 - v): v' sv + (1 - sv - ov). A number that is not
+    // finite leaves the material untextured (the textures rule).
+    void moveUvs(const std::string& file, const std::string& name, const DiffuseMap& map) {
+        Material& material = raw_.materials.back();
+        const double scale[2] = {map.scale[0], map.scale[1]}, offset[2] = {map.offset[0], 1 - map.scale[1] - map.offset[1]};
+        for (int a = 0; a < 2; ++a) {
+            if (!std::isfinite(scale[a]) || !std::isfinite(offset[a]) || std::abs(scale[a]) > kMaxUvMove || std::abs(offset[a]) > kMaxUvMove) {
+                raw_.stats.textureProblems.push_back({file + ": material '" + name + "': map_Kd -s/-o beyond ±" +
+                                                          std::to_string(int(kMaxUvMove)) + " or not a number", name});
+                material.texturePath.clear();
+                return;
+            }
+            material.uvScale[a] = static_cast<float>(scale[a]), material.uvOffset[a] = static_cast<float>(offset[a]);
         }
     }
 

@@ -158,33 +158,54 @@ TEST(ReadObj, FacesWithoutTextureCoordinatesMakeTheTextureUnusable) {
     EXPECT_EQ(strict.err, "hlod build: " + what + " (--strict)\n");
 }
 
-// `map_Kd -s`/`-o` (the texture's scale and offset, MTL specification) are not applied: a warning says
-// so (ignored without a word until stop 46); the defaults (-s 1 1 1, -o 0 0 0) give none.
-TEST(ReadObj, TextureScaleAndOffsetOptionsAreWarnedOf) {
+// `map_Kd -s su sv -o ou ov` looks the texture up at (u su + ou, v sv + ov) (MTL specification;
+// warned of and not applied until stop 51): texcoords are stored v-down (1 - v). A vt that a moving
+// and a still material share becomes two vertices; a number not finite or beyond ±1000 leaves the
+// material untextured (the textures rule).
+TEST(ReadObj, TextureScaleAndOffsetMoveTheTextureCoordinates) {
     TempDir dir;
     writeFile(dir.file("a.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
-    std::ofstream(dir.file("b.obj")) << "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
-    // "-o 0 0.25": the MTL specification lets v and w out; tinyobjloader took the file for w (the
+    std::ofstream(dir.file("b.obj")) << "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                        "usemtl m\nf 1/1 2/2 3/3\nusemtl still\nf 1/1 3/3 4/4\n";
+    auto uvOf = [](const SourceMesh& m, uint32_t triangle, int corner) {
+        const uint32_t v = m.piece.mesh.indices[3 * triangle + corner];
+        return std::pair{m.piece.mesh.texcoords[2 * v], m.piece.mesh.texcoords[2 * v + 1]};
+    };
+    struct Case {
+        std::string options;
+        float u, v;  // where vt (1, 1) of the moving material's triangle lands, OBJ's v up
+    };
+    // "-o 0 0.25": the MTL specification lets v and w out (tinyobjloader took the file for w, the
     // texture lost without a word until stop 47).
-    for (const std::string options : {"-s 0.5 1 1", "-o 0 0.25 0", "-o 0 0.25", "-s 2 -o 0 0.25", "-s 1 1 1 -o 0 0 0"}) {
-        std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd " << options << " a.png\n";
+    for (const Case& c : {Case{"-s 0.5 2 1", 0.5f, 2}, Case{"-o 0 0.25", 1, 1.25f}, Case{"-s 2 -o 0.25 0.5 0", 2.25f, 1.5f},
+                          Case{"-s -1 1 -o 1", 0, 1}, Case{"-s 1 1 1 -o 0 0 0", 1, 1}}) {
+        std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd " << c.options << " a.png\nnewmtl still\nmap_Kd a.png\n";
         const SourceMesh m = readMesh(dir.file("b.obj"));
-        EXPECT_FALSE(m.materials[m.piece.materials[0]].texturePath.empty()) << options;
-        if (options.find("-s 1 1 1") == 0) {
-            EXPECT_TRUE(m.stats.warnings.empty()) << options;
-            continue;
-        }
-        ASSERT_EQ(m.stats.warnings.size(), 1u) << options;
-        EXPECT_EQ(m.stats.warnings[0], std::filesystem::canonical(dir.file("b.mtl")).string() +
-                                           ": material 'm': map_Kd -s/-o (texture scale and offset) are not applied; its "
-                                           "texture coordinates are used as written");
+        EXPECT_TRUE(m.stats.warnings.empty() && m.stats.textureProblems.empty()) << c.options;
+        EXPECT_FALSE(m.materials[m.piece.materials[0]].texturePath.empty()) << c.options;
+        const auto [u, v] = uvOf(m, 0, 2);
+        EXPECT_FLOAT_EQ(u, c.u) << c.options;
+        EXPECT_FLOAT_EQ(1 - v, c.v) << c.options;
+        // The still material's corner on the same vt is where vt says.
+        EXPECT_EQ(uvOf(m, 1, 1), (std::pair{1.0f, 0.0f})) << c.options;
+        const bool moves = c.u != 1 || c.v != 1;
+        EXPECT_EQ(m.piece.mesh.vertexCount(), moves ? 6u : 4u) << c.options;
+    }
+    for (const std::string bad : {"-s nan 1", "-o 0 inf", "-s 1001", "-o 0 -2000"}) {
+        std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd " << bad << " a.png\nnewmtl still\nmap_Kd a.png\n";
+        const SourceMesh m = readMesh(dir.file("b.obj"));
+        EXPECT_TRUE(m.materials[m.piece.materials[0]].texturePath.empty()) << bad;
+        ASSERT_EQ(m.stats.textureProblems.size(), 1u) << bad;
+        EXPECT_EQ(m.stats.textureProblems[0].what, std::filesystem::canonical(dir.file("b.mtl")).string() +
+                                                       ": material 'm': map_Kd -s/-o beyond ±1000 or not a number") << bad;
+        EXPECT_EQ(uvOf(m, 0, 2), (std::pair{1.0f, 0.0f})) << bad;
     }
     // Lines ended by CR alone (old Mac tools), as tinyobjloader reads them.
-    std::ofstream(dir.file("b.mtl")) << "newmtl m\rKd 1 1 1\rmap_Kd -o 0 0.25 a.png\r";
+    std::ofstream(dir.file("b.mtl")) << "newmtl m\rKd 1 1 1\rmap_Kd -o 0 0.25 a.png\rnewmtl still\r";
     const SourceMesh cr = readMesh(dir.file("b.obj"));
     EXPECT_EQ(cr.materials[cr.piece.materials[0]].texturePath, std::filesystem::canonical(dir.file("a.png")).string());
     // Options without a file: an unusable texture (the textures rule), not an untextured material without a word.
-    std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd -o 0 0.25\n";
+    std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd -o 0 0.25\nnewmtl still\n";
     const SourceMesh none = readMesh(dir.file("b.obj"));
     EXPECT_TRUE(none.materials[none.piece.materials[0]].texturePath.empty());
     ASSERT_EQ(none.stats.textureProblems.size(), 1u);
