@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <mutex>
@@ -93,14 +94,20 @@ void removeTemporariesOnInterrupt() {
         int signal = 0;
         do
             if (sigwait(&set, &signal) != 0) return;
-        while (deferring() && deferred().exchange(signal) == 0);  // the first one deferred, a second ends it
+        while (deferring() && deferred().exchange(signal) == 0);  // the first one deferred, a second (or after resume: -1) ends it
         endByInterrupt(signal);
     }).detach();
 }
 
 void deferInterrupts() { deferring() = true; }
 
-int interruptedBy() { return deferred().load(); }
+int interruptedBy() { return std::max(deferred().load(), 0); }
+
+void resumeInterrupts() {
+    deferring() = false;
+    // -1 marks the resume: a signal the waiting thread took as deferring is seen here or there.
+    if (const int signal = deferred().exchange(-1); signal > 0) endByInterrupt(signal);
+}
 
 void endByInterrupt(int signal) {
     record().mutex.lock();  // after a publish in progress; kept until the end

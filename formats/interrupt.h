@@ -33,6 +33,10 @@ void removeTemporariesOnInterrupt();
 // that signal. A second signal ends the process at once. (Until stop 49 Ctrl-C lost the flight.)
 void deferInterrupts();
 int interruptedBy();
+// Ends deferring: a signal kept, or one that arrives while this runs, ends the process now
+// (endByInterrupt); later ones end it at once. The loop's last step, so that a signal after its
+// last interruptedBy() is not lost (`hlod view` exited 0 for one until stop 51).
+void resumeInterrupts();
 [[noreturn]] void endByInterrupt(int signal);
 
 }  // namespace hlod

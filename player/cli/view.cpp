@@ -189,10 +189,8 @@ int runView(const ViewArgs& args) {
         recordFile->commit();
         std::cout << "recorded " << recorded.keys.size() << " keys, " << recorded.duration() << " s to " << args.record << "\n";
     }
-    if (const int signal = interruptedBy()) {
-        std::cout.flush();
-        endByInterrupt(signal);  // status 128 + N, as any interrupted run
-    }
+    std::cout.flush();
+    resumeInterrupts();  // a signal kept, or one that comes from here on: status 128 + N, as any interrupted run
     return kExitOk;
 }
 
