@@ -79,14 +79,15 @@ struct SourceMesh {
 // held whole), from where split_stream.cpp routes the triangles to per-block files in one pass.
 // Adding an attribute checks it is finite (InputError naming the vertex).
 struct RawTriangle {
-    uint32_t position[3], texcoord[3], normal[3];  // indices into the arrays (PLY: all = position, texcoord its own with per-face UVs)
+    uint32_t position[3], texcoord[3], normal[3];  // indices into the arrays (PLY: all = position, texcoord its own with per-face UVs;
+                                                    // texcoord kNone: an OBJ face without `vt`, read as (0, 0))
     uint32_t material;                              // into materials; kNone = the default material
 };
 struct RawMesh {
     SpillArray<float> positions, texcoords, normals;  // 3, 2, 3 floats per element
     SpillArray<uint8_t> colors;                       // 4 per position, or none
     SpillArray<RawTriangle> triangles;
-    bool hasTexcoords = false, hasNormals = false;    // every triangle has them
+    bool hasTexcoords = false, hasNormals = false;    // every triangle has them (OBJ: texcoords when any face has them)
     bool sharedIndices = false;                       // texcoord/normal indices equal position's (PLY without per-face UVs)
     bool texcoordsPerCorner = false;                  // one texcoord per corner, welded by value (PLY with per-face UVs)
     Box3f bounds{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};

@@ -198,8 +198,9 @@ bool rawCorners(const RawMesh& raw, size_t t, Corner out[3], const std::string& 
         if (p >= positions) outOfRange(t, "vertex", p, positions, name);
         std::copy_n(&raw.positions[3 * size_t(p)], 3, out[c].position);
         if (raw.hasTexcoords) {
-            if (tri.texcoord[c] >= texcoords) outOfRange(t, "texture coordinate", tri.texcoord[c], texcoords, name);
-            std::copy_n(&raw.texcoords[2 * size_t(tri.texcoord[c])], 2, out[c].texcoord);
+            if (tri.texcoord[c] == kNone) out[c].texcoord[0] = out[c].texcoord[1] = 0;  // an OBJ face without `vt` (read_obj.cpp)
+            else if (tri.texcoord[c] >= texcoords) outOfRange(t, "texture coordinate", tri.texcoord[c], texcoords, name);
+            else std::copy_n(&raw.texcoords[2 * size_t(tri.texcoord[c])], 2, out[c].texcoord);
             if (moving)
                 for (int a = 0; a < 2; ++a) out[c].texcoord[a] = out[c].texcoord[a] * moving->uvScale[a] + moving->uvOffset[a];
         }

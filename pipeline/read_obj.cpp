@@ -121,7 +121,8 @@ public:
         if (!carry.empty()) line({carry.data(), carry.data() + carry.size(), carry.size() == joined ? number : ++number});
         checkAhead();
         warnUnknown();
-        raw_.hasTexcoords = everyFaceHasTexcoords_ && raw_.texcoords.size() > 0;
+        raw_.hasTexcoords = anyFaceHasTexcoords_ && raw_.texcoords.size() > 0;
+        if (raw_.hasTexcoords) unmappedTextures();
         raw_.hasNormals = everyFaceHasNormals_ && raw_.normals.size() > 0;
         raw_.materials.push_back({"default", "", nullptr});
     }
@@ -183,8 +184,8 @@ private:
             corner.p = index(l, c.substr(0, s1), raw_.positionCount(), 0);
             const std::string_view vt = s1 == c.npos ? std::string_view() : c.substr(s1 + 1, s2 == c.npos ? c.npos : s2 - s1 - 1);
             const std::string_view vn = s2 == c.npos ? std::string_view() : c.substr(s2 + 1);
-            if (vt.empty()) everyFaceHasTexcoords_ = false;
-            else corner.t = index(l, vt, raw_.texcoords.size() / 2, 1);
+            if (vt.empty()) corner.t = kNone, withoutTexcoords_.insert(material_);
+            else corner.t = index(l, vt, raw_.texcoords.size() / 2, 1), anyFaceHasTexcoords_ = true;
             if (vn.empty()) everyFaceHasNormals_ = false;
             else corner.n = index(l, vn, raw_.normals.size() / 3, 2);
             corners_.push_back(corner);
@@ -348,6 +349,20 @@ private:
         std::string keyword;
     } unknown_;
 
+    // A face without `vt` reads texcoord (0, 0) (rawCorners): harmless in an untextured material; a
+    // textured one cannot be mapped, the textures rule. Until stop 51 one such face anywhere (an
+    // untextured part of a photogrammetry export) left every material of the file untextured.
+    void unmappedTextures() {
+        for (const uint32_t m : withoutTexcoords_) {
+            if (m == kNone || raw_.materials[m].texturePath.empty()) continue;
+            raw_.stats.textureProblems.push_back({path_ + ": texture '" + raw_.materials[m].texturePath +
+                                                      "' cannot be mapped: not every face of material '" + raw_.materials[m].name +
+                                                      "' has texture coordinates",
+                                                  raw_.materials[m].name});
+            raw_.materials[m].texturePath.clear();
+        }
+    }
+
     void warnUnknown() {
         if (unknown_.count)
             raw_.stats.warnings.push_back(path_ + ":" + std::to_string(unknown_.line) + ": " + std::to_string(unknown_.count) +
@@ -372,7 +387,8 @@ private:
     std::vector<std::array<double, 3>> points_;
     std::vector<std::array<uint32_t, 3>> triangles_;
     uint32_t material_ = kNone;
-    bool everyFaceHasTexcoords_ = true, everyFaceHasNormals_ = true, everyVertexHasColor_ = true, lastLine_ = false;
+    std::set<uint32_t> withoutTexcoords_;  // the materials of faces without `vt` (kNone: the default)
+    bool anyFaceHasTexcoords_ = false, everyFaceHasNormals_ = true, everyVertexHasColor_ = true, lastLine_ = false;
 };
 
 }  // namespace

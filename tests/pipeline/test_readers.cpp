@@ -139,9 +139,11 @@ TEST(ReadObj, AByteOrderMarkBeforeTheFirstKeyword) {
     EXPECT_EQ(readMesh(dir.file("big.obj")).piece.mesh.triangleCount(), 200u);
 }
 
-// A textured material on a mesh where some face has no `vt`: an unusable texture under the textures
-// rule (a warning apart from it, which --strict let pass, until stop 46).
-TEST(ReadObj, FacesWithoutTextureCoordinatesMakeTheTextureUnusable) {
+// A textured material with a face without `vt`: an unusable texture under the textures rule (a
+// warning apart from it, which --strict let pass, until stop 46). Faces without `vt` of an
+// untextured material or of none leave the other materials' textures (until stop 51 they left every
+// material of the file untextured).
+TEST(ReadObj, FacesWithoutTextureCoordinatesMakeTheirTextureUnusable) {
     TempDir dir;
     writeFile(dir.file("a.png"), encodeTexture(testImage(16, 16), Codec::Png).bytes);
     std::ofstream(dir.file("b.mtl")) << "newmtl m\nKd 1 1 1\nmap_Kd a.png\n";
@@ -149,13 +151,27 @@ TEST(ReadObj, FacesWithoutTextureCoordinatesMakeTheTextureUnusable) {
                                         "usemtl m\nf 1/1 2/2 3/3\nf 1 3 4\n";
     const SourceMesh s = readMesh(dir.file("b.obj"));
     const std::string what = dir.file("b.obj") + ": texture '" + std::filesystem::canonical(dir.file("a.png")).string() +
-                             "' cannot be mapped: not every face has texture coordinates";
+                             "' cannot be mapped: not every face of material 'm' has texture coordinates";
     ASSERT_EQ(s.stats.textureProblems.size(), 1u);
     EXPECT_EQ(s.stats.textureProblems[0].what, what);
     EXPECT_TRUE(s.materials[s.piece.materials[0]].texturePath.empty());
     const RunResult strict = runHlod({"build", dir.file("b.obj"), "-o", dir.file("b.hlod"), "--strict"});
     EXPECT_EQ(strict.exitCode, 2) << strict.outAndErr();
     EXPECT_EQ(strict.err, "hlod build: " + what + " (--strict)\n");
+
+    std::ofstream(dir.file("b.mtl")) << "newmtl m\nKd 1 1 1\nmap_Kd a.png\nnewmtl plain\nKd 1 0 0\n";
+    std::ofstream(dir.file("c.obj")) << "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                        "f 1 2 4\nusemtl m\nf 1/1 2/2 3/3\nusemtl plain\nf 1 3 4\n";
+    const SourceMesh mixed = readMesh(dir.file("c.obj"));
+    EXPECT_TRUE(mixed.stats.textureProblems.empty());
+    ASSERT_EQ(mixed.piece.mesh.triangleCount(), 3u);
+    EXPECT_EQ(mixed.materials[mixed.piece.materials[1]].texturePath, std::filesystem::canonical(dir.file("a.png")).string());
+    const MeshData& m = mixed.piece.mesh;
+    auto uv = [&m](uint32_t t, int c) { return std::pair{m.texcoords[2 * m.indices[3 * t + c]], m.texcoords[2 * m.indices[3 * t + c] + 1]}; };
+    EXPECT_EQ(uv(1, 2), (std::pair{1.0f, 0.0f}));  // vt 1 1, v flipped
+    EXPECT_EQ(uv(0, 1), (std::pair{0.0f, 0.0f}));  // no vt: (0, 0)
+    EXPECT_EQ(uv(2, 0), (std::pair{0.0f, 0.0f}));
+    EXPECT_EQ(runHlod({"build", dir.file("c.obj"), "-o", dir.file("c.hlod"), "--strict"}).exitCode, 0);
 }
 
 // `map_Kd -s su sv -o ou ov` looks the texture up at (u su + ou, v sv + ov) (MTL specification;
