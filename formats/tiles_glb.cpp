@@ -212,7 +212,10 @@ std::optional<Glb> nodeGlb(const Database& db, uint32_t node) {
     if (!images.empty()) {  // textured materials are the unlit ones
         b.gltf["images"] = images;
         b.gltf["textures"] = textures;
-        b.gltf["samplers"] = J::array({J{{"magFilter", 9729}, {"minFilter", 9987}}});  // linear, trilinear mipmaps
+        // Linear, trilinear mipmaps, CLAMP_TO_EDGE as `hlod play` samples (player/gl/gl_mesh.cpp): a
+        // node's UVs may pass its atlas's edge to read the edge texels (a clamped source texture, a
+        // chart straddling a period); glTF's default REPEAT read the other side there until stop 51.
+        b.gltf["samplers"] = J::array({J{{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 33071}, {"wrapT", 33071}}});
         b.gltf["extensionsUsed"].push_back("KHR_materials_unlit");
     }
     b.gltf["buffers"] = J::array({J{{"byteLength", (b.bin.size() + 3) & ~size_t(3)}}});

@@ -59,6 +59,12 @@ void expectContentMatchesDatabase(const std::string& dbPath, const std::string& 
             const std::vector<uint8_t> bytes(begin, begin + view["byteLength"].get<long>());
             EXPECT_NE(std::find(textures.begin(), textures.end(), bytes), textures.end()) << "node " << n.id;
         }
+        // Sampled CLAMP_TO_EDGE, as `hlod play` does (glTF's default REPEAT until stop 51).
+        for (const auto& sampler : glb.json.value("samplers", nlohmann::json::array()))
+            EXPECT_TRUE(sampler.value("wrapS", 0) == 33071 && sampler.value("wrapT", 0) == 33071) << "node " << n.id;
+        if (!textures.empty()) {
+            EXPECT_EQ(glb.json.value("samplers", nlohmann::json::array()).size(), 1u) << "node " << n.id;
+        }
     }
     EXPECT_EQ(exported, stored);
 }
