@@ -40,6 +40,7 @@ int runMerge(MergeArgs& a) {
         progress.endStage();
     }
     std::cout << a.output << ": merged " << a.shards.size() << " shard(s), " << info.blockCount << " blocks\n";
+    warnHlod0Missed(a.output);
     return kExitOk;
 }
 

@@ -32,5 +32,8 @@ void addOffsetOption(CLI::App* sub, std::array<double, 3>& offset);
 // kMinMemoryLimit; defined in build.cpp.
 constexpr uint64_t kMinMemoryLimit = uint64_t{16} << 20;
 void addMemoryLimitOption(CLI::App* sub, uint64_t& limit, const std::string& what);
+// After a build or merge: `warning: DB: N of M hlod0 nodes keep more than 1.25 x c_desiredTris
+// ...` when the coarsest level misses its target (stats::hlod0Check); defined in build.cpp.
+void warnHlod0Missed(const std::string& db);
 
 }  // namespace hlod::cli

@@ -77,6 +77,13 @@ TreeArithmetic thesisArithmetic(const Constants& c) {
     return a;
 }
 
+LevelCheck hlod0Check(const Database& db) {
+    uint32_t levels = 0;
+    for (const Node& n : db.skeleton().nodes) levels = std::max(levels, n.level + 1);
+    if (levels == 0) return {};
+    return checkLevels(db.skeleton(), constantMeta(db, "c_desiredTris"), constantMeta(db, "c_levelFactor"), levels).at(0);
+}
+
 Stats computeStats(const Database& db, bool forceThesis) {
     Stats s;
     s.summary = summarize(db);

@@ -100,6 +100,9 @@ struct Stats {
 };
 
 Stats computeStats(const Database& db, bool forceThesis);
+// hlod0 against its target alone (Stats::checks[0]), from the skeleton: `hlod build` and `hlod
+// merge` warn when it is missed (the level drawn whatever the budget).
+LevelCheck hlod0Check(const Database& db);
 
 // Triangles of the input: the build sidecar's count, else the leaves'.
 uint64_t inputTriangles(const Stats& s);

@@ -36,6 +36,20 @@ inline Piece terrain(uint32_t n, float size = 100, bool twoMaterials = false) {
     return p;
 }
 
+// Two fins (triangles standing at z = 3 and -3) on the first edge of every `every`-th triangle:
+// edges of three faces, as scans have, which no simplifier collapses (a piece without normals).
+inline void addFins(Piece& p, size_t every) {
+    const size_t before = p.mesh.triangleCount();
+    for (size_t t = 0; t < before; t += every)
+        for (float z : {3.0f, -3.0f}) {
+            const uint32_t a = p.mesh.indices[3 * t], b = p.mesh.indices[3 * t + 1], fin = static_cast<uint32_t>(p.mesh.vertexCount());
+            p.mesh.positions.insert(p.mesh.positions.end(), {p.mesh.positions[3 * a], p.mesh.positions[3 * a + 1], z});
+            p.mesh.texcoords.insert(p.mesh.texcoords.end(), {p.mesh.texcoords[2 * a], p.mesh.texcoords[2 * a + 1]});
+            p.mesh.indices.insert(p.mesh.indices.end(), {a, b, fin});
+            p.materials.push_back(p.materials.front());
+        }
+}
+
 inline double triangleArea(const MeshData& m, size_t t) {
     const float* a = &m.positions[3 * m.indices[3 * t]];
     const float* b = &m.positions[3 * m.indices[3 * t + 1]];

@@ -36,6 +36,26 @@ TEST(Cli, BuildPrintsConstantsSummaryAndWritesSidecar) {
     EXPECT_EQ(readFile(dir.file("many.hlod")), readFile(dir.file("t.hlod")));
 }
 
+// A coarsest level above 1.25 x its target (fins, edges of three faces, that no simplifier
+// collapses) is warned of by the build (only `hlod stats` said so until stop 51); a plain terrain
+// gives no warning.
+TEST(Cli, BuildWarnsOfAnHlod0AboveItsTarget) {
+    TempDir dir;
+    Piece finned = terrain(60);
+    addFins(finned, 3);
+    writePly(dir.file("fins.ply"), finned.mesh, true);
+    writePly(dir.file("plain.ply"), terrain(60).mesh, true);
+    const RunResult r = runHlod({"build", dir.file("fins.ply"), "-o", dir.file("fins.hlod"), "--set", "c_desiredTris=500"});
+    ASSERT_EQ(r.exitCode, 0) << r.outAndErr();
+    const std::string warning = "warning: " + dir.file("fins.hlod") + ": 1 of 1 hlod0 nodes keep more than 1.25 x their target";
+    EXPECT_NE(r.out.find(warning), std::string::npos) << r.out;
+    const RunResult st = runHlod({"stats", dir.file("fins.hlod")});  // the same check as `hlod stats`
+    EXPECT_NE(st.out.find(": MISSED"), std::string::npos) << st.out;
+    const RunResult plain = runHlod({"build", dir.file("plain.ply"), "-o", dir.file("plain.hlod"), "--set", "c_desiredTris=500"});
+    ASSERT_EQ(plain.exitCode, 0) << plain.outAndErr();
+    EXPECT_EQ(plain.out.find("hlod0 nodes keep more"), std::string::npos) << plain.out;
+}
+
 // The build runs with its heap on transparent huge pages where the kernel offers them, re-executed
 // with glibc.malloc.hugetlb=1 (formats/cli/huge_pages.h), says so, and records it in its report;
 // HLOD_HUGE_PAGES=0 keeps 4 KiB pages (and so does a sanitizer's allocator). Both runs give the

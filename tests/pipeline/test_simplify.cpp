@@ -55,17 +55,7 @@ INSTANTIATE_TEST_SUITE_P(Both, Simplify, ::testing::Values(Simplifier::Meshopt, 
 // refused face, naming no file, until stop 51).
 TEST(Simplify, OpenMeshKeepsRefusedFacesQuietly) {
     Piece p = terrain(30);
-    const size_t before = p.mesh.triangleCount();
-    for (size_t t = 0; t < before; t += 37) {  // two fins on the first edge of every 37th triangle
-        for (float z : {3.0f, -3.0f}) {
-            const uint32_t a = p.mesh.indices[3 * t], b = p.mesh.indices[3 * t + 1], fin = static_cast<uint32_t>(p.mesh.vertexCount());
-            p.mesh.positions.insert(p.mesh.positions.end(), {p.mesh.positions[3 * a], p.mesh.positions[3 * a + 1], z});
-            p.mesh.texcoords.insert(p.mesh.texcoords.end(), {p.mesh.texcoords[2 * a], p.mesh.texcoords[2 * a + 1]});
-            if (!p.mesh.normals.empty()) p.mesh.normals.insert(p.mesh.normals.end(), {0.0f, 0.0f, 1.0f});
-            p.mesh.indices.insert(p.mesh.indices.end(), {a, b, fin});
-            p.materials.push_back(p.materials.front());
-        }
-    }
+    addFins(p, 37);
     ::testing::internal::CaptureStderr();
     const MeshData s = simplifyMesh(p.mesh, 8, Simplifier::OpenMesh);
     EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
