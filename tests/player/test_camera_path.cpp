@@ -135,6 +135,26 @@ TEST(CameraPath, GeneratedWalkAndDriveHaveTheirSpeeds) {
     }
 }
 
+// On a narrow model (a 1000 x 20 m street) the keys move at the drive's speed around the whole
+// ellipse, never faster (a chord is at most its arc; at the tips, 0.14 m in radius, shorter), and
+// the lap ends where it began (until stop 51 the first step jumped 182 m and the lap ended 178 m
+// short).
+TEST(CameraPath, ANarrowRouteKeepsItsSpeedAndClosesItsLap) {
+    Skeleton s = test::gridSkeleton(50, 1, 2, 16, 20);
+    PathOptions o;
+    o.kind = PathKind::Drive;
+    const CameraPath p = generatePath(s, o);
+    ASSERT_GT(p.keys.size(), 100u);
+    size_t atSpeed = 0;
+    for (size_t i = 1; i < p.keys.size(); ++i) {
+        const double v = dist(p.keys[i].position, p.keys[i - 1].position) / (p.keys[i].time - p.keys[i - 1].time);
+        EXPECT_LE(v, 15 * 1.001) << i;
+        atSpeed += v > 15 * 0.95;
+    }
+    EXPECT_GE(double(atSpeed), 0.9 * double(p.keys.size() - 1));
+    for (int k = 0; k < 2; ++k) EXPECT_NEAR(p.keys.back().position[k], p.keys.front().position[k], 1e-6) << k;
+}
+
 // --look-at-center: walking around an object, the camera (looking down -Z of its orientation)
 // faces the model's centre horizontally at every key; without it, it faces along the route.
 TEST(CameraPath, LookAtCenterFacesTheModel) {
@@ -217,7 +237,7 @@ TEST(CameraPath, PathSpeedScalesWithExtent) {
         o.lookAtCenter = true;
         o.keyInterval = interval;
         const CameraPath p = generatePath(object(1), o);
-        EXPECT_EQ(p.duration(), kObjectLapSeconds) << interval;
+        EXPECT_NEAR(p.duration(), kObjectLapSeconds, 1e-9) << interval;  // the lap's length over its speed
         EXPECT_EQ(p.keys.size(), size_t(std::ceil(kObjectLapSeconds / interval)) + 1) << interval;
         EXPECT_NEAR(p.keys[1].time, std::min(interval, kObjectLapSeconds), 1e-12) << interval;
         o.kind = PathKind::Erratic;  // its turns and teleports add keys, never past the lap (20.001 s of 20)
