@@ -3,7 +3,9 @@
 // column for column, the rows written by the loader before the loader interface existed
 // (tests/data/player/thesis_sync_*.csv, written by commit c4c55a8; the budget file rewritten on
 // the same columns for the full-budget eviction of issue 12 item 4, player/LOADER_RUNS.md: room
-// for the frame's loads, not one node). Columns measured in wall-clock
+// for the frame's loads, not one node; both files' `distance` column rewritten in stop 51, when
+// `hlod path` came to place keys by arc length: 6 and 8 rows, in the last digit, every other
+// column unchanged). Columns measured in wall-clock
 // time (selection_ms, optimisation_ms, stall_ms) are left out; columns added since are ignored.
 #include "player/camera_path.h"
 #include "player/cost_model_renderer.h"
