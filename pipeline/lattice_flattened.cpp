@@ -30,11 +30,12 @@ uint64_t latticeFlattened(const MeshData& mesh, double step) {
 
 std::string latticeFlattenedWarning(const std::string& input, uint64_t flattened, uint64_t triangles) {
     if (triangles == 0 || double(flattened) <= kFlattenedWarning * double(triangles)) return "";
-    std::vector<char> text(input.size() + 400);
+    std::vector<char> text(input.size() + 512);
     std::snprintf(text.data(), text.size(),
                   "%s: the position lattice flattens %llu of its %llu triangles (%.1f %%) to lines or points: the model "
                   "is thinner or finer than the lattice's steps; build with more --draco-position-bits or a finer "
-                  "--draco-position-step to keep them",
+                  "--draco-position-step to keep them, or a smaller --block-size when parts far apart share a block "
+                  "(one lattice spans its block)",
                   input.c_str(), static_cast<unsigned long long>(flattened), static_cast<unsigned long long>(triangles),
                   100.0 * double(flattened) / double(triangles));
     return text.data();
