@@ -29,8 +29,8 @@ void removeTemporariesOnInterrupt();
 
 // For an interactive loop (`hlod view`): after deferInterrupts(), the first such signal no longer
 // ends the process but is kept for interruptedBy() (0 until then), so the loop can end as its quit
-// key does (the flight recorded) and call endByInterrupt(interruptedBy()): the sweep, then the end by
-// that signal. A second signal ends the process at once. (Until stop 49 Ctrl-C lost the flight.)
+// key does (the flight recorded) and end with resumeInterrupts(): the sweep, then the end by that
+// signal. A second signal ends the process at once. (Until stop 49 Ctrl-C lost the flight.)
 void deferInterrupts();
 int interruptedBy();
 // Ends deferring: a signal kept, or one that arrives while this runs, ends the process now

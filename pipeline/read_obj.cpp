@@ -266,21 +266,20 @@ private:
 
     // `map_Kd -s su sv -o ou ov`: the texture looked up at (u su + ou, v sv + ov) (the MTL
     // specification's "scales the size of the texture pattern" and "offset the position of the map
-    // origin", as Blender's and three.js's importers read them); warned of and not applied until
-    // stop 51. In the v-down texcoords (v' = 1 - v): v' sv + (1 - sv - ov). A number that is not
-    // finite leaves the material untextured (the textures rule).
+    // origin", as three.js's MTLLoader reads them: its texture repeat and offset); warned of and
+    // not applied until stop 51. In the v-down texcoords (v' = 1 - v): v' sv + (1 - sv - ov). A
+    // number written that is not finite or beyond kMaxUvMove leaves the material untextured.
     void moveUvs(const std::string& file, const std::string& name, const DiffuseMap& map) {
         Material& material = raw_.materials.back();
-        const double scale[2] = {map.scale[0], map.scale[1]}, offset[2] = {map.offset[0], 1 - map.scale[1] - map.offset[1]};
-        for (int a = 0; a < 2; ++a) {
-            if (!std::isfinite(scale[a]) || !std::isfinite(offset[a]) || std::abs(scale[a]) > kMaxUvMove || std::abs(offset[a]) > kMaxUvMove) {
+        for (int a = 0; a < 2; ++a)  // the numbers as written, both axes before any is taken
+            if (!(std::abs(map.scale[a]) <= kMaxUvMove) || !(std::abs(map.offset[a]) <= kMaxUvMove)) {
                 raw_.stats.textureProblems.push_back({file + ": material '" + name + "': map_Kd -s/-o beyond ±" +
                                                           std::to_string(int(kMaxUvMove)) + " or not a number", name});
                 material.texturePath.clear();
                 return;
             }
-            material.uvScale[a] = static_cast<float>(scale[a]), material.uvOffset[a] = static_cast<float>(offset[a]);
-        }
+        material.uvScale[0] = static_cast<float>(map.scale[0]), material.uvOffset[0] = static_cast<float>(map.offset[0]);
+        material.uvScale[1] = static_cast<float>(map.scale[1]), material.uvOffset[1] = static_cast<float>(1 - map.scale[1] - map.offset[1]);
     }
 
     // "v x y z r g b": the vertex colours MeshLab and many scanners write (0..1, clamped), kept

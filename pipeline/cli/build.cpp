@@ -19,9 +19,9 @@
 #include <unistd.h>
 
 #include <charconv>
+#include <cstdio>
 #include <chrono>
 #include <filesystem>
-#include <iomanip>
 #include <iostream>
 
 namespace hlod::cli {
@@ -101,10 +101,11 @@ void printSummary(const std::string& db, const BuildSummary& s, double wall, dou
 void warnHlod0Missed(const std::string& db) {
     const stats::LevelCheck c = stats::hlod0Check(Database::open(db));
     if (c.missing == 0) return;
+    char worst[32];
+    std::snprintf(worst, sizeof worst, "%.1f", c.worstRatio);
     std::cout << "warning: " << db << ": " << c.missing << " of " << c.simplifiedNodes << " hlod0 nodes keep more than "
-              << kTargetSlack << " x their target of triangles (the worst " << std::fixed << std::setprecision(1)
-              << c.worstRatio << std::defaultfloat << " x, " << c.maxTriangles
-              << " triangles): the coarsest level, drawn whatever the budget; `hlod stats` lists every level\n";
+              << kTargetSlack << " x their target of triangles (the worst " << worst
+              << " x): the coarsest level, drawn whatever the budget; `hlod stats` lists every level\n";
 }
 
 namespace {
@@ -145,8 +146,8 @@ int runBuildCommand(BuildArgs& a) {
         return 0;
     }
     printSummary(a.request.output, summary, wall, cpuSeconds(), o.memoryLimit);
-    warnHlod0Missed(a.request.output);
     writeReport(a.request.output, stages, summary, wall, cpuSeconds(), o.memoryLimit);
+    warnHlod0Missed(a.request.output);
     return 0;
 }
 

@@ -194,7 +194,7 @@ TEST(ReadObj, TextureScaleAndOffsetMoveTheTextureCoordinates) {
     // "-o 0 0.25": the MTL specification lets v and w out (tinyobjloader took the file for w, the
     // texture lost without a word until stop 47).
     for (const Case& c : {Case{"-s 0.5 2 1", 0.5f, 2}, Case{"-o 0 0.25", 1, 1.25f}, Case{"-s 2 -o 0.25 0.5 0", 2.25f, 1.5f},
-                          Case{"-s -1 1 -o 1", 0, 1}, Case{"-s 1 1 1 -o 0 0 0", 1, 1}}) {
+                          Case{"-s -1 1 -o 1", 0, 1}, Case{"-s 1 500 -o 0 600", 1, 1100}, Case{"-s 1 1 1 -o 0 0 0", 1, 1}}) {
         std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd " << c.options << " a.png\nnewmtl still\nmap_Kd a.png\n";
         const SourceMesh m = readMesh(dir.file("b.obj"));
         EXPECT_TRUE(m.stats.warnings.empty() && m.stats.textureProblems.empty()) << c.options;
@@ -207,7 +207,8 @@ TEST(ReadObj, TextureScaleAndOffsetMoveTheTextureCoordinates) {
         const bool moves = c.u != 1 || c.v != 1;
         EXPECT_EQ(m.piece.mesh.vertexCount(), moves ? 6u : 4u) << c.options;
     }
-    for (const std::string bad : {"-s nan 1", "-o 0 inf", "-s 1001", "-o 0 -2000"}) {
+    // The numbers as written are checked, both axes before either is taken (a refused v left u moved).
+    for (const std::string bad : {"-s nan 1", "-o 0 inf", "-s 1001", "-o 0 -2000", "-s 2 1 -o 0 2000"}) {
         std::ofstream(dir.file("b.mtl")) << "newmtl m\nmap_Kd " << bad << " a.png\nnewmtl still\nmap_Kd a.png\n";
         const SourceMesh m = readMesh(dir.file("b.obj"));
         EXPECT_TRUE(m.materials[m.piece.materials[0]].texturePath.empty()) << bad;
