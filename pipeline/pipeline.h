@@ -300,6 +300,7 @@ struct SurfaceError {
     double oneSided = 0;  // simplified -> original only (the measure before issue #16)
     double max = 0;       // two-sided Hausdorff distance
     double mean = 0;      // mean distance over the sample points of both sides
+    size_t samples = 0;   // the points measured, both sides (error.cpp's samples)
 };
 SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const MeshData& original, double spacing);
 
