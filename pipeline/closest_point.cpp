@@ -165,7 +165,7 @@ TriangleBvh buildTriangleBvh(const std::vector<float>& positions, const std::vec
     return bvh;
 }
 
-double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint) {
+double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint, double enough2) {
     double best = std::numeric_limits<double>::infinity();
     const size_t triangles = bvh.triangles.size();
     if (triangles == 0) return best;
@@ -184,7 +184,7 @@ double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint
     auto search = [&](uint32_t from, double fromD) {  // the subtree of node `from`, nearer children first
         int top = 0;
         stack[top++] = {fromD, from};
-        while (top > 0) {
+        while (top > 0 && best > enough2) {
             const auto [boxD, index] = stack[--top];
             if (boxD >= best) continue;
             const TriangleBvh::Pair& pair = bvh.pairs[index / 2];
@@ -218,7 +218,7 @@ double squaredDistance(const TriangleBvh& bvh, const double p[3], uint32_t& hint
     best = triangleDistance2(bvh.triangles[hint].corners, p), known = hint;
     uint32_t node = bvh.leaf[hint];
     search(node, 0);
-    for (; node != 0; node = bvh.parent[node / 2]) {
+    for (; node != 0 && best > enough2; node = bvh.parent[node / 2]) {
         const uint32_t sibling = node ^ 1;  // children are pairs (even, even + 1)
         if (const double d = boxDistance2(bvh.pairs[node / 2], p)[sibling % 2]; d < best) search(sibling, d);
     }
@@ -298,12 +298,12 @@ double firstHit(const TriangleBvh& bvh, const double origin[3], const double dir
     return found ? best : std::numeric_limits<double>::infinity();
 }
 
-double largestDistance(const TriangleBvh& bvh, std::vector<std::array<double, 3>>& points, double& sum) {
+double largestDistance(const TriangleBvh& bvh, std::vector<std::array<double, 3>>& points, double& sum, double enough) {
     const uint32_t n = static_cast<uint32_t>(points.size());
     if (n == 0 || bvh.empty()) return 0;
     uint32_t hint = 0;
     double worst = 0;
-    auto distance = [&](const std::array<double, 3>& p) { return std::sqrt(squaredDistance(bvh, p.data(), hint)); };
+    auto distance = [&](const std::array<double, 3>& p) { return std::sqrt(squaredDistance(bvh, p.data(), hint, enough * enough)); };
     struct Group {
         double bound, d, r;  // d < 0: the representative not queried yet (bound: the parent's)
         uint32_t rep;        // in `points`, whose range [lo, hi) is reordered only when the group is split

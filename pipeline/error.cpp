@@ -61,6 +61,13 @@ private:
 
 using Point = std::array<double, 3>;
 
+// A distance below a millionth of the sample spacing counts as 0 (closest_point.h, largestDistance's
+// `enough`): a node's largest error stays exact above it, the mean moves by at most that much. On a
+// flat fan of thin triangles, whose coinciding sides made every query visit every box holding its
+// point, it cut a 50,000-triangle fan from 8.0 to 2.0 CPU-s and left every database the same bytes
+// (Lucy 100k, the bunny, the banana, the sample city, the fans; measured in stop 52).
+constexpr double kEnough = 1e-6;
+
 // The n x n barycentric grid of triangle v, corners left out.
 template <typename Add>
 void gridPoints(const double v[3][3], int n, Add add) {
@@ -184,8 +191,8 @@ SurfaceError surfaceError(const std::vector<SubMesh>& simplified, const MeshData
     std::vector<std::array<double, 3>> fromSimplified = samples(simplifiedMeshes, spacing, 2), fromOriginal = samples({&original}, spacing, 1);
     e.samples = fromSimplified.size() + fromOriginal.size();
     const double count = double(e.samples);
-    e.oneSided = largestDistance(b, fromSimplified, sum);
-    e.max = std::max(e.oneSided, largestDistance(a, fromOriginal, sum));
+    e.oneSided = largestDistance(b, fromSimplified, sum, kEnough * spacing);
+    e.max = std::max(e.oneSided, largestDistance(a, fromOriginal, sum, kEnough * spacing));
     e.mean = count > 0 ? sum / count : 0;
     return e;
 }

@@ -12,7 +12,7 @@ PACKAGES=(
   libopenmesh-dev        # OpenMesh: mesh data structure + Decimater (alternate simplifier)
   libopenimageio-dev     # OpenImageIO: texture formats other than JPEG and PNG, in the plugin hlod_oiio.so (loaded on demand)
   openimageio-tools python3-imath  # their CMake configs reference /usr/bin/iconvert and libPyImath: configure fails without them
-  libcgal-dev libeigen3-dev  # CGAL: AABB-tree distance queries for geometric error
+  libcgal-dev libeigen3-dev  # CGAL: scan holes triangulated (triangulate_hole_polyline, fill_holes.cpp)
   libdraco-dev           # Draco: geometry compression of node blobs
   libtinygltf-dev nlohmann-json3-dev libstb-dev  # glTF input; JSON output
   libmeshoptimizer-dev   # meshoptimizer: fast quadric simplification with border locking
@@ -30,6 +30,7 @@ PACKAGES=(
   xvfb xdotool           # `hlod view` window test under a virtual X server
   nodejs chromium        # `hlod export tiles` checks: gltf-validator and CesiumJS in headless chromium (tests/export/)
   snakemake              # the split -> shards -> merge workflow (scripts/workflow/Snakefile) and its test
+  time                   # GNU time: CPU-s and peak RSS in the benchmark scripts (scripts/bench-*.sh)
 )
 [ "${1:-}" = --slurm ] && PACKAGES+=(slurm-wlm munge)  # slurmctld, slurmd, sbatch; munged authenticates them
 # Debian's nodejs leaves npm to a package of its own; NodeSource's nodejs brings npm and conflicts with it.

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -165,4 +166,48 @@ TEST(ClosestPoint, QueriesEqualEveryTriangleAlone) {
         EXPECT_EQ(squaredDistance(alone[bvh.input[nearest]], from, ignored), bestD);
     }
     EXPECT_GT(hits, 40);  // the rays do meet triangles
+}
+
+// `enough`: a search ends at the first triangle within it. Its answer is then that triangle's
+// distance, between the exact one and `enough`, and exact when the exact one is larger; the largest
+// distance of a point set is exact when larger than `enough`.
+TEST(ClosestPoint, EnoughEndsTheSearchWithinItAndLeavesLargerDistancesExact) {
+    std::mt19937 random(52);
+    std::uniform_real_distribution<float> coordinate(-10, 10), offset(-1.5f, 1.5f);
+    Soup s;
+    for (int t = 0; t < 600; ++t) {
+        const float cx = coordinate(random), cy = coordinate(random), cz = coordinate(random);
+        s.add({cx + offset(random), cy + offset(random), cz + offset(random), cx + offset(random), cy + offset(random),
+               cz + offset(random), cx + offset(random), cy + offset(random), cz + offset(random)});
+    }
+    const TriangleBvh bvh = buildTriangleBvh(s.positions, s.indices);
+    constexpr double kEnough2 = 0.25;
+    int early = 0;
+    std::vector<std::array<double, 3>> points;
+    for (int q = 0; q < 400; ++q) {
+        const double from[3] = {coordinate(random), coordinate(random), coordinate(random)};
+        points.push_back({from[0], from[1], from[2]});
+        uint32_t exactHint = UINT32_MAX, hint = (37 * q) % 600, ignored = 0;
+        const double exact = squaredDistance(bvh, from, exactHint), d = squaredDistance(bvh, from, hint, kEnough2);
+        if (exact > kEnough2) {
+            EXPECT_EQ(d, exact) << "point " << q;
+        } else {
+            EXPECT_LE(d, kEnough2) << "point " << q;
+            EXPECT_GE(d, exact) << "point " << q;
+            early += d != exact;
+        }
+        Soup one;  // the triangle named is the one at d
+        const float* c = bvh.triangles[hint].corners;
+        one.add({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]});
+        EXPECT_EQ(squaredDistance(buildTriangleBvh(one.positions, one.indices), from, ignored), d);
+    }
+    EXPECT_GT(early, 0);  // some searches did end early
+    double sum = 0;
+    std::vector<std::array<double, 3>> copy = points;
+    const double largest = largestDistance(bvh, copy, sum);
+    ASSERT_GT(largest, 1.0);
+    copy = points;
+    EXPECT_EQ(largestDistance(bvh, copy, sum, 0.5 * largest), largest);
+    copy = points;
+    EXPECT_LE(largestDistance(bvh, copy, sum, 2 * largest), 2 * largest);
 }

@@ -49,7 +49,7 @@ MeshData holedGrid(double hole) {
 TEST(ErrorSampling, AThinFanIsSampledAlongItsLengthNotItsSquare) {
     const MeshData fan = squareFan(2000);
     const SurfaceError e = surfaceError({SubMesh{0, fan, {}}}, fan, 200.0 / 20);
-    EXPECT_LT(e.max, 1e-9);  // a surface against itself
+    EXPECT_LE(e.max, 1e-6 * 10);  // a surface against itself: 0 to a millionth of the spacing (error.cpp kEnough)
     const size_t vertices = fan.vertexCount(), centroids = fan.triangleCount(), cells = 80 * 80;
     EXPECT_LE(e.samples, 2 * (vertices + centroids + cells));
     EXPECT_GT(e.samples, 2 * (vertices + centroids));  // and the lattice points between them
@@ -66,7 +66,7 @@ TEST(ErrorSampling, AHoleUnderThinTrianglesIsMeasured) {
     EXPECT_LE(e.oneSided, 10.0 + 2 * std::sqrt(2.0));
     EXPECT_EQ(e.max, e.oneSided);  // the grid lies on the fan
     const SurfaceError whole = surfaceError({SubMesh{0, fan, {}}}, holedGrid(0), 200.0 / 20);
-    EXPECT_LT(whole.max, 1e-6);
+    EXPECT_LE(whole.max, 1e-6 * 10);
 }
 
 }  // namespace
