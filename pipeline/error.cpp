@@ -6,12 +6,14 @@
 // against a bounding volume hierarchy of the simplified surface (closest_point.cpp; CGAL's AABB
 // tree until issue #14, same distances, ~10 x the cost). Sampling: every vertex and centroid (and
 // the simplified side's edge midpoints), and on a triangle longer than `spacing` a barycentric
-// grid of spacing at most `spacing` (build_tree.cpp passes a twentieth of the node's extent: a hole of a tenth of it
-// holds a sample at least ~a fortieth of the extent from its rim, hence measured).
-// The largest distance of each side is exact over its samples but found by branch and bound
-// (largestDistance): groups of samples whose Lipschitz bound is below the largest distance found
-// are not queried one by one; their mean counts each at the group centre's distance
-// (pipeline/BUILD_SPEED.md has the measured difference).
+// grid, or on a thin one rows along its longest edge, of spacing at most `spacing` (build_tree.cpp
+// passes a twentieth of the node's extent: a hole of a tenth of it holds a sample at least ~a
+// fortieth of the extent from its rim, hence measured).
+// The largest distance of each side is exact over its samples (to a millionth of the spacing,
+// kEnough) but found by branch and bound (largestDistance): groups of samples whose Lipschitz
+// bound is below the largest distance found are not queried one by one; their mean counts each at
+// the group centre's distance (pipeline/BUILD_SPEED.md has the measured difference; thin triangles
+// and coinciding surfaces: pipeline/CLOSEST_POINT.md).
 #include "pipeline/closest_point.h"
 #include "pipeline/pipeline.h"
 
@@ -50,7 +52,11 @@ public:
     explicit CellSet(double cell) : inverse_(1 / cell) {}
     bool insert(const std::array<double, 3>& p) {  // false when p's cell holds a point
         uint64_t key = 0;  // the three cell numbers' low 21 bits each: a collision only costs a point
-        for (int k = 0; k < 3; ++k) key = key << 21 | (static_cast<uint64_t>(static_cast<int64_t>(std::floor(p[k] * inverse_))) & 0x1FFFFF);
+        for (int k = 0; k < 3; ++k) {
+            const double cell = std::floor(p[k] * inverse_);  // beyond int64 (or not a number): one cell
+            const int64_t number = std::fabs(cell) < 0x1p62 ? static_cast<int64_t>(cell) : 0;
+            key = key << 21 | (static_cast<uint64_t>(number) & 0x1FFFFF);
+        }
         return cells_.insert(key).second;
     }
 
@@ -99,14 +105,15 @@ void rowPoints(const double* P, const double* Q, const double* R, double length,
 // The sample points of `from`: its vertices once each and, per non-degenerate triangle, a
 // barycentric grid of n x n cells other than the corners (n >= minCells; n >= 2 puts the edge
 // midpoints among them), n the longest edge / spacing, plus the centroid. A thin triangle, whose
-// height / spacing (at least minCells) is at most n / 4, takes rows along its longest edge
-// instead (rowPoints): its points grow with its length, not with its length squared (the grid put
-// 210 on a capped cylinder's 300 x 0.014 side triangle; the 20,000-triangle cylinder built in 76
-// CPU-s, now 1.7), and they are kept one per cell of spacing / 4, the first made (a fan of 5,000
-// thin triangles around one vertex sampled the same ground 5,000 times, and each query visits the
-// fan's overlapping boxes, closest_point.h: 6.3 CPU-s, now 0.2; both measured in stop 52, the
-// errors stored the same). The grid stays for the other triangles: the rows on every triangle
-// moved Lucy 100k's measured errors by up to 25 % (sampling elsewhere within the spacing).
+// rounded-up height / spacing is at most n / 4, takes rows along its longest edge instead
+// (rowPoints, at least minCells rows): its points grow with its length, not with its length
+// squared (the grid put 210 on a capped cylinder's 300 x 0.014 side triangle; the 20,000-triangle
+// cylinder built in 76 CPU-s, 1.9 with the rows), and they are kept one per cell of spacing / 4,
+// the first made (a fan of 5,000 thin triangles around one vertex sampled the same ground 5,000
+// times, and each query visits the fan's overlapping boxes: 6.3 CPU-s, 0.2 with the cells; both
+// measured in stop 52, the errors stored the same). The grid stays for the other triangles: rows
+// on every triangle moved Lucy 100k's measured errors by up to 25 % (sampling elsewhere within
+// the spacing).
 std::vector<Point> samples(const std::vector<const MeshData*>& from, double spacing, int minCells) {
     std::vector<Point> points;
     CellSet kept(spacing / 4);
