@@ -69,9 +69,10 @@ struct CellKey {
 // without touching the slots, whose random reads were ~90 % of the weld (pipeline/BUILD_SPEED.md).
 class CellGrid {
 public:
-    explicit CellGrid(size_t vertices) : next_(vertices, kNone) {
+    // For vertices numbered below `vertices`, at most `cells` of them added.
+    CellGrid(size_t vertices, size_t cells) : next_(vertices, kNone) {
         size_t capacity = 16;
-        while (capacity < 2 * vertices) capacity *= 2;
+        while (capacity < 2 * cells) capacity *= 2;
         slots_.resize(capacity);
         occupied_.resize(capacity / 4);  // 16 x capacity bits: 32 to 64 per vertex
     }
@@ -138,13 +139,29 @@ Piece weldPiece(const Piece& piece, double epsilon) {
             auto index = [&](float x) { return int64_t(std::clamp(std::floor(x / epsilon), -0x1p62, 0x1p62)); };
             return CellKey{index(p[0]), index(p[1]), index(p[2])};
         };
-        CellGrid grid(vc);  // representatives per cell
+        CellGrid grid(vc, vc);  // representatives per cell
+        // Face vertices merge with exact copies only: looked up by their bits, not by scanning the
+        // cells around them, which on a flat model coarser than its lattice hold thousands of face
+        // vertices (a unit grid beside a triangle 10^6 away: 125,000 vertices in 11 CPU-s, quadratic).
+        std::vector<uint8_t> face(vc);
+        size_t faces = 0;
+        for (uint32_t i = 0; i < vc; ++i) faces += face[i] = onFace(i);
+        CellGrid copies(vc, faces);
+        auto bits = [](const float* p) {
+            uint32_t b[3];
+            std::memcpy(b, p, sizeof b);
+            return CellKey{b[0], b[1], b[2]};
+        };
         const double eps2 = epsilon * epsilon;
         for (int pass = 0; pass < 2; ++pass)  // face vertices first: they never move
             for (uint32_t i = 0; i < vc; ++i) {
-                if (onFace(i) != (pass == 0)) continue;
+                if (face[i] != (pass == 0)) continue;
                 float* p = &positions[3 * i];
                 const CellKey c = cell(p);
+                if (pass == 0) {
+                    if (copies.first(bits(p)) == kNone) copies.add(bits(p), i), grid.add(c, i);
+                    continue;
+                }
                 uint32_t found = kNone;
                 for (int64_t dx = -1; dx <= 1 && found == kNone; ++dx)
                     for (int64_t dy = -1; dy <= 1 && found == kNone; ++dy)
@@ -152,7 +169,7 @@ Piece weldPiece(const Piece& piece, double epsilon) {
                             for (uint32_t r = grid.first({c.x + dx, c.y + dy, c.z + dz}); r != kNone; r = grid.next(r)) {
                                 const float* q = &positions[3 * r];
                                 const double d = std::hypot(double(p[0]) - q[0], double(p[1]) - q[1], double(p[2]) - q[2]);
-                                if (d * d < eps2 && (pass == 1 || std::memcmp(p, q, 3 * sizeof(float)) == 0)) {
+                                if (d * d < eps2) {
                                     found = r;
                                     break;
                                 }

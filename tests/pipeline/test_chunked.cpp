@@ -231,6 +231,29 @@ TEST(Weld, MergesNearDuplicatesAndSplitsMaterials) {
     EXPECT_EQ(weldPiece(p, 0).mesh.vertexCount(), 13u);  // epsilon 0: exact duplicates only
 }
 
+// A flat model: every vertex lies on a face of its bounding box (z = 0), so none moves; its exact
+// copies still merge. Here an epsilon of 50 spans the whole 100 x 100 grid (as the lattice of a
+// model with a triangle 10^6 away makes it): the weld looked the face vertices' copies up by
+// scanning the cells around each, which held every vertex (quadratic; stop 52 looks them up by
+// their bits). The grid is given twice, each copy with its own vertices.
+TEST(Weld, AFlatModelKeepsItsVerticesAndMergesItsCopies) {
+    Piece p = terrain(100, 100);
+    for (size_t i = 2; i < p.mesh.positions.size(); i += 3) p.mesh.positions[i] = 0;
+    const uint32_t n = static_cast<uint32_t>(p.mesh.vertexCount());
+    const std::vector<uint32_t> once = p.mesh.indices;
+    p.mesh.positions.insert(p.mesh.positions.end(), p.mesh.positions.begin(), p.mesh.positions.end());
+    p.mesh.texcoords.insert(p.mesh.texcoords.end(), p.mesh.texcoords.begin(), p.mesh.texcoords.end());
+    for (uint32_t i : once) p.mesh.indices.push_back(n + i);
+    p.materials.insert(p.materials.end(), p.materials.begin(), p.materials.end());
+    const Piece w = weldPiece(p, 50);
+    EXPECT_EQ(w.mesh.triangleCount(), once.size() / 3);  // the copies coincide: dropped
+    EXPECT_EQ(w.mesh.vertexCount(), n);
+    std::set<std::array<float, 3>> before, after;
+    for (size_t i = 0; i < n; ++i) before.insert({p.mesh.positions[3 * i], p.mesh.positions[3 * i + 1], 0});
+    for (size_t i = 0; i < w.mesh.vertexCount(); ++i) after.insert({w.mesh.positions[3 * i], w.mesh.positions[3 * i + 1], w.mesh.positions[3 * i + 2]});
+    EXPECT_EQ(after, before);  // no vertex moved
+}
+
 // The one-sided error cannot see a hole; the two-sided one measures it.
 TEST(GeometricError, TwoSidedErrorSeesAHole) {
     const Piece p = terrain(100);
