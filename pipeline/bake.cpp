@@ -114,11 +114,10 @@ public:
             for (uint32_t i : source.mesh->indices) indices.push_back(base + i);
         }
         bvh_ = buildTriangleBvh(positions, indices);  // zero-area triangles left out
-        float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
-        for (size_t i = 0; i + 2 < positions.size(); i += 3)
-            for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], positions[i + k]), hi[k] = std::max(hi[k], positions[i + k]);
-        const double extent = lo[0] <= hi[0] ? std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}) : 0.0;
-        enough2_ = (kEnough * extent) * (kEnough * extent);
+        if (bvh_.empty()) return;
+        double extent = 0;  // of the triangles' box (the hierarchy's root), in doubles
+        for (int k = 0; k < 3; ++k) extent = std::max(extent, double(bvh_.pairs[0].hi[k][0]) - bvh_.pairs[0].lo[k][0]);
+        if (std::isfinite(extent)) enough2_ = (kEnough * extent) * (kEnough * extent);
     }
 
     // Index of the original triangle closest to p (on a simplified triangle of normal n); kNone

@@ -72,7 +72,8 @@ double firstHit(const TriangleBvh& bvh, const double origin[3], const double dir
 // in place: no index array, and each group's points lie together in memory). Each point's distance
 // is searched to `enough` (squaredDistance's enough2 = enough^2): the largest distance stays exact
 // when above `enough` (the point that gives it never ends its search early), else it is at most
-// `enough`; `sum` moves by at most `enough` a point.
+// `enough`; a queried point's term of `sum` lies within `enough` of its exact distance, a pruned
+// group's within its radius r plus `enough` (an early answer can change which groups are pruned).
 double largestDistance(const TriangleBvh& bvh, std::vector<std::array<double, 3>>& points, double& sum, double enough = 0);
 
 }  // namespace hlod

@@ -51,7 +51,8 @@ class CellSet {
 public:
     explicit CellSet(double cell) : inverse_(1 / cell) {}
     bool insert(const std::array<double, 3>& p) {  // false when p's cell holds a point
-        uint64_t key = 0;  // the three cell numbers' low 21 bits each: a collision only costs a point
+        uint64_t key = 0;  // the three cell numbers' low 21 bits each: cells 2^21 apart share a key (a
+                           // node's samples span ~80 cells of spacing / 8; a caller's far wider set loses points)
         for (int k = 0; k < 3; ++k) {
             const double cell = std::floor(p[k] * inverse_);  // beyond int64 (or not a number): one cell
             const int64_t number = std::fabs(cell) < 0x1p62 ? static_cast<int64_t>(cell) : 0;
@@ -68,7 +69,8 @@ private:
 using Point = std::array<double, 3>;
 
 // A distance below a millionth of the sample spacing counts as 0 (closest_point.h, largestDistance's
-// `enough`): a node's largest error stays exact above it, the mean moves by at most that much. On a
+// `enough`): a node's largest error stays exact above it (the mean's terms move within their
+// groups' bounds, as the branch and bound's pruning already moves them). On a
 // flat fan of thin triangles, whose coinciding sides made every query visit every box holding its
 // point, it cut a 50,000-triangle fan from 8.0 to 2.0 CPU-s and left every database the same bytes
 // (Lucy 100k, the bunny, the banana, the sample city, the fans; measured in stop 52).
@@ -86,13 +88,12 @@ void gridPoints(const double v[3][3], int n, Add add) {
 }
 
 // Rows parallel to the edge PQ, `rows` steps from PQ (row 0) to the opposite corner R (not
-// included), row j cut into ceil(its length / spacing) steps (row 0 at least `firstSteps`),
-// corners left out: every point of the triangle within about `spacing` of one.
+// included), row j cut into steps of at most `step` (at least one), corners left out.
 template <typename Add>
-void rowPoints(const double* P, const double* Q, const double* R, double length, int rows, int firstSteps, double spacing, Add add) {
+void rowPoints(const double* P, const double* Q, const double* R, double length, int rows, double step, Add add) {
     for (int j = 0; j < rows; ++j) {  // row j runs from P + f (R - P) to Q + f (R - Q)
         const double f = double(j) / rows;
-        const int steps = std::max(j == 0 ? firstSteps : 1, static_cast<int>(std::ceil((1 - f) * length / spacing)));
+        const int steps = std::max(1, static_cast<int>(std::ceil((1 - f) * length / step)));
         for (int i = j == 0 ? 1 : 0; i <= (j == 0 ? steps - 1 : steps); ++i) {
             const double g = double(i) / steps;
             Point q;
@@ -104,19 +105,21 @@ void rowPoints(const double* P, const double* Q, const double* R, double length,
 
 // The sample points of `from`: its vertices once each and, per non-degenerate triangle, a
 // barycentric grid of n x n cells other than the corners (n >= minCells; n >= 2 puts the edge
-// midpoints among them), n the longest edge / spacing, plus the centroid. A thin triangle, whose
-// rounded-up height / spacing is at most n / 4, takes rows along its longest edge instead
-// (rowPoints, at least minCells rows): its points grow with its length, not with its length
-// squared (the grid put 210 on a capped cylinder's 300 x 0.014 side triangle; the 20,000-triangle
-// cylinder built in 76 CPU-s, 1.9 with the rows), and they are kept one per cell of spacing / 4,
-// the first made (a fan of 5,000 thin triangles around one vertex sampled the same ground 5,000
-// times, and each query visits the fan's overlapping boxes: 6.3 CPU-s, 0.2 with the cells; both
-// measured in stop 52, the errors stored the same). The grid stays for the other triangles: rows
-// on every triangle moved Lucy 100k's measured errors by up to 25 % (sampling elsewhere within
-// the spacing).
+// midpoints among them), n the longest edge / spacing, plus the centroid: every point of the
+// triangle within half the spacing of a sample. A thin triangle, whose rounded-up height /
+// spacing is at most n / 4, takes rows along its longest edge instead (rowPoints, rows and steps
+// at most half the spacing: the same half spacing, measured on thin shapes up to 100 x 0.01; the
+// three edge midpoints added when minCells is 2): its points grow with its length, not with its
+// length squared (the grid put 210 on a capped cylinder's 300 x 0.014 side triangle; the
+// 20,000-triangle cylinder built in 76 CPU-s), and they are kept one per cell of an eighth of
+// the spacing, the first made, each within 0.22 spacings of the points it stands for (a fan of
+// 5,000 thin triangles around one vertex sampled the same ground 5,000 times, and each query
+// visits the fan's overlapping boxes: 6.3 CPU-s). The grid stays for the other triangles: rows on
+// every triangle moved Lucy 100k's measured errors by up to 25 % (sampling elsewhere within the
+// spacing); pipeline/CLOSEST_POINT.md has the figures.
 std::vector<Point> samples(const std::vector<const MeshData*>& from, double spacing, int minCells) {
     std::vector<Point> points;
-    CellSet kept(spacing / 4);
+    CellSet kept(spacing / 8);
     for (const MeshData* mesh : from) {
         const MeshData& m = *mesh;
         for (size_t i = 0; i + 2 < m.positions.size(); i += 3) points.push_back({m.positions[i], m.positions[i + 1], m.positions[i + 2]});
@@ -135,11 +138,15 @@ std::vector<Point> samples(const std::vector<const MeshData*>& from, double spac
             for (int k = 0; k < 3; ++k) u[k] = v[(p + 1) % 3][k] - v[p][k], w[k] = v[(p + 2) % 3][k] - v[p][k];
             const double height = std::sqrt(sq(u[1] * w[2] - u[2] * w[1]) + sq(u[2] * w[0] - u[0] * w[2]) + sq(u[0] * w[1] - u[1] * w[0])) / length;
             const int across = static_cast<int>(std::ceil(height / spacing));
-            if (4 * across <= n)
-                rowPoints(v[p], v[(p + 1) % 3], v[(p + 2) % 3], length, std::max(minCells, across), minCells, spacing, [&](const Point& q) {
+            if (4 * across <= n) {
+                if (minCells >= 2)  // the edge midpoints, always
+                    for (int e = 0; e < 3; ++e)
+                        points.push_back({0.5 * (v[e][0] + v[(e + 1) % 3][0]), 0.5 * (v[e][1] + v[(e + 1) % 3][1]), 0.5 * (v[e][2] + v[(e + 1) % 3][2])});
+                const int rows = std::max(1, static_cast<int>(std::ceil(2 * height / spacing)));
+                rowPoints(v[p], v[(p + 1) % 3], v[(p + 2) % 3], length, rows, spacing / 2, [&](const Point& q) {
                     if (kept.insert(q)) points.push_back(q);
                 });
-            else
+            } else
                 gridPoints(v, n, [&](const Point& q) { points.push_back(q); });
             points.push_back({(v[0][0] + v[1][0] + v[2][0]) / 3, (v[0][1] + v[1][1] + v[2][1]) / 3, (v[0][2] + v[1][2] + v[2][2]) / 3});
         }

@@ -235,7 +235,8 @@ TEST(Weld, MergesNearDuplicatesAndSplitsMaterials) {
 // copies still merge. Here an epsilon of 50 spans the whole 100 x 100 grid (as the lattice of a
 // model with a triangle 10^6 away makes it): the weld looked the face vertices' copies up by
 // scanning the cells around each, which held every vertex (quadratic; stop 52 looks them up by
-// their bits). The grid is given twice, each copy with its own vertices.
+// their bits). The grid is given twice, each copy with its own vertices. This locks the result,
+// which the old lookup gave too, slowly; the speed is a figure (README "Reliability", stop 52).
 TEST(Weld, AFlatModelKeepsItsVerticesAndMergesItsCopies) {
     Piece p = terrain(100, 100);
     for (size_t i = 2; i < p.mesh.positions.size(); i += 3) p.mesh.positions[i] = 0;

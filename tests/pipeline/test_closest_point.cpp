@@ -209,5 +209,7 @@ TEST(ClosestPoint, EnoughEndsTheSearchWithinItAndLeavesLargerDistancesExact) {
     copy = points;
     EXPECT_EQ(largestDistance(bvh, copy, sum, 0.5 * largest), largest);
     copy = points;
-    EXPECT_LE(largestDistance(bvh, copy, sum, 2 * largest), 2 * largest);
+    const double loose = largestDistance(bvh, copy, sum, 2 * largest);  // every search may end early
+    EXPECT_GE(loose, largest);  // an early answer is never below the exact one
+    EXPECT_LE(loose, 2 * largest);
 }
