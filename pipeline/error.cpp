@@ -8,7 +8,7 @@
 // the simplified side's edge midpoints), and on a triangle longer than `spacing` a barycentric
 // grid, or on a thin one rows along its longest edge, of spacing at most `spacing` (build_tree.cpp
 // passes a twentieth of the node's extent: a hole of a tenth of it holds a sample at least ~a
-// fortieth of the extent from its rim, hence measured).
+// fortieth of the extent from its rim, ~a sixtieth under thin triangles, hence measured).
 // The largest distance of each side is exact over its samples (to a millionth of the spacing,
 // kEnough) but found by branch and bound (largestDistance): groups of samples whose Lipschitz
 // bound is below the largest distance found are not queried one by one; their mean counts each at
