@@ -52,7 +52,7 @@ public:
     explicit CellSet(double cell) : inverse_(1 / cell) {}
     bool insert(const std::array<double, 3>& p) {  // false when p's cell holds a point
         uint64_t key = 0;  // the three cell numbers' low 21 bits each: cells 2^21 apart share a key (a
-                           // node's samples span ~80 cells of spacing / 8; a caller's far wider set loses points)
+                           // node's samples span ~160 cells of spacing / 8; a caller's far wider set loses points)
         for (int k = 0; k < 3; ++k) {
             const double cell = std::floor(p[k] * inverse_);  // beyond int64 (or not a number): one cell
             const int64_t number = std::fabs(cell) < 0x1p62 ? static_cast<int64_t>(cell) : 0;
